@@ -1,0 +1,297 @@
+#include "model/urdf_loader.hpp"
+
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "model/error.hpp"
+
+namespace sweepgen::model {
+namespace {
+
+constexpr double kHalfPi = 1.5707963267948966;
+
+// Collects urdfdom's console messages so that they can be part of our error message.
+class CapturedConsole : public console_bridge::OutputHandler {
+ public:
+  CapturedConsole() {
+    previous_ = console_bridge::getOutputHandler();
+    console_bridge::useOutputHandler(this);
+  }
+  ~CapturedConsole() override { console_bridge::useOutputHandler(previous_); }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) messages_ += (messages_.empty() ? "" : "; ") + text;
+  }
+  const std::string& messages() const { return messages_; }
+
+ private:
+  console_bridge::OutputHandler* previous_ = nullptr;
+  std::string messages_;
+};
+
+// Exact sine and cosine of angles within 1e-10 of a multiple of pi/2.
+void snapped_sin_cos(double angle, double& s, double& c) {
+  const double quarter_turns = std::round(angle / kHalfPi);
+  if (std::abs(angle - quarter_turns * kHalfPi) < 1e-10) {
+    static constexpr double kSin[4] = {0, 1, 0, -1};
+    static constexpr double kCos[4] = {1, 0, -1, 0};
+    const long k = ((static_cast<long>(quarter_turns) % 4) + 4) % 4;
+    s = kSin[k];
+    c = kCos[k];
+  } else {
+    s = std::sin(angle);
+    c = std::cos(angle);
+  }
+}
+
+std::string quoted(const std::string& kind, const std::string& name) { return kind + " '" + name + "'"; }
+
+void require_finite(const std::string& file, const std::string& element, std::initializer_list<double> values) {
+  for (double v : values)
+    if (!std::isfinite(v)) throw InputError(file, element, "number is not finite (NaN or Inf)");
+}
+
+// Pose of a child frame in its parent (URDF <origin>) as the motion transform parent -> child.
+Transform transform_from_pose(const urdf::Pose& pose, const std::string& file, const std::string& element) {
+  double roll = 0, pitch = 0, yaw = 0;
+  require_finite(file, element + " <origin>",
+                 {pose.position.x, pose.position.y, pose.position.z, pose.rotation.x, pose.rotation.y,
+                  pose.rotation.z, pose.rotation.w});
+  pose.rotation.getRPY(roll, pitch, yaw);
+  Transform X;
+  X.E = rotation_from_rpy(roll, pitch, yaw).transpose();
+  X.r = Vec3(pose.position.x, pose.position.y, pose.position.z);
+  return X;
+}
+
+// Validates a link's <inertial> (mass >= 0, principal moments >= 0 and satisfying the triangle
+// inequalities, i.e. a physically consistent rigid body) and returns its spatial inertia about
+// the link frame's origin, in link coordinates.
+Inertia link_inertia(const urdf::Link& link, const std::string& file, double& mass) {
+  mass = 0;
+  if (!link.inertial) return Inertia{};
+  const urdf::Inertial& in = *link.inertial;
+  const std::string element = quoted("link", link.name) + " <inertial>";
+  require_finite(file, element, {in.mass, in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz});
+  if (in.mass < 0) throw InputError(file, element, "negative mass " + std::to_string(in.mass));
+  Mat3 inertia_com;
+  inertia_com << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Mat3>(inertia_com).eigenvalues();
+  const double tolerance = 1e-12 * moments.cwiseAbs().sum();
+  std::ostringstream principal;
+  principal.precision(17);
+  principal << "principal moments " << moments(0) << ", " << moments(1) << ", " << moments(2);
+  if (moments(0) < -tolerance)
+    throw InputError(file, element, "inertia tensor is not positive semi-definite (" + principal.str() + ")");
+  if (moments(0) + moments(1) < moments(2) - tolerance)
+    throw InputError(file, element,
+                     "inertia tensor violates the triangle inequality I1 + I2 >= I3 (" + principal.str() +
+                         "), no rigid body has it");
+  const Transform link_to_com = transform_from_pose(in.origin, file, element);
+  // Rotate the tensor from the inertial frame into link axes: I_link = R I_com R^T.
+  const Mat3 R = link_to_com.E.transpose();
+  const Mat3 rotated = R * inertia_com * R.transpose();
+  const Vec3 com = link_to_com.r;
+  const Mat3 cx = spatial::skew(com);
+  mass = in.mass;
+  return Inertia::rigid(in.mass, in.mass * com, rotated - in.mass * cx * cx);
+}
+
+std::vector<std::string> link_names(const urdf::ModelInterface& model) {
+  std::vector<std::string> names;
+  for (const auto& [name, link] : model.links_) names.push_back(name);
+  return names;
+}
+
+urdf::LinkConstSharedPtr find_link(const urdf::ModelInterface& model, const std::string& name,
+                                   const std::string& file, const std::string& role) {
+  auto link = model.getLink(name);
+  if (!link)
+    throw InputError(file, role + " link '" + name + "'",
+                     "no such link in the URDF" + nearest_name_hint(name, link_names(model)));
+  return link;
+}
+
+// The deepest link below `root`, provided nothing branches on the way.
+std::string deepest_link(const urdf::Link& root, const std::string& file) {
+  const urdf::Link* link = &root;
+  while (!link->child_links.empty()) {
+    if (link->child_links.size() > 1) {
+      std::string children;
+      for (const auto& child : link->child_links) children += (children.empty() ? "'" : ", '") + child->name + "'";
+      throw InputError(file, quoted("link", link->name),
+                       "the tree branches here (children " + children + "); name the tip link explicitly");
+    }
+    link = link->child_links.front().get();
+  }
+  return link->name;
+}
+
+// Joints from root to tip, root first.
+std::vector<urdf::JointConstSharedPtr> path_joints(const urdf::ModelInterface& model, const std::string& root,
+                                                   const std::string& tip, const std::string& file) {
+  std::vector<urdf::JointConstSharedPtr> joints;
+  for (auto link = model.getLink(tip); link->name != root;) {
+    if (!link->parent_joint)
+      throw InputError(file, "links '" + root + "' and '" + tip + "'",
+                       "not connected: '" + tip + "' is not below '" + root + "' in the URDF tree");
+    joints.push_back(link->parent_joint);
+    link = model.getLink(link->parent_joint->parent_link_name);
+  }
+  return {joints.rbegin(), joints.rend()};
+}
+
+void check_last_joint_can_accelerate(const Chain& chain) {
+  const std::size_t n = chain.dof();
+  const Joint& joint = chain.joints[n];
+  const Inertia& inertia = chain.bodies[n].inertia;
+  spatial::Motion<double> S;
+  (joint.type == JointType::revolute ? S.angular : S.linear) = joint.axis;
+  const double D = joint.rotor_inertia + spatial::dot(inertia * S, S);
+  double mass_scale = 0, length_scale = 0;
+  for (std::size_t i = 1; i <= n; ++i) {
+    mass_scale += chain.bodies[i].mass + chain.bodies[i].inertia.A.trace();
+    length_scale += chain.joints[i].tree_transform.r.norm();
+  }
+  const double scale = joint.type == JointType::revolute ? mass_scale * (1 + length_scale * length_scale) : mass_scale;
+  if (!(D > 1e-12 * scale))
+    throw InputError(chain.source, quoted("joint", joint.name),
+                     "the last moving body ('" + chain.bodies[n].link +
+                         "' with everything fixed to it) has no inertia about this joint's axis and the joint has "
+                         "no rotor inertia, so D_N = 0 and its acceleration is undefined; give the link an "
+                         "<inertial> or the joint a rotor inertia");
+}
+
+void apply_rotor_inertia(Chain& chain, const std::map<std::string, double>& rotor_inertia, const std::string& source) {
+  std::vector<std::string> names;
+  for (std::size_t i = 1; i <= chain.dof(); ++i) names.push_back(chain.joints[i].name);
+  for (const auto& [name, value] : rotor_inertia) {
+    const std::string element = "rotor inertia of joint '" + name + "'";
+    const std::size_t i = chain.joint_index(name);
+    if (i == 0) throw InputError(source, element, "no moving joint of that name on the chain" + nearest_name_hint(name, names));
+    if (!std::isfinite(value) || value < 0) throw InputError(source, element, "must be a finite number >= 0");
+    chain.joints[i].rotor_inertia = value;
+  }
+}
+
+}  // namespace
+
+Mat3 rotation_from_rpy(double roll, double pitch, double yaw) {
+  double sr, cr, sp, cp, sy, cy;
+  snapped_sin_cos(roll, sr, cr);
+  snapped_sin_cos(pitch, sp, cp);
+  snapped_sin_cos(yaw, sy, cy);
+  Mat3 Rx, Ry, Rz;
+  Rx << 1, 0, 0, 0, cr, -sr, 0, sr, cr;
+  Ry << cp, 0, sp, 0, 1, 0, -sp, 0, cp;
+  Rz << cy, -sy, 0, sy, cy, 0, 0, 0, 1;
+  return Rz * Ry * Rx;
+}
+
+Chain load_chain(const ChainSpec& spec) {
+  const std::string& urdf_path = spec.urdf;
+  const std::string& root_link = spec.root_link;
+  const std::string& tip_link = spec.tip_link;
+  std::ifstream in(urdf_path);
+  if (!in) throw InputError(urdf_path, "file", "cannot be opened for reading");
+  std::stringstream text;
+  text << in.rdbuf();
+
+  urdf::ModelInterfaceSharedPtr model;
+  {
+    CapturedConsole console;
+    model = urdf::parseURDF(text.str());
+    if (!model)
+      throw InputError(urdf_path, "<robot>",
+                       "not a valid URDF: " + (console.messages().empty() ? "urdfdom rejected it" : console.messages()));
+  }
+
+  Chain chain;
+  chain.source = urdf_path;
+  chain.root_link = root_link.empty() ? model->getRoot()->name : root_link;
+  const auto root = find_link(*model, chain.root_link, urdf_path, "root");
+  chain.tip_link = tip_link.empty() ? deepest_link(*root, urdf_path) : tip_link;
+  find_link(*model, chain.tip_link, urdf_path, "tip");
+
+  chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, 0});
+  chain.joints.push_back(Joint{});
+  chain.frames[chain.root_link] = Frame{0, Transform::identity()};
+
+  // Transform from the current body's frame to the frame of the link reached last.
+  Transform body_to_link = Transform::identity();
+  for (const auto& urdf_joint : path_joints(*model, chain.root_link, chain.tip_link, urdf_path)) {
+    const std::string element = quoted("joint", urdf_joint->name);
+    if (urdf_joint->mimic)
+      throw InputError(urdf_path, element, "mimic joints are not supported (the chain needs independent joints)");
+    const auto child = model->getLink(urdf_joint->child_link_name);
+    const Transform origin = transform_from_pose(urdf_joint->parent_to_joint_origin_transform, urdf_path, element);
+    double mass = 0;
+    const Inertia child_inertia = link_inertia(*child, urdf_path, mass);
+
+    switch (urdf_joint->type) {
+      case urdf::Joint::FIXED: {
+        body_to_link = origin * body_to_link;
+        const std::size_t body = chain.bodies.size() - 1;
+        chain.frames[child->name] = Frame{body, body_to_link};
+        if (body > 0) {
+          Body& b = chain.bodies[body];
+          b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
+          b.mass += mass;
+          b.lumped_links.push_back(child->name);
+        }
+        break;
+      }
+      case urdf::Joint::REVOLUTE:
+      case urdf::Joint::CONTINUOUS:
+      case urdf::Joint::PRISMATIC: {
+        Joint joint;
+        joint.name = urdf_joint->name;
+        joint.type = urdf_joint->type == urdf::Joint::PRISMATIC ? JointType::prismatic : JointType::revolute;
+        joint.continuous = urdf_joint->type == urdf::Joint::CONTINUOUS;
+        const auto& a = urdf_joint->axis;
+        require_finite(urdf_path, element + " <axis>", {a.x, a.y, a.z});
+        const Vec3 axis(a.x, a.y, a.z);
+        if (!(axis.norm() > 1e-12)) throw InputError(urdf_path, element + " <axis>", "axis has zero length");
+        joint.axis = axis / axis.norm();
+        joint.tree_transform = origin * body_to_link;
+        if (const auto& limits = urdf_joint->limits) {
+          require_finite(urdf_path, element + " <limit>", {limits->effort, limits->velocity});
+          if (limits->effort < 0 || limits->velocity < 0)
+            throw InputError(urdf_path, element + " <limit>", "effort and velocity limits must not be negative");
+          // URDF writes 0 where no limit is known; it means "unlimited" here.
+          if (limits->effort > 0) joint.effort_limit = limits->effort;
+          if (limits->velocity > 0) joint.velocity_limit = limits->velocity;
+          if (!joint.continuous) {
+            joint.lower = limits->lower;
+            joint.upper = limits->upper;
+          }
+        }
+        chain.joints.push_back(joint);
+        chain.bodies.push_back(Body{child->name, {}, child_inertia, mass});
+        body_to_link = Transform::identity();
+        chain.frames[child->name] = Frame{chain.bodies.size() - 1, body_to_link};
+        break;
+      }
+      case urdf::Joint::FLOATING:
+      case urdf::Joint::PLANAR:
+        throw InputError(urdf_path, element,
+                         std::string(urdf_joint->type == urdf::Joint::FLOATING ? "floating" : "planar") +
+                             " joints are not supported (serial chains of revolute, continuous, prismatic and "
+                             "fixed joints only)");
+      default:
+        throw InputError(urdf_path, element, "joint type unknown");
+    }
+  }
+  if (chain.dof() == 0)
+    throw InputError(urdf_path, "links '" + chain.root_link + "' and '" + chain.tip_link + "'",
+                     "no moving joint between them");
+  apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);
+  check_last_joint_can_accelerate(chain);
+  return chain;
+}
+
+}  // namespace sweepgen::model

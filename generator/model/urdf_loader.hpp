@@ -1,0 +1,28 @@
+// Reads a serial chain out of a URDF file (urdfdom) and validates it.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "model/chain.hpp"
+
+namespace sweepgen::model {
+
+struct ChainSpec {
+  std::string urdf;       // path of the URDF file
+  std::string root_link;  // empty: the URDF's root link
+  std::string tip_link;   // empty: the deepest link, if the tree below the root is a single chain
+  std::map<std::string, double> rotor_inertia;  // d_i by joint name (URDF has no such element)
+  std::string rotor_inertia_source = "--rotor-inertia";  // where those values came from, for messages
+};
+
+// Reads and validates the chain. Throws InputError naming the file, element and reason on
+// anything invalid, including a last joint that cannot accelerate (D_N = 0).
+Chain load_chain(const ChainSpec& spec);
+
+// Rotation matrix of URDF roll-pitch-yaw (R = Rz(yaw) Ry(pitch) Rx(roll)). Angles within
+// 1e-10 rad of a multiple of pi/2 are taken as exactly that multiple, so that such rotations
+// are exact permutations with signs (they fold away in generated code).
+Mat3 rotation_from_rpy(double roll, double pitch, double yaw);
+
+}  // namespace sweepgen::model

@@ -1,0 +1,50 @@
+// The joint torques that realise the solved motion on a robot (docs/achd-equations.md,
+// "Two traps"). Two inward passes of rigid force propagation, f_{i-1} += X_i^T f_i,
+// τ_i = S_i^T f_i:
+//   τcmd = τff + J^T (F_cstr,N ν)             for the policies that keep the constraint;
+//   τcmd = RNEA(q, q̇, q̈; F_ext) + d q̈         for any q̈ (used by Eq. 1 saturation).
+#pragma once
+
+#include "solver/solver_model.hpp"
+#include "solver/state.hpp"
+
+namespace sweepgen::solver {
+
+// Σ over torque instances of τff_i.
+template <class Scalar>
+Scalar feedforward_torque(const DriverInputs<Scalar>& inputs, std::size_t i) {
+  Scalar tau(0);
+  for (const auto& instance : inputs.torques) tau += instance[i - 1];
+  return tau;
+}
+
+// τcmd = τff + J^T (F_cstr,N ν)
+template <class Scalar>
+void constraint_torque_tip_to_base(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                   const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs,
+                                   Solution<Scalar>& sol) {
+  const std::size_t n = model.dof();
+  spatial::Force<Scalar> f;  // F_cstr,N ν in body N's frame
+  for (std::size_t k = 0; k < model.constraints(); ++k) f += art.body[n].constraint_force[k] * sol.nu[k];
+  for (std::size_t i = n; i >= 1; --i) {
+    sol.tau_cmd[i - 1] = feedforward_torque(inputs, i) + spatial::dot(f, model.joints[i].S);
+    if (i > 1) f = kin.body[i].X.apply_transpose(f);
+  }
+}
+
+// τcmd = RNEA(q, q̇, q̈; F_ext) + d q̈, from the accelerations Ẍ_i already in `sol`.
+template <class Scalar>
+void inverse_dynamics_torque_tip_to_base(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                         const DriverInputs<Scalar>& inputs, Solution<Scalar>& sol) {
+  const std::size_t n = model.dof();
+  spatial::Force<Scalar> f;  // net force body i exerts on its children, carried inward
+  for (std::size_t i = n; i >= 1; --i) {
+    f += model.inertia[i] * sol.acceleration[i] + kin.body[i].bias_force;
+    for (std::size_t k = 0; k < model.external_force_body.size(); ++k)
+      if (model.external_force_body[k] == i) f -= model.external_force_frame[k].apply_transpose(inputs.external_forces[k]);
+    sol.tau_cmd[i - 1] = spatial::dot(f, model.joints[i].S) + model.joints[i].rotor_inertia * sol.qdd[i - 1];
+    if (i > 1) f = kin.body[i].X.apply_transpose(f);
+  }
+}
+
+}  // namespace sweepgen::solver

@@ -1,0 +1,26 @@
+// Outward sweep, base to tip (docs/achd-equations.md, "Outward sweep"):
+//   Ẋ_i  = X_i Ẋ_{i-1} + S_i q̇_i,   Ẍb_i = Ẋ_i × (S_i q̇_i),   Fb_i = Ẋ_i ×* (M_i Ẋ_i).
+// External forces are not folded into Fb here: every track adds its own (decomposition_sweep).
+#pragma once
+
+#include "solver/solver_model.hpp"
+#include "solver/state.hpp"
+
+namespace sweepgen::solver {
+
+// @pre q, qd have N entries; kin.body has N + 1.
+template <class Scalar>
+void outward_sweep_base_to_tip(const SolverModel<Scalar>& model, const JointVector<Scalar>& q,
+                               const JointVector<Scalar>& qd, KinematicsState<Scalar>& kin) {
+  for (std::size_t i = 1; i <= model.dof(); ++i) {
+    const JointModel<Scalar>& joint = model.joints[i];
+    BodyKinematics<Scalar>& body = kin.body[i];
+    body.X = joint.transform(q[i - 1]);
+    const spatial::Motion<Scalar> joint_velocity = joint.S * qd[i - 1];
+    body.velocity = body.X.apply(kin.body[i - 1].velocity) + joint_velocity;
+    body.bias_acceleration = spatial::cross_motion(body.velocity, joint_velocity);
+    body.bias_force = spatial::cross_force(body.velocity, model.inertia[i] * body.velocity);
+  }
+}
+
+}  // namespace sweepgen::solver

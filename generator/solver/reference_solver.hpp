@@ -1,0 +1,70 @@
+// The generic reference ACHD solver: the sweeps of this folder behind one object that owns
+// its state. Every buffer is sized at construction; outward(), decompose() and solve() do
+// not allocate. The sweeps are separately callable: outward + decompose once, then any number
+// of solve() calls with other policies or setpoints.
+#pragma once
+
+#include "model/chain.hpp"
+#include "solver/outward_sweep.hpp"
+#include "solver/solver_sweep.hpp"
+
+namespace sweepgen::solver {
+
+template <class Scalar>
+class ReferenceSolver {
+ public:
+  ReferenceSolver(const model::Chain& chain, const DriverLayout& layout, const SolverOptions& options = {})
+      : model_(chain, layout, options) {
+    const std::size_t n = model_.dof(), nc = model_.constraints(), tracks = layout.tracks.size();
+    kinematics_.body.resize(n + 1);
+    articulated_.body.resize(n + 1);
+    for (auto& body : articulated_.body) body.constraint_energy.setZero(nc, nc);
+    articulated_.track.assign(tracks, std::vector<TrackBody<Scalar>>(n + 1));
+    for (auto& track : articulated_.track)
+      for (auto& body : track) body.acceleration_energy.setZero(nc);
+    inputs_.torques.assign(layout.torques.size(), JointVector<Scalar>::Zero(n));
+    inputs_.external_forces.resize(layout.external_forces.size());
+    for (auto* v : {&solution_.tau_ctrl, &solution_.qdd, &solution_.tau_cmd, &solution_.saturated}) v->setZero(n);
+    solution_.nu.setZero(nc);
+    solution_.conf_energy.setZero(nc);
+    solution_.acceleration.resize(n + 1);
+    solution_.correction_force.resize(n + 1);
+  }
+
+  const SolverModel<Scalar>& model() const { return model_; }
+  std::size_t dof() const { return model_.dof(); }
+
+  // Outward sweep for joint positions and velocities (N each).
+  void outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd) {
+    outward_sweep_base_to_tip(model_, q, qd, kinematics_);
+  }
+  // Driver values used by the next decompose(); sizes as in the layout.
+  DriverInputs<Scalar>& drivers() { return inputs_; }
+  // Inward sweep over the layout's tracks (Alg. 1, Alg. 2 or any grouping between).
+  void decompose() { decomposition_sweep_tip_to_base(model_, kinematics_, inputs_, articulated_); }
+  // Solver sweep for setpoints E_cstr,N (Nc entries) under `policy`.
+  const Solution<Scalar>& solve(Policy policy, const ConstraintVector<Scalar>& setpoints) {
+    solver_sweep_base_to_tip(model_, kinematics_, articulated_, inputs_, setpoints, policy, solution_);
+    return solution_;
+  }
+  unsigned status() const {
+    unsigned s = status_ok;
+    if (solution_.dropped_pivots > Scalar(0)) s |= status_constraint_rank_deficient;
+    for (Eigen::Index i = 0; i < solution_.saturated.size(); ++i)
+      if (solution_.saturated[i] > Scalar(0)) s |= status_saturated;
+    return s;
+  }
+
+  const KinematicsState<Scalar>& kinematics() const { return kinematics_; }
+  const ArticulatedState<Scalar>& articulated() const { return articulated_; }
+  const Solution<Scalar>& solution() const { return solution_; }
+
+ private:
+  SolverModel<Scalar> model_;
+  KinematicsState<Scalar> kinematics_;
+  ArticulatedState<Scalar> articulated_;
+  DriverInputs<Scalar> inputs_;
+  Solution<Scalar> solution_;
+};
+
+}  // namespace sweepgen::solver

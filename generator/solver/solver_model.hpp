@@ -1,0 +1,101 @@
+// The chain's constants in the solver's scalar: what every sweep reads and never writes.
+// For the symbolic scalar these become folded constants of the generated code.
+#pragma once
+
+#include <vector>
+
+#include "model/chain.hpp"
+#include "solver/drivers.hpp"
+#include "solver/scalar_ops.hpp"
+#include "spatial/spatial.hpp"
+
+namespace sweepgen::solver {
+
+using spatial::Force;
+using spatial::Inertia;
+using spatial::Mat3;
+using spatial::Motion;
+using spatial::Transform;
+using spatial::Vec3;
+
+struct SolverOptions {
+  model::Vec3 gravity{0, 0, -9.81};  // in the root link's frame [m/s^2]
+  // Relative pivot tolerance of the E^A_cstr,0 factorisation (docs/derivation.md,
+  // "Singular constraints"); <= 0 picks 1000 eps of the solver's scalar.
+  double pivot_tolerance = 0;
+};
+
+template <class Scalar>
+struct JointModel {
+  model::JointType type = model::JointType::revolute;
+  Transform<Scalar> tree_transform;  // X_T
+  Motion<Scalar> S;                  // motion subspace in the body frame
+  // Revolute joints: E_J(q) = axis_outer + cos q (1 − axis_outer) − sin q [axis]×,
+  // written so that axis-aligned joints fold to plain rotations.
+  Mat3<Scalar> axis_outer, axis_complement, axis_skew;
+  Vec3<Scalar> axis;
+  Scalar rotor_inertia;  // d_i
+  Scalar effort_limit;   // used by the saturating policies
+
+  // X_i = X_J(q) X_T, the motion transform from body i-1 to body i.
+  Transform<Scalar> transform(const Scalar& q) const {
+    using std::cos;
+    using std::sin;
+    Transform<Scalar> joint;
+    if (type == model::JointType::revolute) {
+      joint.E = axis_outer + axis_complement * cos(q) - axis_skew * sin(q);
+    } else {
+      joint.r = axis * q;
+    }
+    return joint * tree_transform;
+  }
+};
+
+template <class Scalar>
+struct SolverModel {
+  std::vector<JointModel<Scalar>> joints;  // 0..N, [0] unused
+  std::vector<Inertia<Scalar>> inertia;    // M_i, 0..N, [0] unused
+  Transform<Scalar> tip;                   // body N -> tip link frame
+  std::vector<std::size_t> external_force_body;        // per external-force instance
+  std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
+  Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g]
+  Scalar pivot_tolerance;
+  DriverLayout layout;
+
+  std::size_t dof() const { return joints.size() - 1; }
+  std::size_t constraints() const { return layout.constraints; }
+
+  SolverModel(const model::Chain& chain, const DriverLayout& drivers, const SolverOptions& options = {})
+      : layout(drivers) {
+    const std::size_t n = chain.dof();
+    joints.resize(n + 1);
+    inertia.resize(n + 1);
+    for (std::size_t i = 1; i <= n; ++i) {
+      const model::Joint& j = chain.joints[i];
+      JointModel<Scalar>& jm = joints[i];
+      jm.type = j.type;
+      jm.tree_transform = j.tree_transform.cast<Scalar>();
+      const bool revolute = j.type == model::JointType::revolute;
+      (revolute ? jm.S.angular : jm.S.linear) = j.axis.cast<Scalar>();
+      const model::Mat3 outer = j.axis * j.axis.transpose();
+      jm.axis_outer = outer.cast<Scalar>();
+      jm.axis_complement = (model::Mat3::Identity() - outer).cast<Scalar>();
+      jm.axis_skew = spatial::skew(j.axis).cast<Scalar>();
+      jm.axis = j.axis.cast<Scalar>();
+      jm.rotor_inertia = Scalar(j.rotor_inertia);
+      jm.effort_limit = Scalar(j.effort_limit);
+      inertia[i] = chain.bodies[i].inertia.cast<Scalar>();
+    }
+    tip = chain.tip().X.cast<Scalar>();
+    for (const auto& ext : layout.external_forces) {
+      const model::Frame& frame = chain.frames.at(ext.link);
+      external_force_body.push_back(frame.body);
+      external_force_frame.push_back(frame.X.cast<Scalar>());
+    }
+    base_acceleration.linear = (-options.gravity).cast<Scalar>();
+    const double eps = static_cast<double>(std::numeric_limits<Scalar>::epsilon());
+    pivot_tolerance = Scalar(options.pivot_tolerance > 0 ? options.pivot_tolerance : 1000 * eps);
+  }
+};
+
+}  // namespace sweepgen::solver

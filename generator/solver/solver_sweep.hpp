@@ -1,0 +1,118 @@
+// Solver sweeps, base to tip (docs/achd-equations.md, "Solver sweeps"): compose the tracks of
+// the decomposition under a policy.
+//   E_conf  = Σ_{t composed} E^A_t,0
+//   ν       = (E^A_cstr,0)^-1 [E_cstr,N − F^A_cstr,0^T Ẍ_0 − E_conf]                 (ν)
+//   τctrl_i = S_i^T F^A_cstr,i ν                           Alg. 3
+//           + S_i^T Σ_{t external} (−F^A_t,i)               Alg. 4 adds the external forces
+//           clamped to ±effort limit                        Eq. 1
+//   q̈_i     = D_i^-1 (τff_i + τctrl_i − S_i^T (Σ_{t composed} F^A_t,i + M^A_i a_i)),
+//   a_i     = X_i Ẍ_{i-1} + Ẍb_i,      Ẍ_i = a_i + S_i q̈_i                              (q̈)
+// Exact saturation clamps τcmd instead and runs forward dynamics with it: the extra torque
+// Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity.
+#pragma once
+
+#include "solver/commanded_torque.hpp"
+#include "solver/constraint_multipliers.hpp"
+#include "solver/decomposition_sweep.hpp"
+#include "solver/policy.hpp"
+
+namespace sweepgen::solver {
+
+// (ν): E_conf, ν and the number of dropped pivots.
+template <class Scalar>
+void constraint_multipliers(const SolverModel<Scalar>& model, const ArticulatedState<Scalar>& art,
+                            const ConstraintVector<Scalar>& setpoints, Policy policy, Solution<Scalar>& sol) {
+  const std::size_t nc = model.constraints();
+  sol.conf_energy.setZero(nc);
+  for (std::size_t t = 0; t < model.layout.tracks.size(); ++t)
+    if (composes(model.layout.tracks[t], policy)) sol.conf_energy += art.track[t][0].acceleration_energy;
+  ConstraintVector<Scalar> rhs(nc);
+  for (std::size_t k = 0; k < nc; ++k)
+    rhs[k] = setpoints[k] - spatial::dot(art.body[0].constraint_force[k], model.base_acceleration) - sol.conf_energy[k];
+  sol.nu = solve_constraint_multipliers(art.body[0].constraint_energy, rhs, model.pivot_tolerance, sol.dropped_pivots);
+}
+
+// τctrl for the policies that keep the constraint (original, prioritize_external, saturate).
+template <class Scalar>
+void control_torques(const SolverModel<Scalar>& model, const ArticulatedState<Scalar>& art, Policy policy,
+                     Solution<Scalar>& sol) {
+  for (std::size_t i = 1; i <= model.dof(); ++i) {
+    const JointModel<Scalar>& joint = model.joints[i];
+    spatial::Force<Scalar> f;
+    for (std::size_t k = 0; k < model.constraints(); ++k) f += art.body[i].constraint_force[k] * sol.nu[k];
+    if (policy == Policy::prioritize_external)
+      for (std::size_t t = 0; t < model.layout.tracks.size(); ++t)
+        if (model.layout.tracks[t].only_external_forces()) f -= art.track[t][i].articulated_force;
+    Scalar tau = spatial::dot(f, joint.S);
+    sol.saturated[i - 1] = Scalar(0);
+    if (policy == Policy::saturate) {
+      sol.saturated[i - 1] = select_greater(abs_value(tau), joint.effort_limit, Scalar(1), Scalar(0));
+      tau = clamp_symmetric(tau, joint.effort_limit);
+    }
+    sol.tau_ctrl[i - 1] = tau;
+  }
+}
+
+// (q̈): accelerations from τff + τctrl; `extra_force` (F^A_Δ) is added when given.
+template <class Scalar>
+void accelerations_base_to_tip(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                               const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs, Policy policy,
+                               const std::vector<spatial::Force<Scalar>>* extra_force, Solution<Scalar>& sol) {
+  sol.acceleration[0] = model.base_acceleration;
+  for (std::size_t i = 1; i <= model.dof(); ++i) {
+    const JointModel<Scalar>& joint = model.joints[i];
+    const BodyArticulated<Scalar>& a = art.body[i];
+    const spatial::Motion<Scalar> a_i = kin.body[i].X.apply(sol.acceleration[i - 1]) + kin.body[i].bias_acceleration;
+    spatial::Force<Scalar> F = a.articulated_inertia * a_i;
+    for (std::size_t t = 0; t < model.layout.tracks.size(); ++t)
+      if (composes(model.layout.tracks[t], policy)) F += art.track[t][i].articulated_force;
+    if (extra_force != nullptr) F += (*extra_force)[i];
+    sol.qdd[i - 1] =
+        a.inverse_D * (feedforward_torque(inputs, i) + sol.tau_ctrl[i - 1] - spatial::dot(F, joint.S));
+    sol.acceleration[i] = a_i + joint.S * sol.qdd[i - 1];
+  }
+  sol.tip_acceleration = model.tip.apply(sol.acceleration[model.dof()]);
+}
+
+// Exact saturation, after an original solve filled sol.tau_cmd: clamp it, hand the extra
+// torque Δτ to a track of its own, and redo the accelerations without the constraint.
+template <class Scalar>
+void saturate_commanded_torque(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                               const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs,
+                               Solution<Scalar>& sol) {
+  const std::size_t n = model.dof();
+  for (std::size_t i = 1; i <= n; ++i) {
+    const Scalar& limit = model.joints[i].effort_limit;
+    sol.saturated[i - 1] = select_greater(abs_value(sol.tau_cmd[i - 1]), limit, Scalar(1), Scalar(0));
+    sol.tau_cmd[i - 1] = clamp_symmetric(sol.tau_cmd[i - 1], limit);
+    sol.tau_ctrl[i - 1] = sol.tau_cmd[i - 1] - feedforward_torque(inputs, i);
+    sol.correction_force[i] = spatial::Force<Scalar>{};
+  }
+  for (std::size_t i = n; i >= 1; --i) {
+    Scalar u;
+    const spatial::Force<Scalar> handed_up = track_force_to_parent(
+        model.joints[i], kin.body[i], art.body[i], sol.correction_force[i], sol.tau_ctrl[i - 1], u);
+    if (i > 1) sol.correction_force[i - 1] += handed_up;
+  }
+  // Forward dynamics: τff + Δτ applied, no constraint force, every real force acting.
+  accelerations_base_to_tip(model, kin, art, inputs, Policy::original, &sol.correction_force, sol);
+}
+
+// @pre kin and art from the outward and decomposition sweeps of the same state and drivers.
+template <class Scalar>
+void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                              const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs,
+                              const ConstraintVector<Scalar>& setpoints, Policy policy, Solution<Scalar>& sol) {
+  const Policy constraint_policy = policy == Policy::saturate_exact ? Policy::original : policy;
+  constraint_multipliers(model, art, setpoints, constraint_policy, sol);
+  control_torques(model, art, constraint_policy, sol);
+  const std::vector<spatial::Force<Scalar>>* no_extra_force = nullptr;
+  accelerations_base_to_tip(model, kin, art, inputs, constraint_policy, no_extra_force, sol);
+  if (policy == Policy::saturate)
+    inverse_dynamics_torque_tip_to_base(model, kin, inputs, sol);
+  else
+    constraint_torque_tip_to_base(model, kin, art, inputs, sol);
+  if (policy == Policy::saturate_exact) saturate_commanded_torque(model, kin, art, inputs, sol);
+}
+
+}  // namespace sweepgen::solver

@@ -1,0 +1,87 @@
+// Everything the sweeps compute, split by what it depends on (docs/derivation.md, "State"):
+//   KinematicsState   q, q̇                        outward sweep
+//   ArticulatedState  q, q̇, drivers, F_cstr        inward (decomposition) sweep
+//   Solution          + setpoints E_cstr, policy    solver sweep
+// Arrays are indexed by body 0..N (0 = base); joint vectors (q, τ) are 0-based, q[i-1] is
+// joint i. Every field stays readable after a solve.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "solver/drivers.hpp"
+#include "spatial/spatial.hpp"
+
+namespace sweepgen::solver {
+
+template <class Scalar> using JointVector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
+template <class Scalar> using ConstraintVector = Eigen::Matrix<Scalar, Eigen::Dynamic, 1, 0, kMaxConstraints, 1>;
+template <class Scalar>
+using ConstraintMatrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxConstraints, kMaxConstraints>;
+// Nc unit constraint forces, one column each (F_cstr, 6 x Nc).
+template <class Scalar> using ConstraintForces = std::array<spatial::Force<Scalar>, kMaxConstraints>;
+
+template <class Scalar>
+struct DriverInputs {
+  std::vector<JointVector<Scalar>> torques;                 // τff per torque instance
+  std::vector<spatial::Force<Scalar>> external_forces;      // per instance, link frame, about its origin
+  ConstraintForces<Scalar> constraint_directions;           // α: F_cstr in the tip frame
+};
+
+template <class Scalar>
+struct BodyKinematics {
+  spatial::Transform<Scalar> X;           // X_i = iX_{i-1}(q_i)
+  spatial::Motion<Scalar> velocity;       // Ẋ_i
+  spatial::Motion<Scalar> bias_acceleration;  // Ẍb_i = Ẋ_i × S_i q̇_i
+  spatial::Force<Scalar> bias_force;      // Fb_i = Ẋ_i ×* (M_i Ẋ_i)
+};
+
+template <class Scalar>
+struct KinematicsState {
+  std::vector<BodyKinematics<Scalar>> body;  // 0..N
+};
+
+template <class Scalar>
+struct BodyArticulated {
+  spatial::Inertia<Scalar> articulated_inertia;  // M^A_i
+  spatial::Force<Scalar> U;                      // M^A_i S_i
+  Scalar D{};                                    // d_i + S_i^T M^A_i S_i
+  Scalar inverse_D{};
+  ConstraintForces<Scalar> constraint_force;    // F^A_cstr,i (Nc columns)
+  ConstraintMatrix<Scalar> constraint_energy;   // E^A_cstr,i (Nc x Nc)
+};
+
+template <class Scalar>
+struct TrackBody {
+  spatial::Force<Scalar> articulated_force;     // F^A_track,i (bias sign: subtracted in q̈)
+  ConstraintVector<Scalar> acceleration_energy; // E^A_track,i
+};
+
+template <class Scalar>
+struct ArticulatedState {
+  std::vector<BodyArticulated<Scalar>> body;     // 0..N; body[0] holds F^A_cstr,0, E^A_cstr,0
+  std::vector<std::vector<TrackBody<Scalar>>> track;  // [track][body]
+};
+
+enum Status : unsigned {
+  status_ok = 0,
+  status_constraint_rank_deficient = 1u << 0,  // a pivot of E^A_cstr,0 fell below tolerance
+  status_saturated = 1u << 1,                  // a saturating policy clamped a torque
+};
+
+template <class Scalar>
+struct Solution {
+  ConstraintVector<Scalar> nu;               // ν, Lagrange multipliers (constraint wrench = F_cstr ν)
+  ConstraintVector<Scalar> conf_energy;      // E_conf
+  Scalar dropped_pivots{};                   // count of E^A_cstr,0 pivots treated as zero
+  JointVector<Scalar> tau_ctrl;              // τctrl (articulated share)
+  JointVector<Scalar> qdd;                   // q̈
+  JointVector<Scalar> tau_cmd;               // τcmd, the torque that realises q̈
+  JointVector<Scalar> saturated;             // 1 where the policy clamped joint i's torque, else 0
+  std::vector<spatial::Motion<Scalar>> acceleration;  // Ẍ_i (spatial, minus gravity), 0..N
+  std::vector<spatial::Force<Scalar>> correction_force;  // saturate_exact: F^A of τ_applied − τff, 0..N
+  spatial::Motion<Scalar> tip_acceleration;  // Ẍ of the tip frame, in the tip frame
+};
+
+}  // namespace sweepgen::solver
