@@ -15,7 +15,9 @@ namespace {
 
 constexpr double kHalfPi = 1.5707963267948966;
 
-// Collects urdfdom's console messages so that they can be part of our error message.
+// Collects urdfdom's error messages so that they can be part of our error message. urdfdom
+// logs some errors (an unparsable number in <inertial>, say) and still returns a model with
+// the element reset to zero, so any logged error makes the file invalid.
 class CapturedConsole : public console_bridge::OutputHandler {
  public:
   CapturedConsole() {
@@ -24,7 +26,7 @@ class CapturedConsole : public console_bridge::OutputHandler {
   }
   ~CapturedConsole() override { console_bridge::useOutputHandler(previous_); }
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) messages_ += (messages_.empty() ? "" : "; ") + text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) messages_ += (messages_.empty() ? "" : "; ") + text;
   }
   const std::string& messages() const { return messages_; }
 
@@ -205,7 +207,7 @@ Chain load_chain(const ChainSpec& spec) {
   {
     CapturedConsole console;
     model = urdf::parseURDF(text.str());
-    if (!model)
+    if (!model || !console.messages().empty())
       throw InputError(urdf_path, "<robot>",
                        "not a valid URDF: " + (console.messages().empty() ? "urdfdom rejected it" : console.messages()));
   }

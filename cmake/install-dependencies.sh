@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs everything sweepgen needs from Debian 12 packages. Idempotent: when every package
+# is already installed it changes nothing and does not touch the network.
+set -euo pipefail
+
+packages=(
+  g++ cmake make pkg-config             # toolchain
+  libeigen3-dev liburdfdom-dev          # tool: linear algebra, URDF parsing
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libkainjow-mustache-dev
+  libgtest-dev libbenchmark-dev         # tests and benchmarks
+  liborocos-kdl-dev libkdl-parser-dev   # test oracle only (KDL's Vereshchagin solver)
+  gnuplot-nox valgrind                  # reports, instruction counts
+  clang libclang-rt-14-dev              # second compiler, sanitizers and fuzzing
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-dependencies: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "install-dependencies: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+$SUDO apt-get update
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"

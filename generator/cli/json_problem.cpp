@@ -1,0 +1,101 @@
+#include "cli/json_problem.hpp"
+
+#include <cmath>
+
+#include "model/error.hpp"
+
+namespace sweepgen::cli {
+namespace {
+
+using nlohmann::json;
+
+const std::vector<std::string> kKeys = {"q", "qd", "tau_ff", "f_ext", "alpha", "beta", "policy"};
+
+Eigen::VectorXd numbers(const json& value, const std::string& key, std::size_t expected) {
+  if (!value.is_array()) throw KeyError(key, "expected an array of " + std::to_string(expected) + " numbers");
+  if (value.size() != expected)
+    throw KeyError(key, "expected " + std::to_string(expected) + " numbers, got " + std::to_string(value.size()));
+  Eigen::VectorXd v(expected);
+  for (std::size_t i = 0; i < expected; ++i) {
+    if (!value[i].is_number()) throw KeyError(key, "entry " + std::to_string(i) + " is not a number");
+    v[i] = value[i].get<double>();
+    if (!std::isfinite(v[i])) throw KeyError(key, "entry " + std::to_string(i) + " is not finite");
+  }
+  return v;
+}
+
+spatial::Force<double> wrench(const json& value, const std::string& key) {
+  const Eigen::VectorXd v = numbers(value, key, 6);
+  return {v.head<3>(), v.tail<3>()};
+}
+
+nlohmann::ordered_json array(const Eigen::VectorXd& v) { return nlohmann::ordered_json(std::vector<double>(v.data(), v.data() + v.size())); }
+
+}  // namespace
+
+Problem parse_problem(const json& line, const model::Chain& chain) {
+  if (!line.is_object()) throw KeyError("(line)", "expected a JSON object");
+  for (const auto& [key, value] : line.items())
+    if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end())
+      throw KeyError(key, "unknown key" + nearest_name_hint(key, kKeys));
+  const std::size_t n = chain.dof();
+  Problem p;
+  for (const char* key : {"q", "qd"})
+    if (!line.contains(key)) throw KeyError(key, "missing");
+  p.q = numbers(line["q"], "q", n);
+  p.qd = numbers(line["qd"], "qd", n);
+  p.tau_ff = line.contains("tau_ff") ? numbers(line["tau_ff"], "tau_ff", n) : Eigen::VectorXd::Zero(n);
+  if (line.contains("f_ext")) {
+    if (!line["f_ext"].is_object()) throw KeyError("f_ext", "expected an object {link: [mx,my,mz,fx,fy,fz]}");
+    std::vector<std::string> links;
+    for (const auto& [name, frame] : chain.frames) links.push_back(name);
+    for (const auto& [link, value] : line["f_ext"].items()) {
+      const std::string key = "f_ext." + link;
+      const auto frame = chain.frames.find(link);
+      if (frame == chain.frames.end()) throw KeyError(key, "link is not on the chain" + nearest_name_hint(link, links));
+      if (frame->second.body == 0) throw KeyError(key, "link is fixed to the base; a force on it moves nothing");
+      p.f_ext[link] = wrench(value, key);
+    }
+  }
+  const bool has_alpha = line.contains("alpha"), has_beta = line.contains("beta");
+  if (has_alpha != has_beta) throw KeyError(has_alpha ? "beta" : "alpha", "missing (alpha and beta go together)");
+  if (has_alpha) {
+    const json& alpha = line["alpha"];
+    if (!alpha.is_array() || alpha.size() > solver::kMaxConstraints)
+      throw KeyError("alpha", "expected an array of 0 to 6 directions, each [mx,my,mz,fx,fy,fz]");
+    for (std::size_t k = 0; k < alpha.size(); ++k) p.alpha.push_back(wrench(alpha[k], "alpha[" + std::to_string(k) + "]"));
+    p.beta = numbers(line["beta"], "beta", alpha.size());
+  }
+  if (line.contains("policy")) {
+    const json& policy = line["policy"];
+    const auto parsed = policy.is_string() ? solver::policy_from_name(policy.get<std::string>()) : std::nullopt;
+    if (!parsed)
+      throw KeyError("policy", "expected one of original, prioritize_external, saturate, saturate_exact");
+    p.policy = *parsed;
+  }
+  return p;
+}
+
+nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsigned status, const model::Chain& chain) {
+  nlohmann::ordered_json out;
+  out["qdd"] = array(s.qdd);
+  out["tau_ctrl"] = array(s.tau_ctrl);
+  out["tau_cmd"] = array(s.tau_cmd);
+  out["nu"] = array(s.nu);
+  Eigen::VectorXd tip(6);
+  tip << s.tip_acceleration.angular, s.tip_acceleration.linear;
+  out["xdd_tip"] = array(tip);
+  std::vector<std::string> flags;
+  if (status & solver::status_constraint_rank_deficient) flags.push_back("constraint_rank_deficient");
+  if (status & solver::status_saturated) flags.push_back("saturated");
+  std::string text = flags.empty() ? "ok" : flags[0];
+  for (std::size_t k = 1; k < flags.size(); ++k) text += "," + flags[k];
+  out["status"] = text;
+  std::vector<std::string> saturated;
+  for (std::size_t i = 1; i <= chain.dof(); ++i)
+    if (s.saturated[i - 1] > 0) saturated.push_back(chain.joints[i].name);
+  out["saturated_joints"] = saturated;
+  return out;
+}
+
+}  // namespace sweepgen::cli

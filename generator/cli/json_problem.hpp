@@ -1,0 +1,36 @@
+// One line of `sweepgen solve` input and output (README, "sweepgen solve").
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "model/chain.hpp"
+#include "solver/policy.hpp"
+#include "solver/state.hpp"
+
+namespace sweepgen::cli {
+
+// A problem that cannot be read: names the offending key.
+class KeyError : public std::runtime_error {
+ public:
+  KeyError(const std::string& key, const std::string& reason) : std::runtime_error("key '" + key + "': " + reason) {}
+};
+
+struct Problem {
+  Eigen::VectorXd q, qd, tau_ff;
+  std::map<std::string, spatial::Force<double>> f_ext;  // link -> wrench [mx,my,mz,fx,fy,fz]
+  std::vector<spatial::Force<double>> alpha;             // tip frame, [moment; force]
+  Eigen::VectorXd beta;
+  solver::Policy policy = solver::Policy::original;
+};
+
+// Reads and checks a problem for `chain` (sizes, finiteness, link names). Throws KeyError.
+Problem parse_problem(const nlohmann::json& line, const model::Chain& chain);
+
+nlohmann::ordered_json solution_to_json(const solver::Solution<double>& solution, unsigned status,
+                                const model::Chain& chain);
+
+}  // namespace sweepgen::cli

@@ -1,0 +1,96 @@
+#include "cli/solve_command.hpp"
+
+#include <fstream>
+#include <iostream>
+
+#include "cli/json_problem.hpp"
+#include "model/error.hpp"
+#include "model/urdf_loader.hpp"
+#include "solver/reference_solver.hpp"
+
+namespace sweepgen::cli {
+namespace {
+
+std::map<std::string, double> parse_rotor_inertia(const std::vector<std::string>& entries) {
+  std::map<std::string, double> values;
+  for (const auto& entry : entries) {
+    const auto eq = entry.find('=');
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      if (eq == std::string::npos) throw std::invalid_argument("no '='");
+      value = std::stod(entry.substr(eq + 1), &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (eq == std::string::npos || eq == 0 || used == 0 || used != entry.size() - eq - 1)
+      throw InputError("--rotor-inertia", "'" + entry + "'", "expected JOINT=VALUE with a number VALUE");
+    values[entry.substr(0, eq)] = value;
+  }
+  return values;
+}
+
+// The reference solver for one problem: one torque instance, one external-force instance per
+// loaded link, Nc = number of directions, drivers kept apart (Alg. 2).
+nlohmann::ordered_json solve_problem(const Problem& p, const model::Chain& chain) {
+  solver::DriverLayout layout;
+  layout.torques = {"tau_ff"};
+  for (const auto& [link, wrench] : p.f_ext) layout.external_forces.push_back({link, link});
+  layout.constraints = p.alpha.size();
+  layout.decompose_all();
+  solver::ReferenceSolver<double> solver(chain, layout);
+  solver.outward(p.q, p.qd);
+  auto& drivers = solver.drivers();
+  drivers.torques[0] = p.tau_ff;
+  std::size_t k = 0;
+  for (const auto& [link, wrench] : p.f_ext) drivers.external_forces[k++] = wrench;
+  for (std::size_t c = 0; c < p.alpha.size(); ++c) drivers.constraint_directions[c] = p.alpha[c];
+  solver.decompose();
+  solver::ConstraintVector<double> beta = p.beta.size() ? solver::ConstraintVector<double>(p.beta) : solver::ConstraintVector<double>(0);
+  const auto& solution = solver.solve(p.policy, beta);
+  return solution_to_json(solution, solver.status(), chain);
+}
+
+}  // namespace
+
+void add_solve_command(CLI::App& app, SolveOptions& options) {
+  CLI::App* solve = app.add_subcommand("solve", "Solve JSON-line problems with the reference solver");
+  solve->add_option("--urdf", options.urdf, "URDF file")->required()->check(CLI::ExistingFile);
+  solve->add_option("--root", options.root, "root link (default: the URDF's root)");
+  solve->add_option("--tip", options.tip, "tip link (default: the deepest link of a single chain)");
+  solve->add_option("--input", options.input, "file of JSON lines, or - for standard input")->capture_default_str();
+  solve->add_option("--rotor-inertia", options.rotor_inertia, "JOINT=VALUE rotor inertia (repeatable)");
+}
+
+int run_solve(const SolveOptions& options) {
+  model::ChainSpec spec{options.urdf, options.root, options.tip, parse_rotor_inertia(options.rotor_inertia)};
+  const model::Chain chain = model::load_chain(spec);
+
+  std::ifstream file;
+  if (options.input != "-") {
+    file.open(options.input);
+    if (!file) throw InputError(options.input, "file", "cannot be opened for reading");
+  }
+  std::istream& in = options.input == "-" ? std::cin : file;
+  const std::string source = options.input == "-" ? "<stdin>" : options.input;
+
+  int exit_code = 0;
+  std::string text;
+  for (std::size_t line = 1; std::getline(in, text); ++line) {
+    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      const nlohmann::json parsed = nlohmann::json::parse(text);
+      std::cout << solve_problem(parse_problem(parsed, chain), chain).dump() << "\n";
+    } catch (const std::exception& e) {
+      const std::string reason =
+          dynamic_cast<const nlohmann::json::parse_error*>(&e) ? std::string("not valid JSON: ") + e.what() : e.what();
+      const std::string message = source + ":" + std::to_string(line) + ": " + reason;
+      std::cerr << "sweepgen: error: " << message << "\n";
+      std::cout << nlohmann::json{{"line", line}, {"error", message}}.dump() << "\n";
+      exit_code = 1;
+    }
+  }
+  return exit_code;
+}
+
+}  // namespace sweepgen::cli

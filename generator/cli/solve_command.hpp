@@ -1,0 +1,25 @@
+// `sweepgen solve`: the reference solver on JSON lines.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <map>
+#include <string>
+
+namespace sweepgen::cli {
+
+struct SolveOptions {
+  std::string urdf;
+  std::string root;
+  std::string tip;
+  std::string input = "-";
+  std::vector<std::string> rotor_inertia;  // JOINT=VALUE
+};
+
+void add_solve_command(CLI::App& app, SolveOptions& options);
+
+// Reads one JSON object per line, answers one per line in input order. Returns the exit
+// code: 0 if every line was answered, 1 if any line had an error (reported on stderr and as
+// {"line": N, "error": "..."} in the output).
+int run_solve(const SolveOptions& options);
+
+}  // namespace sweepgen::cli
