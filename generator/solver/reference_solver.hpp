@@ -14,22 +14,11 @@ template <class Scalar>
 class ReferenceSolver {
  public:
   ReferenceSolver(const model::Chain& chain, const DriverLayout& layout, const SolverOptions& options = {})
-      : model_(chain, layout, options) {
-    const std::size_t n = model_.dof(), nc = model_.constraints(), tracks = layout.tracks.size();
-    kinematics_.body.resize(n + 1);
-    articulated_.body.resize(n + 1);
-    for (auto& body : articulated_.body) body.constraint_energy.setZero(nc, nc);
-    articulated_.track.assign(tracks, std::vector<TrackBody<Scalar>>(n + 1));
-    for (auto& track : articulated_.track)
-      for (auto& body : track) body.acceleration_energy.setZero(nc);
-    inputs_.torques.assign(layout.torques.size(), JointVector<Scalar>::Zero(n));
-    inputs_.external_forces.resize(layout.external_forces.size());
-    for (auto* v : {&solution_.tau_ctrl, &solution_.qdd, &solution_.tau_cmd, &solution_.saturated}) v->setZero(n);
-    solution_.nu.setZero(nc);
-    solution_.conf_energy.setZero(nc);
-    solution_.acceleration.resize(n + 1);
-    solution_.correction_force.resize(n + 1);
-  }
+      : model_(chain, layout, options, static_cast<double>(std::numeric_limits<Scalar>::epsilon())),
+        kinematics_(KinematicsState<Scalar>::sized(model_.dof())),
+        articulated_(ArticulatedState<Scalar>::sized(model_.dof(), model_.constraints(), layout.tracks.size())),
+        inputs_(DriverInputs<Scalar>::sized(layout, model_.dof())),
+        solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints())) {}
 
   const SolverModel<Scalar>& model() const { return model_; }
   std::size_t dof() const { return model_.dof(); }

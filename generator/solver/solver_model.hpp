@@ -21,8 +21,13 @@ using spatial::Vec3;
 struct SolverOptions {
   model::Vec3 gravity{0, 0, -9.81};  // in the root link's frame [m/s^2]
   // Relative pivot tolerance of the E^A_cstr,0 factorisation (docs/derivation.md,
-  // "Singular constraints"); <= 0 picks 1000 eps of the solver's scalar.
+  // "Singular constraints"); <= 0 picks default_pivot_tolerance(epsilon of the scalar).
   double pivot_tolerance = 0;
+
+  static double default_pivot_tolerance(double epsilon) { return 1000 * epsilon; }
+  double pivot_tolerance_for(double epsilon) const {
+    return pivot_tolerance > 0 ? pivot_tolerance : default_pivot_tolerance(epsilon);
+  }
 };
 
 template <class Scalar>
@@ -65,7 +70,9 @@ struct SolverModel {
   std::size_t dof() const { return joints.size() - 1; }
   std::size_t constraints() const { return layout.constraints; }
 
-  SolverModel(const model::Chain& chain, const DriverLayout& drivers, const SolverOptions& options = {})
+  // `epsilon`: machine epsilon of the arithmetic the solver will run in (for the default
+  // pivot tolerance; the symbolic scalar passes the emitted scalar's).
+  SolverModel(const model::Chain& chain, const DriverLayout& drivers, const SolverOptions& options, double epsilon)
       : layout(drivers) {
     const std::size_t n = chain.dof();
     joints.resize(n + 1);
@@ -93,8 +100,7 @@ struct SolverModel {
       external_force_frame.push_back(frame.X.cast<Scalar>());
     }
     base_acceleration.linear = (-options.gravity).cast<Scalar>();
-    const double eps = static_cast<double>(std::numeric_limits<Scalar>::epsilon());
-    pivot_tolerance = Scalar(options.pivot_tolerance > 0 ? options.pivot_tolerance : 1000 * eps);
+    pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
   }
 };
 

@@ -27,6 +27,13 @@ struct DriverInputs {
   std::vector<JointVector<Scalar>> torques;                 // τff per torque instance
   std::vector<spatial::Force<Scalar>> external_forces;      // per instance, link frame, about its origin
   ConstraintForces<Scalar> constraint_directions;           // α: F_cstr in the tip frame
+
+  static DriverInputs sized(const DriverLayout& layout, std::size_t n) {
+    DriverInputs d;
+    d.torques.assign(layout.torques.size(), JointVector<Scalar>::Zero(n));
+    d.external_forces.resize(layout.external_forces.size());
+    return d;
+  }
 };
 
 template <class Scalar>
@@ -40,6 +47,8 @@ struct BodyKinematics {
 template <class Scalar>
 struct KinematicsState {
   std::vector<BodyKinematics<Scalar>> body;  // 0..N
+
+  static KinematicsState sized(std::size_t n) { return {std::vector<BodyKinematics<Scalar>>(n + 1)}; }
 };
 
 template <class Scalar>
@@ -62,6 +71,16 @@ template <class Scalar>
 struct ArticulatedState {
   std::vector<BodyArticulated<Scalar>> body;     // 0..N; body[0] holds F^A_cstr,0, E^A_cstr,0
   std::vector<std::vector<TrackBody<Scalar>>> track;  // [track][body]
+
+  static ArticulatedState sized(std::size_t n, std::size_t nc, std::size_t tracks) {
+    ArticulatedState s;
+    s.body.resize(n + 1);
+    for (auto& body : s.body) body.constraint_energy.setZero(nc, nc);
+    TrackBody<Scalar> zero;
+    zero.acceleration_energy.setZero(nc);
+    s.track.assign(tracks, std::vector<TrackBody<Scalar>>(n + 1, zero));
+    return s;
+  }
 };
 
 enum Status : unsigned {
@@ -82,6 +101,16 @@ struct Solution {
   std::vector<spatial::Motion<Scalar>> acceleration;  // Ẍ_i (spatial, minus gravity), 0..N
   std::vector<spatial::Force<Scalar>> correction_force;  // saturate_exact: F^A of τ_applied − τff, 0..N
   spatial::Motion<Scalar> tip_acceleration;  // Ẍ of the tip frame, in the tip frame
+
+  static Solution sized(std::size_t n, std::size_t nc) {
+    Solution s;
+    for (auto* v : {&s.tau_ctrl, &s.qdd, &s.tau_cmd, &s.saturated}) v->setZero(n);
+    s.nu.setZero(nc);
+    s.conf_energy.setZero(nc);
+    s.acceleration.resize(n + 1);
+    s.correction_force.resize(n + 1);
+    return s;
+  }
 };
 
 }  // namespace sweepgen::solver

@@ -1,0 +1,98 @@
+// Names every scalar of the sweep states, as (array, body, component, value). The generator
+// uses it to name what it stores and to order the generated statements; tests use it to
+// compare generated intermediates with the reference's. Arrays with a body index have one
+// row per body 0..N (kBodyless otherwise); components follow the math's order: motion
+// [angular; linear], force [moment; force], matrices row-major.
+#pragma once
+
+#include <string>
+
+#include "solver/policy.hpp"
+#include "solver/state.hpp"
+
+namespace sweepgen::solver {
+
+constexpr int kBodyless = -1;
+
+template <class Scalar, class Visit>
+void visit_motion(Visit& visit, const std::string& array, int body, const spatial::Motion<Scalar>& m) {
+  for (int c = 0; c < 3; ++c) visit(array, body, c, m.angular[c]);
+  for (int c = 0; c < 3; ++c) visit(array, body, 3 + c, m.linear[c]);
+}
+
+template <class Scalar, class Visit>
+void visit_force(Visit& visit, const std::string& array, int body, const spatial::Force<Scalar>& f, int offset = 0) {
+  for (int c = 0; c < 3; ++c) visit(array, body, offset + c, f.moment[c]);
+  for (int c = 0; c < 3; ++c) visit(array, body, offset + 3 + c, f.force[c]);
+}
+
+template <class Matrix, class Visit>
+void visit_matrix(Visit& visit, const std::string& array, int body, const Matrix& m, int offset = 0) {
+  for (Eigen::Index r = 0; r < m.rows(); ++r)
+    for (Eigen::Index c = 0; c < m.cols(); ++c) visit(array, body, offset + static_cast<int>(r * m.cols() + c), m(r, c));
+}
+
+// Outward sweep: X_E, X_r, velocity, bias_acceleration, bias_force (bodies 1..N).
+template <class Scalar, class Visit>
+void visit_fields(const KinematicsState<Scalar>& kin, Visit&& visit) {
+  for (int i = 1; i < static_cast<int>(kin.body.size()); ++i) {
+    const auto& b = kin.body[i];
+    visit_matrix(visit, "X_E", i, b.X.E);
+    visit_matrix(visit, "X_r", i, b.X.r);
+    visit_motion(visit, "velocity", i, b.velocity);
+    visit_motion(visit, "bias_acceleration", i, b.bias_acceleration);
+    visit_force(visit, "bias_force", i, b.bias_force);
+  }
+}
+
+// Inward sweep, tip to base: per body the articulated inertia (A, B, C blocks), U, D, 1/D,
+// the constraint forces and energies; then each track's force and energy.
+template <class Scalar, class Visit>
+void visit_fields(const ArticulatedState<Scalar>& art, const DriverLayout& layout, Visit&& visit) {
+  const int n = static_cast<int>(art.body.size()) - 1;
+  const int nc = static_cast<int>(layout.constraints);
+  for (int i = n; i >= 0; --i) {
+    const auto& b = art.body[i];
+    if (i > 0) {
+      visit_matrix(visit, "articulated_inertia", i, b.articulated_inertia.A, 0);
+      visit_matrix(visit, "articulated_inertia", i, b.articulated_inertia.B, 9);
+      visit_matrix(visit, "articulated_inertia", i, b.articulated_inertia.C, 18);
+      visit_force(visit, "U", i, b.U);
+      visit(std::string("D"), i, 0, b.D);
+      visit(std::string("inverse_D"), i, 0, b.inverse_D);
+    }
+    for (int k = 0; k < nc; ++k) visit_force(visit, "constraint_force", i, b.constraint_force[k], 6 * k);
+    visit_matrix(visit, "constraint_energy", i, b.constraint_energy);
+    for (std::size_t t = 0; t < layout.tracks.size(); ++t) {
+      const std::string& name = layout.tracks[t].name;
+      if (i > 0) visit_force(visit, "articulated_force_" + name, i, art.track[t][i].articulated_force);
+      for (int k = 0; k < nc; ++k) visit("acceleration_energy_" + name, i, k, art.track[t][i].acceleration_energy[k]);
+    }
+  }
+}
+
+// Solver sweep: outputs first (nu, qdd, tau_ctrl, tau_cmd, tip_acceleration, saturated,
+// dropped_pivots), then the intermediates (conf_energy, acceleration, correction_force).
+template <class Scalar, class Visit>
+void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
+  for (int k = 0; k < s.nu.size(); ++k) visit(std::string("nu"), kBodyless, k, s.nu[k]);
+  for (int i = 0; i < s.qdd.size(); ++i) visit(std::string("qdd"), kBodyless, i, s.qdd[i]);
+  for (int i = 0; i < s.tau_ctrl.size(); ++i) visit(std::string("tau_ctrl"), kBodyless, i, s.tau_ctrl[i]);
+  for (int i = 0; i < s.tau_cmd.size(); ++i) visit(std::string("tau_cmd"), kBodyless, i, s.tau_cmd[i]);
+  visit_motion(visit, "tip_acceleration", kBodyless, s.tip_acceleration);
+  for (int i = 0; i < s.saturated.size(); ++i) visit(std::string("saturated"), kBodyless, i, s.saturated[i]);
+  visit(std::string("dropped_pivots"), kBodyless, 0, s.dropped_pivots);
+  for (int k = 0; k < s.conf_energy.size(); ++k) visit(std::string("conf_energy"), kBodyless, k, s.conf_energy[k]);
+  for (int i = 1; i < static_cast<int>(s.acceleration.size()); ++i) visit_motion(visit, "acceleration", i, s.acceleration[i]);
+  if (policy == Policy::saturate_exact)
+    for (int i = 1; i < static_cast<int>(s.correction_force.size()); ++i)
+      visit_force(visit, "correction_force", i, s.correction_force[i]);
+}
+
+// The arrays of a Solution that are outputs of every solve (the rest are intermediates).
+inline bool is_solution_output(const std::string& array) {
+  return array == "nu" || array == "qdd" || array == "tau_ctrl" || array == "tau_cmd" || array == "tip_acceleration" ||
+         array == "saturated" || array == "dropped_pivots";
+}
+
+}  // namespace sweepgen::solver

@@ -1,0 +1,165 @@
+#include "symbolic/graph.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+namespace sweepgen::symbolic {
+namespace {
+
+bool commutative(Op op) { return op == Op::add || op == Op::mul || op == Op::min || op == Op::max; }
+
+std::uint64_t bits(double value) {
+  std::uint64_t b;
+  std::memcpy(&b, &value, sizeof b);
+  return b;
+}
+
+}  // namespace
+
+const char* op_name(Op op) {
+  switch (op) {
+    case Op::constant: return "constant";
+    case Op::input: return "input";
+    case Op::add: return "add";
+    case Op::sub: return "sub";
+    case Op::mul: return "mul";
+    case Op::div: return "div";
+    case Op::neg: return "neg";
+    case Op::sin: return "sin";
+    case Op::cos: return "cos";
+    case Op::abs: return "abs";
+    case Op::min: return "min";
+    case Op::max: return "max";
+    case Op::select_greater: return "select";
+  }
+  return "?";
+}
+
+int arity(Op op) {
+  switch (op) {
+    case Op::constant:
+    case Op::input: return 0;
+    case Op::neg:
+    case Op::sin:
+    case Op::cos:
+    case Op::abs: return 1;
+    case Op::select_greater: return 4;
+    default: return 2;
+  }
+}
+
+std::size_t Graph::KeyHash::operator()(const Node& n) const {
+  std::size_t h = static_cast<std::size_t>(n.op) * 0x9E3779B97F4A7C15ull;
+  for (NodeId a : n.args) h = (h ^ a) * 0x100000001B3ull;
+  h ^= bits(n.value) + 0x9E3779B9u + (h << 6) + (h >> 2);
+  return h ^ (static_cast<std::size_t>(n.input) << 17);
+}
+
+bool Graph::KeyEqual::operator()(const Node& a, const Node& b) const {
+  return a.op == b.op && a.args == b.args && bits(a.value) == bits(b.value) && a.input == b.input;
+}
+
+Graph::Graph() { constant(0.0); }  // node 0 is the constant 0, the default of every symbol
+
+NodeId Graph::intern(const Node& node) {
+  const auto found = index_.find(node);
+  if (found != index_.end()) return found->second;
+  const NodeId id = static_cast<NodeId>(nodes_.size());
+  nodes_.push_back(node);
+  index_.emplace(node, id);
+  return id;
+}
+
+NodeId Graph::constant(double value) {
+  Node n;
+  n.op = Op::constant;
+  n.value = value == 0 ? 0.0 : value;  // -0 and +0 are one node
+  return intern(n);
+}
+
+NodeId Graph::input(const std::string& name, int stage) {
+  Node n;
+  n.op = Op::input;
+  n.input = static_cast<std::uint32_t>(inputs_.size());
+  inputs_.push_back({name, stage});
+  return intern(n);
+}
+
+NodeId Graph::make(Op op, NodeId a, NodeId b, NodeId c, NodeId d) {
+  std::array<NodeId, 4> args{a, b, c, d};
+  for (int k = arity(op); k < 4; ++k) args[k] = 0;
+  if (commutative(op) && args[0] > args[1]) std::swap(args[0], args[1]);
+  return fold(op, args);
+}
+
+NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
+  const Node& x = nodes_[args[0]];
+  const Node& y = nodes_[args[1]];
+  const int n = arity(op);
+  bool all_const = true;
+  for (int k = 0; k < n; ++k) all_const = all_const && nodes_[args[k]].op == Op::constant;
+  if (all_const) {
+    const double u = x.value, v = y.value;
+    switch (op) {
+      case Op::add: return constant(u + v);
+      case Op::sub: return constant(u - v);
+      case Op::mul: return constant(u * v);
+      case Op::div: return constant(u / v);
+      case Op::neg: return constant(-u);
+      case Op::sin: return constant(std::sin(u));
+      case Op::cos: return constant(std::cos(u));
+      case Op::abs: return constant(std::abs(u));
+      case Op::min: return constant(std::min(u, v));
+      case Op::max: return constant(std::max(u, v));
+      case Op::select_greater: return u > v ? args[2] : args[3];
+      default: break;
+    }
+  }
+  const auto is = [&](const Node& node, double value) { return node.op == Op::constant && node.value == value; };
+  switch (op) {
+    case Op::add:
+      if (is(x, 0)) return args[1];
+      if (is(y, 0)) return args[0];
+      if (y.op == Op::neg) return make(Op::sub, args[0], y.args[0]);
+      if (x.op == Op::neg) return make(Op::sub, args[1], x.args[0]);
+      break;
+    case Op::sub:
+      if (is(y, 0)) return args[0];
+      if (is(x, 0)) return make(Op::neg, args[1]);
+      if (args[0] == args[1]) return constant(0);
+      if (y.op == Op::neg) return make(Op::add, args[0], y.args[0]);
+      break;
+    case Op::mul:
+      if (is(x, 0) || is(y, 0)) return constant(0);
+      if (is(x, 1)) return args[1];
+      if (is(y, 1)) return args[0];
+      if (is(x, -1)) return make(Op::neg, args[1]);
+      if (is(y, -1)) return make(Op::neg, args[0]);
+      if (x.op == Op::neg) return make(Op::neg, make(Op::mul, x.args[0], args[1]));
+      if (y.op == Op::neg) return make(Op::neg, make(Op::mul, args[0], y.args[0]));
+      break;
+    case Op::div:
+      if (is(x, 0)) return constant(0);
+      if (is(y, 1)) return args[0];
+      if (is(y, -1)) return make(Op::neg, args[0]);
+      if (x.op == Op::neg) return make(Op::neg, make(Op::div, x.args[0], args[1]));
+      break;
+    case Op::neg:
+      if (x.op == Op::neg) return x.args[0];
+      break;
+    case Op::abs:
+      if (x.op == Op::neg) return make(Op::abs, x.args[0]);
+      break;
+    case Op::select_greater:
+      if (args[2] == args[3]) return args[2];
+      break;
+    default: break;
+  }
+  Node node;
+  node.op = op;
+  node.args = args;
+  return intern(node);
+}
+
+}  // namespace sweepgen::symbolic

@@ -1,0 +1,87 @@
+// A hash-consed expression graph: what the generator records when it runs the reference
+// sweeps with the symbolic scalar. Nodes are created through Graph::make, which folds
+// constants, applies the algebraic identities below and returns an existing node for an
+// expression it has seen before (common subexpressions are shared by construction).
+//   x+0 = x   x-0 = x   0-x = -x   x-x = 0   x*0 = 0   x*1 = x   x*(-1) = -x   x/1 = x
+//   0/x = 0   -(-x) = x   a+(-b) = a-b   a-(-b) = a+b   select(a, b, x, x) = x
+// x*0 = 0 assumes finite x: every input of a dynamics solve is (NaN checks live elsewhere).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace sweepgen::symbolic {
+
+using NodeId = std::uint32_t;
+
+enum class Op : std::uint8_t {
+  constant,
+  input,
+  add,
+  sub,
+  mul,
+  div,
+  neg,
+  sin,
+  cos,
+  abs,
+  min,
+  max,
+  select_greater,  // args[0] > args[1] ? args[2] : args[3]
+};
+
+const char* op_name(Op op);
+int arity(Op op);
+
+struct Node {
+  Op op = Op::constant;
+  std::array<NodeId, 4> args{};
+  double value = 0;      // Op::constant
+  std::uint32_t input = 0;  // Op::input: index into Graph::inputs()
+};
+
+struct Input {
+  std::string name;  // C++ spelling in generated code, e.g. "q[3]"
+  int stage = 0;     // which generated function receives it (see emit/stages.hpp)
+};
+
+class Graph {
+ public:
+  Graph();
+
+  NodeId constant(double value);
+  NodeId input(const std::string& name, int stage);
+  NodeId make(Op op, NodeId a, NodeId b = 0, NodeId c = 0, NodeId d = 0);
+
+  const Node& node(NodeId id) const { return nodes_[id]; }
+  std::size_t size() const { return nodes_.size(); }
+  const std::vector<Input>& inputs() const { return inputs_; }
+  bool is_constant(NodeId id, double value) const {
+    return nodes_[id].op == Op::constant && nodes_[id].value == value;
+  }
+
+  // Values of every node for the given input values (for testing the trace itself).
+  template <class Scalar>
+  std::vector<Scalar> evaluate(const std::vector<Scalar>& input_values) const;
+
+ private:
+  NodeId intern(const Node& node);
+  NodeId fold(Op op, const std::array<NodeId, 4>& args);
+
+  struct KeyHash {
+    std::size_t operator()(const Node& n) const;
+  };
+  struct KeyEqual {
+    bool operator()(const Node& a, const Node& b) const;
+  };
+  std::vector<Node> nodes_;
+  std::vector<Input> inputs_;
+  std::unordered_map<Node, NodeId, KeyHash, KeyEqual> index_;
+};
+
+}  // namespace sweepgen::symbolic
+
+#include "symbolic/graph_evaluate.hpp"
