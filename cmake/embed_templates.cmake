@@ -1,0 +1,17 @@
+# Writes OUTPUT: a C++ source that holds every file of TEMPLATE_DIR as a string constant, so
+# the generator runs from any directory. Run as: cmake -DTEMPLATE_DIR=.. -DOUTPUT=.. -P this
+file(GLOB templates RELATIVE ${TEMPLATE_DIR} ${TEMPLATE_DIR}/*.mustache)
+list(SORT templates)
+set(body "// Generated from templates/ by cmake/embed_templates.cmake. Do not edit.\n#include \"emit/templates.hpp\"\n\nnamespace sweepgen::emit {\n\nconst std::map<std::string, std::string>& embedded_templates() {\n  static const std::map<std::string, std::string> templates = {\n")
+foreach(name ${templates})
+  file(READ ${TEMPLATE_DIR}/${name} text)
+  string(FIND "${text}" ")tmpl\"" clash)
+  if(NOT clash EQUAL -1)
+    message(FATAL_ERROR "${name} contains the raw-string delimiter")
+  endif()
+  string(APPEND body "      {\"${name}\", R\"tmpl(${text})tmpl\"},\n")
+endforeach()
+string(APPEND body "  };\n  return templates;\n}\n\n}  // namespace sweepgen::emit\n")
+file(WRITE ${OUTPUT}.tmp "${body}")
+file(COPY_FILE ${OUTPUT}.tmp ${OUTPUT} ONLY_IF_DIFFERENT)
+file(REMOVE ${OUTPUT}.tmp)

@@ -1,0 +1,134 @@
+#include "emit/function_plan.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <set>
+
+namespace sweepgen::emit {
+namespace {
+
+using symbolic::Graph;
+using symbolic::Node;
+using symbolic::Op;
+
+std::vector<int> node_stages(const Graph& graph) {
+  std::vector<int> stage(graph.size(), 0);
+  for (NodeId id = 0; id < graph.size(); ++id) {
+    const Node& n = graph.node(id);
+    if (n.op == Op::input) stage[id] = graph.inputs()[n.input].stage;
+    for (int k = 0; k < symbolic::arity(n.op); ++k) stage[id] = std::max(stage[id], stage[n.args[k]]);
+  }
+  return stage;
+}
+
+bool is_leaf_here(const Graph& graph, const std::vector<int>& stage, NodeId id, int function_stage) {
+  return graph.node(id).op == Op::input || stage[id] < function_stage;
+}
+
+// Fills leaves/computed of `f` for the given roots: a depth-first walk from the roots, in
+// the order of the trace's fields so that statements follow the sweeps body by body.
+void schedule(const symbolic::Trace& trace, const std::vector<int>& stage, const std::vector<NodeId>& roots,
+              FunctionPlan& f) {
+  const Graph& graph = trace.graph;
+  std::set<NodeId> needed;
+  {
+    std::vector<NodeId> stack(roots.begin(), roots.end());
+    while (!stack.empty()) {
+      const NodeId id = stack.back();
+      stack.pop_back();
+      if (graph.node(id).op == Op::constant || !needed.insert(id).second) continue;
+      if (is_leaf_here(graph, stage, id, f.stage)) continue;
+      const Node& n = graph.node(id);
+      for (int k = 0; k < symbolic::arity(n.op); ++k) stack.push_back(n.args[k]);
+    }
+  }
+  std::set<NodeId> done;
+  std::function<void(NodeId)> visit = [&](NodeId id) {
+    if (!needed.count(id) || !done.insert(id).second) return;
+    if (is_leaf_here(graph, stage, id, f.stage)) {
+      f.leaves.push_back(id);
+      return;
+    }
+    const Node& n = graph.node(id);
+    for (int k = 0; k < symbolic::arity(n.op); ++k) visit(n.args[k]);
+    f.computed.push_back(id);
+  };
+  for (const auto& field : trace.fields) visit(field.node);  // anchors in sweep order
+  for (NodeId id : roots) visit(id);
+}
+
+std::string carried_member_name(const symbolic::Trace& trace, NodeId id, std::size_t ordinal) {
+  for (const auto& field : trace.fields) {
+    if (field.node != id) continue;
+    std::string name = is_state_field(field) ? "" : field.group + "_";
+    name += field.array;
+    if (field.body >= 0) name += "_" + std::to_string(field.body);
+    return name + "_" + std::to_string(field.component);
+  }
+  return "carried_" + std::to_string(ordinal);
+}
+
+}  // namespace
+
+bool is_state_field(const symbolic::Field& field) {
+  return field.group == "kinematics" || field.group == "articulated";
+}
+
+Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
+  const Graph& graph = trace.graph;
+  Plan plan;
+  plan.stage = node_stages(graph);
+
+  std::vector<FunctionPlan> solves;
+  for (const auto policy : trace.policies) {
+    FunctionPlan f;
+    f.name = std::string("solve_") + solver::name(policy);
+    f.group = solver::name(policy);
+    f.stage = symbolic::stage_solve;
+    solves.push_back(f);
+  }
+  FunctionPlan outward{"outward", symbolic::stage_outward, "", {}, {}, {}, {}};
+  FunctionPlan decompose{"decompose", symbolic::stage_decompose, "", {}, {}, {}, {}};
+
+  for (std::size_t i = 0; i < trace.fields.size(); ++i) {
+    const symbolic::Field& field = trace.fields[i];
+    if (is_state_field(field)) {
+      if (!expose_all) continue;
+      plan.state_fields.push_back(i);
+      plan.exposed_field.emplace(field.node, i);
+      (plan.stage[field.node] >= symbolic::stage_decompose ? decompose : outward).fields.push_back(i);
+    } else if (field.output || expose_all) {
+      for (auto& f : solves)
+        if (f.group == field.group) f.fields.push_back(i);
+    }
+  }
+
+  // Later functions first: what they read from earlier stages becomes carried.
+  std::set<NodeId> carried;
+  const auto plan_function = [&](FunctionPlan& f, std::vector<NodeId> roots) {
+    for (std::size_t i : f.fields) roots.push_back(trace.fields[i].node);
+    schedule(trace, plan.stage, roots, f);
+    for (NodeId leaf : f.leaves)
+      if (plan.stage[leaf] < f.stage && !plan.exposed_field.count(leaf)) carried.insert(leaf);
+  };
+  const auto carried_at = [&](int stage) {
+    std::vector<NodeId> nodes;
+    for (NodeId id : carried)
+      if (plan.stage[id] == stage) nodes.push_back(id);
+    return nodes;
+  };
+  for (auto& f : solves) plan_function(f, {});
+  decompose.carried_out = carried_at(symbolic::stage_decompose);
+  plan_function(decompose, decompose.carried_out);
+  outward.carried_out = carried_at(symbolic::stage_outward);
+  plan_function(outward, outward.carried_out);
+
+  std::size_t ordinal = 0;
+  for (NodeId id : carried) plan.carried_name[id] = carried_member_name(trace, id, ordinal++);
+  plan.functions.push_back(std::move(outward));
+  plan.functions.push_back(std::move(decompose));
+  for (auto& f : solves) plan.functions.push_back(std::move(f));
+  return plan;
+}
+
+}  // namespace sweepgen::emit

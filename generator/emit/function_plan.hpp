@@ -1,0 +1,47 @@
+// Splits a traced solver into the generated functions, by dependency (style.md, item 3):
+//   outward()          everything that depends on q, q̇ only (kinematics, articulated
+//                      inertias, the bias track, and F^A_cstr / E^A_cstr when α is fixed),
+//   decompose()        what depends on the drivers τff, F_ext, α,
+//   solve_<policy>()   what depends on the setpoints E_cstr,
+// so that re-solving for new setpoints redoes only the last part. A node is computed in the
+// function of the latest stage among its inputs; a value a later function needs is stored in
+// the State ("carried"). Only what the outputs (and, with expose: all, the intermediates)
+// need is computed at all.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "symbolic/trace.hpp"
+
+namespace sweepgen::emit {
+
+using symbolic::NodeId;
+
+struct FunctionPlan {
+  std::string name;               // "outward", "decompose", "solve_original", ...
+  int stage = 0;
+  std::string group;              // the policy name of a solve function
+  std::vector<std::size_t> fields;   // trace.fields this function assigns (State or Solution)
+  std::vector<NodeId> carried_out;   // nodes it stores for later functions
+  std::vector<NodeId> leaves;        // inputs of its stage and earlier values it reads
+  std::vector<NodeId> computed;      // nodes it computes, in emission order
+};
+
+struct Plan {
+  std::vector<int> stage;                      // per node
+  std::vector<FunctionPlan> functions;         // outward, decompose, solve_<policy>...
+  std::map<NodeId, std::string> carried_name;  // State member of each carried node
+  std::map<NodeId, std::size_t> exposed_field; // a State field already storing the node
+  std::vector<std::size_t> state_fields;       // fields stored in the State (expose: all)
+};
+
+// `expose_all`: every kinematics/articulated field is a State member and every solution
+// field a Solution member; otherwise only the solution outputs are.
+Plan make_plan(const symbolic::Trace& trace, bool expose_all);
+
+// Whether trace.fields[f] belongs to the State (kinematics, articulated) or a Solution.
+bool is_state_field(const symbolic::Field& field);
+
+}  // namespace sweepgen::emit

@@ -1,0 +1,258 @@
+#include "emit/function_writer.hpp"
+
+#include <map>
+#include <sstream>
+
+#include "emit/equations.hpp"
+#include "emit/literal.hpp"
+
+namespace sweepgen::emit {
+namespace {
+
+using symbolic::Field;
+using symbolic::Node;
+using symbolic::Op;
+
+constexpr int kAtom = 100, kUnary = 3, kProduct = 2, kSum = 1, kTernary = 0;
+
+std::string sanitized(const std::string& expression) {
+  std::string name;
+  for (char c : expression) {
+    if (c == '.' || c == '[') name += '_';
+    else if (c != ']') name += c;
+  }
+  return name;
+}
+
+std::string field_local_name(const Field& field, bool with_group) {
+  std::string name = with_group ? field.group + "_" : "";
+  name += field.array;
+  if (field.body >= 0) name += "_" + std::to_string(field.body);
+  return name + "_" + std::to_string(field.component);
+}
+
+class Writer {
+ public:
+  Writer(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function, const model::Chain& chain,
+         const std::string& scalar)
+      : trace_(trace), graph_(trace.graph), plan_(plan), f_(function), chain_(chain), scalar_(scalar) {}
+
+  FunctionText write() {
+    name_fields();
+    count_uses();
+    load_leaves();
+    for (NodeId id : f_.computed) {
+      ops_.count(graph_.node(id).op);
+      if (local_.count(id) || uses_[id] != 1) declare(id);
+    }
+    store();
+    return {text_.str(), ops_};
+  }
+
+ private:
+  // The field that names node `id` here: one of this function's own, else a State field.
+  void name_fields() {
+    for (const Field& field : trace_.fields) {
+      const bool own = field.group == f_.group;
+      if (!own && !is_state_field(field)) continue;
+      auto found = field_of_.find(field.node);
+      if (found == field_of_.end() || (own && !is_state_field(*found->second) && found->second->group != f_.group))
+        field_of_[field.node] = &field;
+    }
+  }
+
+  void count_uses() {
+    for (NodeId id : f_.computed) {
+      const Node& n = graph_.node(id);
+      for (int k = 0; k < symbolic::arity(n.op); ++k) ++uses_[n.args[k]];
+    }
+    for (std::size_t i : f_.fields) uses_[trace_.fields[i].node] += 2;  // stored: always a local
+    for (NodeId id : f_.carried_out) uses_[id] += 2;
+    for (NodeId id : f_.computed) {
+      const auto field = field_of_.find(id);
+      if (field != field_of_.end()) local_[id] = field_local_name(*field->second, !is_state_field(*field->second) && field->second->group != f_.group);
+      const Node& n = graph_.node(id);
+      if ((n.op == Op::sin || n.op == Op::cos) && graph_.node(n.args[0]).op == Op::input && !local_.count(id))
+        local_[id] = std::string(symbolic::op_name(n.op)) + "_" + sanitized(graph_.inputs()[graph_.node(n.args[0]).input].name);
+    }
+  }
+
+  void load_leaves() {
+    if (f_.leaves.empty()) return;
+    text_ << "  // Inputs and values computed by earlier sweeps.\n";
+    for (NodeId id : f_.leaves) {
+      const Node& n = graph_.node(id);
+      std::string source;
+      if (n.op == Op::input && plan_.stage[id] == f_.stage) {
+        source = graph_.inputs()[n.input].name;
+        local_[id] = sanitized(source);
+      } else if (plan_.exposed_field.count(id)) {
+        const Field& field = trace_.fields[plan_.exposed_field.at(id)];
+        source = state_field_access(field);
+        local_[id] = field_local_name(field, false);
+      } else {
+        source = "state." + plan_.carried_name.at(id);
+        local_[id] = plan_.carried_name.at(id);
+      }
+      text_ << "  const " << scalar_ << " " << local_[id] << " = " << source << ";\n";
+    }
+  }
+
+  void banner_for(NodeId id) {
+    const auto found = field_of_.find(id);
+    if (found == field_of_.end()) return;
+    const Field& field = *found->second;
+    const Equation& eq = equation_of(field.array);
+    if (field.body != block_body_ || eq.sweep != block_sweep_) {
+      block_body_ = field.body;
+      block_sweep_ = eq.sweep;
+      block_array_.clear();
+      text_ << "\n  // ==== " << eq.sweep << " sweep";
+      if (field.body > 0) {
+        const auto& joint = chain_.joints[field.body];
+        text_ << ", body " << field.body << ": link " << chain_.bodies[field.body].link << ", joint " << joint.name
+              << " (" << (joint.type == model::JointType::revolute ? "revolute" : "prismatic") << ")";
+      } else if (field.body == 0) {
+        text_ << ", base: link " << chain_.bodies[0].link;
+      }
+      text_ << " ====\n";
+    }
+    if (field.array != block_array_) {
+      block_array_ = field.array;
+      text_ << "  // " << field.array << ": " << eq.formula << "\n";
+    }
+  }
+
+  void declare(NodeId id) {
+    banner_for(id);
+    if (!local_.count(id)) local_[id] = "e" + std::to_string(next_expression_++);
+    text_ << "  const " << scalar_ << " " << local_[id] << " = " << expression(id, kTernary) << ";\n";
+    declared_[id] = true;
+  }
+
+  // Text of node `id` as an operand of an operator of precedence `context`. Right operands
+  // pass their operator's precedence + 1, so the printed code evaluates in the traced order
+  // (a + (b + c) stays parenthesised: floating-point addition does not associate).
+  std::string operand(NodeId id, int context) {
+    const Node& n = graph_.node(id);
+    if (n.op == Op::constant) {
+      const std::string text = literal(n.value, scalar_);
+      return n.value < 0 && context >= kUnary ? "(" + text + ")" : text;
+    }
+    if (declared_.count(id) || (local_.count(id) && n.op == Op::input) || plan_.stage[id] < f_.stage ||
+        n.op == Op::input)
+      return local_.at(id);
+    const int own = precedence(n.op);
+    const std::string text = expression(id, own);
+    return own < context ? "(" + text + ")" : text;
+  }
+
+  static int precedence(Op op) {
+    switch (op) {
+      case Op::add:
+      case Op::sub: return kSum;
+      case Op::mul:
+      case Op::div: return kProduct;
+      case Op::neg: return kUnary;
+      case Op::select_greater: return kTernary;
+      default: return kAtom;
+    }
+  }
+
+  bool is_negative_constant(NodeId id) const {
+    return graph_.node(id).op == Op::constant && graph_.node(id).value < 0;
+  }
+
+  // c * x with a constant c < 0, written inline: x - c*x reads better as x + |c|*x (exact).
+  bool is_negative_scaled(NodeId id) const {
+    const Node& n = graph_.node(id);
+    return n.op == Op::mul && !declared_.count(id) && !local_.count(id) && uses_.count(id) && uses_.at(id) == 1 &&
+           plan_.stage[id] == f_.stage && (is_negative_constant(n.args[0]) || is_negative_constant(n.args[1]));
+  }
+  std::string negated_scaled(NodeId id) {
+    const Node& n = graph_.node(id);
+    const bool first = is_negative_constant(n.args[0]);
+    return literal(-graph_.node(n.args[first ? 0 : 1]).value, scalar_) + " * " + operand(n.args[first ? 1 : 0], kProduct);
+  }
+
+  std::string expression(NodeId id, int) {
+    const Node& n = graph_.node(id);
+    const NodeId a = n.args[0], b = n.args[1];
+    const std::string T = scalar_;
+    switch (n.op) {
+      case Op::add:
+        if (is_negative_constant(b)) return operand(a, kSum) + " - " + literal(-graph_.node(b).value, T);
+        if (is_negative_constant(a)) return operand(b, kSum) + " - " + literal(-graph_.node(a).value, T);
+        if (is_negative_scaled(b)) return operand(a, kSum) + " - " + negated_scaled(b);
+        if (is_negative_scaled(a)) return operand(b, kSum) + " - " + negated_scaled(a);
+        return operand(a, kSum) + " + " + operand(b, kSum + 1);
+      case Op::sub:
+        if (is_negative_constant(b)) return operand(a, kSum) + " + " + literal(-graph_.node(b).value, T);
+        if (is_negative_scaled(b)) return operand(a, kSum) + " + " + negated_scaled(b);
+        return operand(a, kSum) + " - " + operand(b, kSum + 1);
+      case Op::mul:
+        if (graph_.node(b).op == Op::constant) return operand(b, kProduct) + " * " + operand(a, kProduct + 1);
+        return operand(a, kProduct) + " * " + operand(b, kProduct + 1);
+      case Op::div: return operand(a, kProduct) + " / " + operand(b, kProduct + 1);
+      case Op::neg: return "-" + operand(a, kUnary + 1);
+      case Op::sin: return "std::sin(" + operand(a, kTernary) + ")";
+      case Op::cos: return "std::cos(" + operand(a, kTernary) + ")";
+      case Op::abs: return "std::abs(" + operand(a, kTernary) + ")";
+      case Op::min: return "std::min<" + T + ">(" + operand(a, kTernary) + ", " + operand(b, kTernary) + ")";
+      case Op::max: return "std::max<" + T + ">(" + operand(a, kTernary) + ", " + operand(b, kTernary) + ")";
+      case Op::select_greater:
+        return operand(a, kSum) + " > " + operand(b, kSum) + " ? " + operand(n.args[2], kSum) + " : " +
+               operand(n.args[3], kSum);
+      case Op::constant: return literal(n.value, T);
+      case Op::input: return local_.at(id);
+    }
+    return "";
+  }
+
+  void store() {
+    if (f_.fields.empty() && f_.carried_out.empty()) return;
+    text_ << "\n  // Stores.\n";
+    for (std::size_t i : f_.fields) {
+      const Field& field = trace_.fields[i];
+      const std::string target = is_state_field(field) ? state_field_access(field) : solution_field_access(field);
+      text_ << "  " << target << " = " << operand(field.node, kTernary) << ";\n";
+    }
+    for (NodeId id : f_.carried_out)
+      text_ << "  state." << plan_.carried_name.at(id) << " = " << operand(id, kTernary) << ";\n";
+  }
+
+  const symbolic::Trace& trace_;
+  const symbolic::Graph& graph_;
+  const Plan& plan_;
+  const FunctionPlan& f_;
+  const model::Chain& chain_;
+  const std::string scalar_;
+  std::map<NodeId, const Field*> field_of_;
+  std::map<NodeId, int> uses_;
+  std::map<NodeId, std::string> local_;
+  std::map<NodeId, bool> declared_;
+  std::ostringstream text_;
+  OpCount ops_;
+  int next_expression_ = 0;
+  int block_body_ = -2;
+  std::string block_sweep_, block_array_;
+};
+
+}  // namespace
+
+std::string state_field_access(const Field& field) {
+  return "state." + field.array + "[" + std::to_string(field.body) + "][" + std::to_string(field.component) + "]";
+}
+
+std::string solution_field_access(const Field& field) {
+  std::string access = "out." + field.array;
+  if (field.body >= 0) access += "[" + std::to_string(field.body) + "]";
+  return access + "[" + std::to_string(field.component) + "]";
+}
+
+FunctionText write_function(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function,
+                            const model::Chain& chain, const std::string& scalar) {
+  return Writer(trace, plan, function, chain, scalar).write();
+}
+
+}  // namespace sweepgen::emit

@@ -1,0 +1,27 @@
+// Writes one planned function as straight-line C++: inputs and earlier results loaded into
+// locals, then the derivation body by body under a banner naming link and joint, each stored
+// quantity tagged with its equation, then the stores. Values used once are written inline;
+// values used more than once, and every named quantity, get a `const` local.
+#pragma once
+
+#include <string>
+
+#include "emit/function_plan.hpp"
+#include "emit/op_count.hpp"
+#include "model/chain.hpp"
+
+namespace sweepgen::emit {
+
+struct FunctionText {
+  std::string body;  // statements, indented by two spaces
+  OpCount ops;
+};
+
+// Where stored values live in generated code.
+std::string state_field_access(const symbolic::Field& field);     // state.<array>[body][component]
+std::string solution_field_access(const symbolic::Field& field);  // out.<array>[...]
+
+FunctionText write_function(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function,
+                            const model::Chain& chain, const std::string& scalar);
+
+}  // namespace sweepgen::emit

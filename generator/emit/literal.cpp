@@ -1,0 +1,25 @@
+#include "emit/literal.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+namespace sweepgen::emit {
+
+std::string literal(double value, const std::string& scalar) {
+  if (std::isnan(value)) throw std::logic_error("literal: NaN constant in generated code");
+  if (std::isinf(value))
+    return std::string(value < 0 ? "-" : "") + "std::numeric_limits<" + scalar + ">::infinity()";
+  char buffer[64];
+  const bool single = scalar == "float";
+  const auto result = single ? std::to_chars(buffer, buffer + sizeof buffer, static_cast<float>(value))
+                             : std::to_chars(buffer, buffer + sizeof buffer, value);
+  std::string text(buffer, result.ptr);
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  else if (text.find('.') == std::string::npos && text.find('e') != std::string::npos) {
+    text.insert(text.find('e'), ".0");
+  }
+  return single ? text + "f" : text;
+}
+
+}  // namespace sweepgen::emit

@@ -1,0 +1,205 @@
+#include "emit/solver_emitter.hpp"
+
+#include <kainjow/mustache.hpp>
+
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "emit/equations.hpp"
+#include "emit/function_plan.hpp"
+#include "emit/function_writer.hpp"
+#include "emit/templates.hpp"
+#include "solver/state_fields.hpp"
+
+namespace sweepgen::emit {
+namespace {
+
+using kainjow::mustache::data;
+using kainjow::mustache::mustache;
+
+std::string render(const std::string& template_name, const data& values) {
+  mustache view(embedded_templates().at(template_name));
+  if (!view.is_valid()) throw std::logic_error(template_name + ": " + view.error_message());
+  return view.render(values);
+}
+
+double epsilon_of(const std::string& scalar) {
+  if (scalar == "double") return std::numeric_limits<double>::epsilon();
+  if (scalar == "float") return std::numeric_limits<float>::epsilon();
+  throw std::logic_error("unknown scalar " + scalar);
+}
+
+std::string tag_of(const std::string& scalar) { return scalar == "double" ? "f64" : "f32"; }
+
+// Array declarations "  Scalar name[rows][columns];" for the given fields, in first-seen order.
+std::string array_members(const symbolic::Trace& trace, const std::vector<std::size_t>& fields, std::size_t bodies) {
+  std::vector<std::string> order;
+  std::map<std::string, std::pair<bool, int>> shape;  // name -> (per body, components)
+  for (std::size_t i : fields) {
+    const auto& f = trace.fields[i];
+    auto [it, inserted] = shape.emplace(f.array, std::make_pair(f.body >= 0, 0));
+    if (inserted) order.push_back(f.array);
+    it->second.second = std::max(it->second.second, f.component + 1);
+  }
+  std::string text;
+  for (const auto& name : order) {
+    const auto& [per_body, components] = shape[name];
+    text += "  Scalar " + name + (per_body ? "[" + std::to_string(bodies) + "]" : "") + "[" +
+            std::to_string(components) + "];  // " + equation_of(name).formula + "\n";
+  }
+  return text;
+}
+
+std::string drivers_members(const symbolic::TraceRequest& request, std::size_t nc) {
+  std::string text;
+  for (const auto& name : request.layout.torques)
+    text += "  Scalar " + name + "[dof];  // feed-forward joint torques\n";
+  for (const auto& ext : request.layout.external_forces)
+    text += "  Scalar " + ext.name + "[6];  // wrench [moment; force] on link " + ext.link + ", in its frame\n";
+  if (request.fixed_directions.empty() && nc > 0)
+    text += "  Scalar alpha[constraints][6];  // constraint directions [moment; force], tip frame, unit norm\n";
+  return text;
+}
+
+std::string unpack_drivers(const symbolic::TraceRequest& request, std::size_t nc) {
+  std::string text;
+  for (const auto& name : request.layout.torques)
+    text += "  for (int i = 0; i < dof; ++i) drivers." + name + "[i] = *cursor++;\n";
+  for (const auto& ext : request.layout.external_forces)
+    text += "  for (int i = 0; i < 6; ++i) drivers." + ext.name + "[i] = *cursor++;\n";
+  if (request.fixed_directions.empty() && nc > 0)
+    text += "  for (int k = 0; k < constraints; ++k)\n    for (int i = 0; i < 6; ++i) drivers.alpha[k][i] = *cursor++;\n";
+  return text;
+}
+
+std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc) {
+  std::string text = "q (dof), qd (dof)";
+  for (const auto& name : request.layout.torques) text += ", " + name + " (dof)";
+  for (const auto& ext : request.layout.external_forces) text += ", " + ext.name + " (6)";
+  if (request.fixed_directions.empty() && nc > 0) text += ", alpha (constraints x 6)";
+  if (nc > 0) text += ", beta (constraints)";
+  return text;
+}
+
+const char* kFlatOut = "qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), status";
+
+std::string pack_solution(std::size_t nc) {
+  std::string text = "  Scalar* cursor_out = out;\n";
+  for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"})
+    text += std::string("  for (int i = 0; i < dof; ++i) *cursor_out++ = solution.") + name + "[i];\n";
+  if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) *cursor_out++ = solution.nu[k];\n";
+  text += "  for (int i = 0; i < 6; ++i) *cursor_out++ = solution.tip_acceleration[i];\n";
+  text += "  *cursor_out = static_cast<Scalar>(solution.status);";
+  return text;
+}
+
+const char* policy_doc(const std::string& group) {
+  if (group == "original") return "Alg. 3, the original composition of every driver.";
+  if (group == "prioritize_external") return "Alg. 4: the constraint does not react to external forces.";
+  if (group == "saturate") return "Eq. 1: tau_ctrl clamped to the effort limits; tau_cmd = RNEA(qdd).";
+  return "Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.";
+}
+
+}  // namespace
+
+std::string file_stem(const std::string& solver_namespace) {
+  std::string stem;
+  for (std::size_t i = 0; i < solver_namespace.size(); ++i) {
+    if (solver_namespace.compare(i, 2, "::") == 0) {
+      stem += '_';
+      ++i;
+    } else {
+      stem += solver_namespace[i];
+    }
+  }
+  return stem;
+}
+
+EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request) {
+  for (const auto& name : request.trace.layout.torques)
+    if (name == "alpha") throw std::invalid_argument("a driver may not be named 'alpha' (it names the directions)");
+  EmittedSolver result;
+  const std::size_t n = chain.dof();
+  const std::size_t nc = request.trace.layout.constraints;
+  const std::string stem = file_stem(request.solver_namespace);
+
+  data op_lines{data::type::list};
+  data variants{data::type::list};
+  for (const std::string& scalar : request.scalars) {
+    symbolic::TraceRequest trace_request = request.trace;
+    trace_request.epsilon = epsilon_of(scalar);
+    const symbolic::Trace trace = symbolic::trace_solver(chain, trace_request);
+    const Plan plan = make_plan(trace, request.expose_all);
+
+    data variant;
+    variant.set("scalar", scalar);
+    variant.set("tag", tag_of(scalar));
+    variant.set("drivers_members", drivers_members(request.trace, nc));
+
+    std::string state = array_members(trace, plan.state_fields, n + 1);
+    for (const auto& [node, name] : plan.carried_name) state += "  Scalar " + name + ";\n";
+    variant.set("state_members", state);
+
+    std::vector<std::size_t> solution_fields;
+    std::set<std::string> seen;
+    for (const auto& f : plan.functions)
+      for (std::size_t i : f.fields)
+        if (!is_state_field(trace.fields[i])) solution_fields.push_back(i);
+    variant.set("solution_members", array_members(trace, solution_fields, n + 1));
+
+    OpCount shared;
+    data solves{data::type::list};
+    for (const auto& f : plan.functions) {
+      const FunctionText text = write_function(trace, plan, f, chain, scalar);
+      result.costs.push_back({scalar, f.name, text.ops});
+      op_lines.push_back(data("line", tag_of(scalar) + "::" + f.name + ": " + text.ops.summary()));
+      if (f.stage < symbolic::stage_solve) {
+        shared += text.ops;
+        variant.set(f.name + "_body", text.body);
+        continue;
+      }
+      OpCount full = shared;
+      full += text.ops;
+      result.costs.push_back({scalar, "full " + f.name, full});
+      op_lines.push_back(data("line", tag_of(scalar) + ": outward + decompose + " + f.name + ": " + full.summary()));
+      data solve;
+      solve.set("name", f.name);
+      solve.set("doc", policy_doc(f.group));
+      solve.set("body", text.body);
+      solve.set("flat_in", flat_in(request.trace, nc));
+      solve.set("flat_out", kFlatOut);
+      solve.set("unpack_drivers", unpack_drivers(request.trace, nc));
+      solve.set("pack_solution", pack_solution(nc));
+      solves.push_back(solve);
+    }
+    variant.set("solves", solves);
+    variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
+                                                 : " (expose: outputs; carried values only)");
+    variants.push_back(variant);
+  }
+
+  data values;
+  values.set("provenance", request.provenance);
+  values.set("robot", chain.source.substr(chain.source.find_last_of('/') + 1));
+  values.set("root", chain.root_link);
+  values.set("tip", chain.tip_link);
+  values.set("dof", std::to_string(n));
+  values.set("constraints", std::to_string(nc));
+  values.set("directions_note", request.trace.fixed_directions.empty() ? "" : ", fixed");
+  values.set("alpha_note", request.trace.fixed_directions.empty() && nc > 0 ? ", alpha" : "");
+  values.set("namespace", request.solver_namespace);
+  values.set("op_counts", op_lines);
+  values.set("variants", variants);
+  values.set("header_name", stem + ".hpp");
+  values.set("source_name", stem + ".cpp");
+  values.set("target", stem);
+  result.files.push_back({stem + ".hpp", render("solver.hpp.mustache", values)});
+  result.files.push_back({stem + ".cpp", render("solver.cpp.mustache", values)});
+  result.files.push_back({stem + ".cmake", render("solver.cmake.mustache", values)});
+  return result;
+}
+
+}  // namespace sweepgen::emit

@@ -1,0 +1,42 @@
+// Trace → plan → C++ text: the generated header, source and CMake snippet of one scene.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "emit/op_count.hpp"
+#include "model/chain.hpp"
+#include "symbolic/trace.hpp"
+
+namespace sweepgen::emit {
+
+struct EmitRequest {
+  std::string solver_namespace;       // C++ namespace, may contain '::'
+  std::vector<std::string> scalars;   // "double" and/or "float"
+  bool expose_all = false;            // store every intermediate in State / Solution
+  symbolic::TraceRequest trace;       // drivers, fixed directions, policies, options
+  std::string provenance;             // one line: generator version and input hashes
+};
+
+struct EmittedFile {
+  std::string name;  // file name, no directory
+  std::string text;
+};
+
+struct FunctionCost {
+  std::string scalar;
+  std::string function;  // "outward", ..., or "full solve_<policy>" for the sum of the three
+  OpCount ops;
+};
+
+struct EmittedSolver {
+  std::vector<EmittedFile> files;  // header, source, CMake snippet
+  std::vector<FunctionCost> costs;
+};
+
+// File stem of a namespace: "a::b" -> "a_b".
+std::string file_stem(const std::string& solver_namespace);
+
+EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request);
+
+}  // namespace sweepgen::emit
