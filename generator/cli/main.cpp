@@ -2,6 +2,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "cli/generate_command.hpp"
+#include "cli/output_files.hpp"
 #include "cli/solve_command.hpp"
 #include "model/error.hpp"
 
@@ -11,6 +13,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   sweepgen::cli::SolveOptions solve_options;
   sweepgen::cli::add_solve_command(app, solve_options);
+  sweepgen::cli::GenerateOptions generate_options;
+  sweepgen::cli::add_generate_command(app, generate_options);
+  sweepgen::cli::SceneOptions info_options;
+  sweepgen::cli::add_info_command(app, info_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -18,9 +24,14 @@ int main(int argc, char** argv) {
   }
   try {
     if (app.got_subcommand("solve")) return sweepgen::cli::run_solve(solve_options);
+    if (app.got_subcommand("generate")) return sweepgen::cli::run_generate(generate_options);
+    if (app.got_subcommand("info")) return sweepgen::cli::run_info(info_options);
   } catch (const sweepgen::InputError& e) {
     std::cerr << "sweepgen: error: " << e.what() << "\n";
     return 1;
+  } catch (const sweepgen::cli::IoError& e) {
+    std::cerr << "sweepgen: error: " << e.what() << "\n";
+    return 3;
   }
   return 0;
 }

@@ -65,7 +65,7 @@ std::string drivers_members(const symbolic::TraceRequest& request, std::size_t n
 }
 
 std::string unpack_drivers(const symbolic::TraceRequest& request, std::size_t nc) {
-  std::string text;
+  std::string text = "  [[maybe_unused]] const Scalar* cursor = drivers_in;\n";
   for (const auto& name : request.layout.torques)
     text += "  for (int i = 0; i < dof; ++i) drivers." + name + "[i] = *cursor++;\n";
   for (const auto& ext : request.layout.external_forces)
@@ -73,6 +73,12 @@ std::string unpack_drivers(const symbolic::TraceRequest& request, std::size_t nc
   if (request.fixed_directions.empty() && nc > 0)
     text += "  for (int k = 0; k < constraints; ++k)\n    for (int i = 0; i < 6; ++i) drivers.alpha[k][i] = *cursor++;\n";
   return text;
+}
+
+std::size_t flat_in_size(const symbolic::TraceRequest& request, std::size_t n, std::size_t nc) {
+  std::size_t size = 2 * n + n * request.layout.torques.size() + 6 * request.layout.external_forces.size() + nc;
+  if (request.fixed_directions.empty()) size += 6 * nc;
+  return size;
 }
 
 std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc) {
@@ -167,15 +173,18 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       op_lines.push_back(data("line", tag_of(scalar) + ": outward + decompose + " + f.name + ": " + full.summary()));
       data solve;
       solve.set("name", f.name);
+      solve.set("policy", f.group);
       solve.set("doc", policy_doc(f.group));
       solve.set("body", text.body);
-      solve.set("flat_in", flat_in(request.trace, nc));
-      solve.set("flat_out", kFlatOut);
-      solve.set("unpack_drivers", unpack_drivers(request.trace, nc));
       solve.set("pack_solution", pack_solution(nc));
       solves.push_back(solve);
     }
     variant.set("solves", solves);
+    variant.set("flat_in", flat_in(request.trace, nc));
+    variant.set("flat_out", kFlatOut);
+    variant.set("flat_in_size", std::to_string(flat_in_size(request.trace, n, nc)));
+    variant.set("flat_out_size", std::to_string(3 * n + nc + 7));
+    variant.set("unpack_drivers", unpack_drivers(request.trace, nc));
     variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
                                                  : " (expose: outputs; carried values only)");
     variants.push_back(variant);

@@ -1,0 +1,36 @@
+# sweepgen_add_solver(<target> SCENE <scene.yaml> [OUTPUT_DIR <dir>] [EXPOSE all|outputs])
+#
+# Generates the solver a scene file describes, at build time, and wraps it in a static
+# library <target> whose headers are on its include path:
+#   #include "<target>.hpp"   // namespace: the scene's `solver:` entry
+# Regenerates when the scene, the URDF it names (through a depfile), or the generator (and
+# with it its embedded templates) change.
+function(sweepgen_add_solver target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SCENE;OUTPUT_DIR;EXPOSE" "")
+  if(NOT arg_SCENE)
+    message(FATAL_ERROR "sweepgen_add_solver(${target}): SCENE is required")
+  endif()
+  if(arg_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "sweepgen_add_solver(${target}): unknown arguments ${arg_UNPARSED_ARGUMENTS}")
+  endif()
+  get_filename_component(scene "${arg_SCENE}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+  set(out "${arg_OUTPUT_DIR}")
+  if(NOT out)
+    set(out "${CMAKE_CURRENT_BINARY_DIR}/sweepgen/${target}")
+  endif()
+  set(extra)
+  if(arg_EXPOSE)
+    list(APPEND extra --expose ${arg_EXPOSE})
+  endif()
+  add_custom_command(
+    OUTPUT "${out}/${target}.hpp" "${out}/${target}.cpp"
+    COMMAND sweepgen::sweepgen generate --scene "${scene}" --out "${out}" --file-stem ${target}
+            --depfile "${out}/${target}.d" ${extra}
+    DEPENDS "${scene}" sweepgen::sweepgen
+    DEPFILE "${out}/${target}.d"
+    COMMENT "sweepgen: generating ${target} from ${arg_SCENE}"
+    VERBATIM)
+  add_library(${target} STATIC "${out}/${target}.cpp" "${out}/${target}.hpp")
+  target_include_directories(${target} PUBLIC "${out}")
+  target_compile_features(${target} PUBLIC cxx_std_17)
+endfunction()

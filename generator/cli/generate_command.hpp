@@ -1,0 +1,34 @@
+// `sweepgen generate` and `sweepgen info`.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace sweepgen::cli {
+
+// Where a scene comes from: a scene file, or a URDF with the default scene; flags override.
+struct SceneOptions {
+  std::string scene;
+  std::string urdf;
+  std::string root;
+  std::string tip;
+  std::string solver;
+  std::string expose;
+  std::vector<std::string> scalars;
+};
+
+struct GenerateOptions {
+  SceneOptions scene;
+  std::string out = ".";
+  std::string file_stem;
+  std::string depfile;
+};
+
+void add_generate_command(CLI::App& app, GenerateOptions& options);
+void add_info_command(CLI::App& app, SceneOptions& options);
+
+int run_generate(const GenerateOptions& options);
+int run_info(const SceneOptions& options);
+
+}  // namespace sweepgen::cli

@@ -1,0 +1,31 @@
+// Atomic output: a failed run leaves earlier files untouched.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sweepgen::cli {
+
+struct OutputFile {
+  std::string path;
+  std::string text;
+};
+
+// Writes every file to a temporary name in its directory, then renames them all into place.
+// On any failure the temporaries are removed, nothing already there is changed, and an
+// IoError naming the path is thrown.
+void write_files_atomically(const std::vector<OutputFile>& files);
+
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// FNV-1a, 64 bit, as 16 hex digits: the provenance hash of inputs (not a security measure).
+std::string fnv1a64(const std::string& bytes);
+
+// The whole content of a file; throws IoError naming it.
+std::string read_file(const std::string& path);
+
+}  // namespace sweepgen::cli
