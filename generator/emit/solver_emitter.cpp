@@ -125,8 +125,6 @@ std::string file_stem(const std::string& solver_namespace) {
 }
 
 EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request) {
-  for (const auto& name : request.trace.layout.torques)
-    if (name == "alpha") throw std::invalid_argument("a driver may not be named 'alpha' (it names the directions)");
   EmittedSolver result;
   const std::size_t n = chain.dof();
   const std::size_t nc = request.trace.layout.constraints;

@@ -1,0 +1,579 @@
+#include "scene/scene.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "model/error.hpp"
+
+namespace sweepgen::scene {
+namespace {
+
+const std::set<std::string>& cpp_keywords() {
+  static const std::set<std::string> words = {
+      "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case",
+      "catch", "char", "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval",
+      "constexpr", "constinit", "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype",
+      "default", "delete", "do", "double", "dynamic_cast", "else", "enum", "explicit", "export", "extern",
+      "false", "float", "for", "friend", "goto", "if", "inline", "int", "long", "mutable", "namespace", "new",
+      "noexcept", "not", "not_eq", "nullptr", "operator", "or", "or_eq", "private", "protected", "public",
+      "register", "reinterpret_cast", "requires", "return", "short", "signed", "sizeof", "static",
+      "static_assert", "static_cast", "struct", "switch", "template", "this", "thread_local", "throw", "true",
+      "try", "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void", "volatile",
+      "wchar_t", "while", "xor", "xor_eq"};
+  return words;
+}
+
+// Why `name` is not a usable identifier, or "".
+std::string identifier_problem(const std::string& name) {
+  if (name.empty()) return "is empty";
+  const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  if (!letter(name[0])) return "must start with a letter or '_'";
+  for (char c : name)
+    if (!letter(c) && !digit(c)) return "may contain only letters, digits and '_'";
+  if (cpp_keywords().count(name)) return "is a C++ keyword";
+  if (name.find("__") != std::string::npos || (name.size() > 1 && name[0] == '_' && name[1] >= 'A' && name[1] <= 'Z'))
+    return "is reserved in C++ (contains '__' or starts with '_' and an upper-case letter)";
+  return "";
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  return out;
+}
+
+std::string format_mark(const std::string& file, const YAML::Mark& mark) {
+  if (mark.is_null()) return file;
+  return file + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+}
+
+// A node of the scene document with its element path and position.
+struct Item {
+  YAML::Node node;
+  std::string element;
+  YAML::Mark mark;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  std::string where(const Item& item) const { return format_mark(file_, item.mark); }
+  [[noreturn]] void fail(const Item& item, const std::string& reason) const {
+    throw InputError(where(item), item.element, reason);
+  }
+
+  // The mapping's entries, in order; fails on a non-mapping, non-string keys, duplicate keys and
+  // keys not in `allowed` (with a hint).
+  std::vector<std::pair<Item, Item>> entries(const Item& map, const std::vector<std::string>& allowed) const {
+    if (!map.node.IsMap()) fail(map, "expected a mapping (key: value), got " + kind(map.node));
+    std::vector<std::pair<Item, Item>> out;
+    std::map<std::string, YAML::Mark> seen;
+    for (auto it = map.node.begin(); it != map.node.end(); ++it) {
+      const YAML::Node key = it->first;
+      Item key_item{key, map.element, mark_of(key, map.mark)};
+      if (!key.IsScalar()) fail(key_item, "keys must be plain names, got " + kind(key));
+      const std::string name = key.Scalar();
+      key_item.element = child(map.element, name);
+      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+        fail(key_item, "unknown key '" + name + "'" + nearest_name_hint(name, allowed) +
+                           " (allowed here: " + join(allowed) + ")");
+      if (const auto previous = seen.find(name); previous != seen.end())
+        fail(key_item, "duplicate key (first given at " + format_mark(file_, previous->second) + ")");
+      seen.emplace(name, key_item.mark);
+      // An empty value (null) has no position of its own worth reporting: use the key's.
+      const YAML::Node value = it->second;
+      out.push_back({key_item, Item{value, key_item.element, value.IsNull() ? key_item.mark : mark_of(value, key_item.mark)}});
+    }
+    return out;
+  }
+
+  std::vector<Item> sequence(const Item& item) const {
+    if (!item.node.IsSequence()) fail(item, "expected a list, got " + kind(item.node));
+    std::vector<Item> out;
+    for (std::size_t i = 0; i < item.node.size(); ++i) {
+      const YAML::Node element = item.node[i];
+      out.push_back(Item{element, item.element + "[" + std::to_string(i) + "]", mark_of(element, item.mark)});
+    }
+    return out;
+  }
+
+  std::string string(const Item& item) const {
+    if (!item.node.IsScalar()) fail(item, "expected a string, got " + kind(item.node));
+    return item.node.Scalar();
+  }
+
+  std::string identifier(const Item& item) const {
+    const std::string name = string(item);
+    if (const std::string problem = identifier_problem(name); !problem.empty())
+      fail(item, "'" + name + "' is not a usable C++ identifier: it " + problem);
+    return name;
+  }
+
+  double number(const Item& item) const {
+    if (!item.node.IsScalar()) fail(item, "expected a number, got " + kind(item.node));
+    double value = 0;
+    if (!YAML::convert<double>::decode(item.node, value)) fail(item, "expected a number, got '" + item.node.Scalar() + "'");
+    if (!std::isfinite(value)) fail(item, "number is not finite (NaN or Inf)");
+    return value;
+  }
+
+  long long integer(const Item& item) const {
+    if (!item.node.IsScalar()) fail(item, "expected an integer, got " + kind(item.node));
+    long long value = 0;
+    if (!YAML::convert<long long>::decode(item.node, value))
+      fail(item, "expected an integer, got '" + item.node.Scalar() + "'");
+    return value;
+  }
+
+  // One of `choices`, with a hint otherwise.
+  std::string choice(const Item& item, const std::vector<std::string>& choices, const std::string& what) const {
+    const std::string text = string(item);
+    if (std::find(choices.begin(), choices.end(), text) == choices.end())
+      fail(item, "unknown " + what + " '" + text + "'" + nearest_name_hint(text, choices) + " (expected one of: " +
+                     join(choices) + ")");
+    return text;
+  }
+
+  static std::string child(const std::string& parent, const std::string& key) {
+    return parent.empty() ? key : parent + "." + key;
+  }
+
+ private:
+  static YAML::Mark mark_of(const YAML::Node& node, const YAML::Mark& fallback) {
+    const YAML::Mark mark = node.Mark();
+    return mark.is_null() ? fallback : mark;
+  }
+  static std::string kind(const YAML::Node& node) {
+    switch (node.Type()) {
+      case YAML::NodeType::Null: return "nothing";
+      case YAML::NodeType::Scalar: return "'" + node.Scalar() + "'";
+      case YAML::NodeType::Sequence: return "a list";
+      case YAML::NodeType::Map: return "a mapping";
+      default: return "nothing";
+    }
+  }
+
+  std::string file_;
+};
+
+std::vector<std::string> policy_names() {
+  std::vector<std::string> names;
+  for (solver::Policy p : {solver::Policy::original, solver::Policy::prioritize_external, solver::Policy::saturate,
+                           solver::Policy::saturate_exact})
+    names.push_back(solver::name(p));
+  return names;
+}
+
+const std::vector<std::string>& scalar_names() {
+  static const std::vector<std::string> names = {"double", "float"};
+  return names;
+}
+
+// Reads `drivers:` into layout/fixed directions (no tracks yet). `instances` collects every
+// instance name with its item, for the decomposition.
+void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::map<std::string, Item>& instances) {
+  const auto add_instance = [&](const Item& item) {
+    const std::string name = reader.identifier(item);
+    if (name == "bias") reader.fail(item, "'bias' is reserved for the velocity-product track; pick another name");
+    if (name == "alpha")
+      reader.fail(item, "'alpha' is reserved for the constraint directions in generated code; pick another name");
+    if (const auto previous = instances.find(name); previous != instances.end())
+      reader.fail(item, "duplicate driver instance name '" + name + "' (first given at " + reader.where(previous->second) + ")");
+    instances.emplace(name, item);
+    return name;
+  };
+  for (const auto& [key, value] : reader.entries(drivers, {"torques", "external_forces", "constraints"})) {
+    const std::string& name = key.node.Scalar();
+    if (name == "torques") {
+      for (const Item& item : reader.sequence(value)) scene.layout.torques.push_back(add_instance(item));
+    } else if (name == "external_forces") {
+      std::size_t index = 0;
+      for (const Item& item : reader.sequence(value)) {
+        std::optional<Item> name_item, link_item;
+        for (const auto& [k, v] : reader.entries(item, {"name", "link"})) (k.node.Scalar() == "name" ? name_item : link_item) = v;
+        if (!name_item) reader.fail(item, "missing key 'name'");
+        if (!link_item) reader.fail(item, "missing key 'link'");
+        solver::ExternalForceDriver driver;
+        driver.name = add_instance(*name_item);
+        driver.link = reader.string(*link_item);
+        if (driver.link.empty()) reader.fail(*link_item, "link name is empty");
+        scene.locations["drivers.external_forces[" + std::to_string(index) + "].link"] = reader.where(*link_item);
+        scene.layout.external_forces.push_back(driver);
+        ++index;
+      }
+    } else {  // constraints
+      if (value.node.IsMap()) {
+        const auto fields = reader.entries(value, {"directions"});
+        if (fields.empty()) reader.fail(value, "missing key 'directions'");
+        const auto directions = reader.sequence(fields[0].second);
+        if (directions.size() > solver::kMaxConstraints)
+          reader.fail(fields[0].second, "at most 6 constraint directions, got " + std::to_string(directions.size()));
+        for (const Item& direction : directions) {
+          const auto components = reader.sequence(direction);
+          if (components.size() != 6)
+            reader.fail(direction, "expected 6 numbers [moment; force], got " + std::to_string(components.size()));
+          Eigen::Matrix<double, 6, 1> v;
+          for (int i = 0; i < 6; ++i) v[i] = reader.number(components[i]);
+          if (!(std::abs(v.norm() - 1) <= 1e-9)) {
+            std::ostringstream norm;
+            norm.precision(17);
+            norm << v.norm();
+            reader.fail(direction, "not a unit vector (norm " + norm.str() + "; must be 1 within 1e-9)");
+          }
+          spatial::Force<double> f;
+          f.moment = v.head<3>();
+          f.force = v.tail<3>();
+          scene.fixed_directions.push_back(f);
+        }
+        scene.layout.constraints = directions.size();
+      } else {
+        const long long count = reader.integer(value);
+        if (count < 0 || count > static_cast<long long>(solver::kMaxConstraints))
+          reader.fail(value, "constraint count must be in 0..6, got " + std::to_string(count));
+        scene.layout.constraints = static_cast<std::size_t>(count);
+      }
+    }
+  }
+}
+
+// Builds the tracks from `decomposition:` (absent: decomposed).
+void read_decomposition(const Reader& reader, const std::optional<Item>& decomposition, Scene& scene,
+                        const std::map<std::string, Item>& instances) {
+  solver::DriverLayout& layout = scene.layout;
+  if (!decomposition) {
+    layout.decompose_all();
+    return;
+  }
+  if (!decomposition->node.IsSequence()) {
+    if (!decomposition->node.IsScalar())
+      reader.fail(*decomposition, "expected 'composed', 'decomposed' or a list of groups (lists of instance names)");
+    const std::string mode = reader.choice(*decomposition, {"composed", "decomposed"}, "decomposition");
+    mode == "composed" ? layout.compose_all() : layout.decompose_all();
+    return;
+  }
+  std::vector<std::string> known = {"bias"};
+  for (const auto& [name, item] : instances) known.push_back(name);
+  std::map<std::string, Item> grouped;
+  layout.tracks.clear();
+  for (const Item& group : reader.sequence(*decomposition)) {
+    const auto members = reader.sequence(group);
+    if (members.empty()) reader.fail(group, "empty group");
+    solver::Track track;
+    for (const Item& member : members) {
+      const std::string name = reader.string(member);
+      if (std::find(known.begin(), known.end(), name) == known.end())
+        reader.fail(member, "unknown driver instance '" + name + "'" + nearest_name_hint(name, known) +
+                                " (known: " + join(known) + ")");
+      if (const auto previous = grouped.find(name); previous != grouped.end())
+        reader.fail(member, "'" + name + "' is already in a group (at " + reader.where(previous->second) +
+                                "); an instance can be on one track only");
+      grouped.emplace(name, member);
+      if (track.name.empty()) track.name = name;
+      if (name == "bias") {
+        track.bias = true;
+      } else if (const auto t = std::find(layout.torques.begin(), layout.torques.end(), name); t != layout.torques.end()) {
+        track.torques.push_back(static_cast<std::size_t>(t - layout.torques.begin()));
+      } else {
+        for (std::size_t i = 0; i < layout.external_forces.size(); ++i)
+          if (layout.external_forces[i].name == name) track.external_forces.push_back(i);
+      }
+    }
+    layout.tracks.push_back(track);
+  }
+  if (!grouped.count("bias")) layout.tracks.push_back(solver::Track{"bias", true, {}, {}});
+  for (std::size_t i = 0; i < layout.torques.size(); ++i)
+    if (!grouped.count(layout.torques[i])) layout.tracks.push_back(solver::Track{layout.torques[i], false, {i}, {}});
+  for (std::size_t i = 0; i < layout.external_forces.size(); ++i)
+    if (!grouped.count(layout.external_forces[i].name))
+      layout.tracks.push_back(solver::Track{layout.external_forces[i].name, false, {}, {i}});
+}
+
+// Why prioritize_external cannot run on this layout, or "".
+std::string unseparable_external_force(const solver::DriverLayout& layout) {
+  for (const auto& track : layout.tracks) {
+    if (track.external_forces.empty() || track.only_external_forces()) continue;
+    std::vector<std::string> others;
+    if (track.bias) others.push_back("the bias");
+    for (auto i : track.torques) others.push_back("torque '" + layout.torques[i] + "'");
+    return "external force '" + layout.external_forces[track.external_forces.front()].name + "' shares track '" +
+           track.name + "' with " + join(others);
+  }
+  return "";
+}
+
+std::string solver_namespace_problem(const std::string& text) {
+  std::size_t start = 0;
+  bool first = true;
+  while (true) {
+    const std::size_t end = text.find("::", start);
+    const std::string part = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (const std::string problem = identifier_problem(part); !problem.empty())
+      return "'" + text + "' is not a C++ namespace name: " + (part.empty() ? "a component" : "'" + part + "'") + " " + problem;
+    if (first && part == "std") return "'" + text + "' is not a usable namespace: 'std' is reserved";
+    first = false;
+    if (end == std::string::npos) return "";
+    start = end + 2;
+  }
+}
+
+}  // namespace
+
+bool is_identifier(const std::string& name) { return identifier_problem(name).empty(); }
+
+std::string Scene::location(const std::string& element) const {
+  if (const auto it = locations.find(element); it != locations.end()) return it->second;
+  return path.empty() ? "command line" : path;
+}
+
+solver::SolverOptions Scene::solver_options() const {
+  solver::SolverOptions options;
+  options.gravity = gravity;
+  options.pivot_tolerance = pivot_tolerance;
+  return options;
+}
+
+Scene load_scene(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "file", "cannot be opened for reading");
+  std::stringstream text;
+  text << in.rdbuf();
+
+  YAML::Node document;
+  try {
+    document = YAML::Load(text.str());
+  } catch (const YAML::ParserException& e) {
+    throw InputError(format_mark(path, e.mark), "YAML", "syntax error: " + e.msg);
+  }
+
+  const Reader reader(path);
+  const Item root{document, "", document.Mark().is_null() ? YAML::Mark() : document.Mark()};
+  if (!document.IsMap()) {
+    reader.fail(Item{document, "scene", root.mark}, document.IsNull() ? "the scene file is empty; expected a mapping with at least "
+                                              "'sweepgen_scene', 'solver' and 'urdf'"
+                                            : "expected a mapping (key: value) at the top level");
+  }
+
+  Scene scene;
+  scene.path = path;
+  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf", "root", "tip", "gravity", "rotor_inertia",
+                                         "drivers", "decomposition", "policies", "scalars", "expose", "pivot_tolerance"};
+  std::map<std::string, Item> values;
+  for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
+  const auto get = [&](const std::string& key) -> std::optional<Item> {
+    const auto it = values.find(key);
+    return it == values.end() ? std::nullopt : std::optional<Item>(it->second);
+  };
+  const auto require = [&](const std::string& key, const std::string& what) {
+    const auto item = get(key);
+    if (!item) reader.fail(Item{document, key, root.mark}, "missing required key '" + key + "' (" + what + ")");
+    return *item;
+  };
+
+  // Version first: a file of another version is reported as such, not by its first odd key.
+  const Item version = require("sweepgen_scene", "the scene schema version, 1");
+  if (reader.integer(version) != kSceneVersion)
+    reader.fail(version, "unsupported scene version " + version.node.Scalar() + " (this sweepgen reads version " +
+                             std::to_string(kSceneVersion) + ")");
+
+  const Item solver_item = require("solver", "C++ namespace of the generated solver");
+  scene.solver = reader.string(solver_item);
+  if (const std::string problem = solver_namespace_problem(scene.solver); !problem.empty())
+    reader.fail(solver_item, problem);
+
+  const Item urdf = require("urdf", "path of the URDF file, relative to the scene file");
+  const std::string urdf_text = reader.string(urdf);
+  if (urdf_text.empty()) reader.fail(urdf, "path is empty");
+  const std::filesystem::path urdf_path(urdf_text);
+  scene.chain.urdf = urdf_path.is_absolute()
+                         ? urdf_path.lexically_normal().string()
+                         : (std::filesystem::path(path).parent_path() / urdf_path).lexically_normal().string();
+  scene.locations["urdf"] = reader.where(urdf);
+
+  for (const char* key : {"root", "tip"}) {
+    if (const auto item = get(key)) {
+      const std::string link = reader.string(*item);
+      if (link.empty()) reader.fail(*item, "link name is empty");
+      (std::string(key) == "root" ? scene.chain.root_link : scene.chain.tip_link) = link;
+      scene.locations[key] = reader.where(*item);
+    }
+  }
+
+  if (const auto item = get("gravity")) {
+    const auto components = reader.sequence(*item);
+    if (components.size() != 3) reader.fail(*item, "expected 3 numbers [x, y, z], got " + std::to_string(components.size()));
+    for (int i = 0; i < 3; ++i) scene.gravity[i] = reader.number(components[i]);
+  }
+
+  if (const auto item = get("rotor_inertia")) {
+    scene.locations["rotor_inertia"] = reader.where(*item);
+    scene.chain.rotor_inertia_source = reader.where(*item);
+    if (!item->node.IsMap()) reader.fail(*item, "expected a mapping (joint name: rotor inertia)");
+    std::map<std::string, YAML::Mark> seen;
+    for (auto it = item->node.begin(); it != item->node.end(); ++it) {
+      Item key{it->first, item->element, it->first.Mark()};
+      const std::string joint = reader.string(key);
+      key.element = "rotor_inertia." + joint;
+      if (const auto previous = seen.find(joint); previous != seen.end())
+        reader.fail(key, "duplicate joint (first given at " + format_mark(path, previous->second) + ")");
+      seen.emplace(joint, key.mark);
+      const Item value{it->second, key.element, it->second.IsNull() ? key.mark : it->second.Mark()};
+      const double d = reader.number(value);
+      if (d < 0) reader.fail(value, "rotor inertia must be >= 0");
+      scene.chain.rotor_inertia[joint] = d;
+      scene.locations[key.element] = reader.where(key);
+    }
+  }
+
+  std::map<std::string, Item> instances;
+  if (const auto item = get("drivers")) read_drivers(reader, *item, scene, instances);
+  read_decomposition(reader, get("decomposition"), scene, instances);
+
+  if (const auto item = get("policies")) {
+    const auto entries = reader.sequence(*item);
+    if (entries.empty()) reader.fail(*item, "at least one policy is needed");
+    scene.policies.clear();
+    std::map<std::string, Item> seen;
+    for (const Item& entry : entries) {
+      const std::string name = reader.choice(entry, policy_names(), "policy");
+      if (const auto previous = seen.find(name); previous != seen.end())
+        reader.fail(entry, "duplicate policy '" + name + "' (first given at " + reader.where(previous->second) + ")");
+      seen.emplace(name, entry);
+      const solver::Policy policy = *solver::policy_from_name(name);
+      if (policy == solver::Policy::prioritize_external) {
+        if (const std::string problem = unseparable_external_force(scene.layout); !problem.empty()) {
+          const auto decomposition = get("decomposition");
+          reader.fail(entry, "prioritize_external (Alg. 4) keeps external forces out of the constraint reaction, so "
+                             "each needs a track without the bias or torques, but " + problem +
+                             (decomposition ? " (decomposition at " + reader.where(*decomposition) + ")" : ""));
+        }
+      }
+      scene.policies.push_back(policy);
+    }
+  }
+
+  if (const auto item = get("scalars")) {
+    const auto entries = reader.sequence(*item);
+    if (entries.empty()) reader.fail(*item, "at least one scalar type is needed");
+    scene.scalars.clear();
+    std::map<std::string, Item> seen;
+    for (const Item& entry : entries) {
+      const std::string name = reader.choice(entry, scalar_names(), "scalar type");
+      if (const auto previous = seen.find(name); previous != seen.end())
+        reader.fail(entry, "duplicate scalar type '" + name + "' (first given at " + reader.where(previous->second) + ")");
+      seen.emplace(name, entry);
+      scene.scalars.push_back(name);
+    }
+  }
+
+  if (const auto item = get("expose")) scene.expose_all = reader.choice(*item, {"outputs", "all"}, "expose mode") == "all";
+
+  if (const auto item = get("pivot_tolerance")) {
+    const double t = reader.number(*item);
+    if (!(t > 0 && t < 1)) reader.fail(*item, "relative pivot tolerance must be > 0 and < 1");
+    scene.pivot_tolerance = t;
+  }
+  return scene;
+}
+
+model::Chain load_scene_chain(const Scene& scene) {
+  const model::ChainSpec& spec = scene.chain;
+  // URDF problems carry the URDF's own file/element/reason; prefix the scene entry that led there.
+  const auto load = [&](const model::ChainSpec& s) {
+    try {
+      return model::load_chain(s);
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      if (message.rfind(s.urdf + ":", 0) != 0) throw;  // already names the scene (rotor inertia)
+      std::string element = "urdf";
+      if (!s.root_link.empty() && message.find("root link '" + s.root_link + "'") != std::string::npos) element = "root";
+      if (!s.tip_link.empty() && (message.find("tip link '" + s.tip_link + "'") != std::string::npos ||
+                                  message.find("not connected") != std::string::npos))
+        element = "tip";
+      throw InputError(scene.location(element), element, message);
+    }
+  };
+
+  // Check the rotor-inertia names at their own positions first (the loader knows only one
+  // position for the whole map). Without the rotor inertias the chain may fail the D_N check;
+  // then the loader's own name check below still applies.
+  if (!spec.rotor_inertia.empty()) {
+    model::ChainSpec bare = spec;
+    bare.rotor_inertia.clear();
+    std::optional<model::Chain> chain;
+    try {
+      chain = load(bare);
+    } catch (const InputError&) {
+    }
+    if (chain) {
+      std::vector<std::string> joints;
+      for (std::size_t i = 1; i <= chain->dof(); ++i) joints.push_back(chain->joints[i].name);
+      for (const auto& [name, value] : spec.rotor_inertia) {
+        if (chain->joint_index(name) == 0)
+          throw InputError(scene.location("rotor_inertia." + name), "rotor_inertia." + name,
+                           "no moving joint '" + name + "' on the chain from '" + chain->root_link + "' to '" +
+                               chain->tip_link + "'" + nearest_name_hint(name, joints));
+      }
+    }
+  }
+  model::Chain chain = load(spec);
+
+  std::vector<std::string> links;
+  for (const auto& [name, frame] : chain.frames) links.push_back(name);
+  for (std::size_t i = 0; i < scene.layout.external_forces.size(); ++i) {
+    const auto& ext = scene.layout.external_forces[i];
+    const std::string element = "drivers.external_forces[" + std::to_string(i) + "].link";
+    const auto frame = chain.frames.find(ext.link);
+    if (frame == chain.frames.end())
+      throw InputError(scene.location(element), element,
+                       "link '" + ext.link + "' of external force '" + ext.name + "' is not on the chain from '" +
+                           chain.root_link + "' to '" + chain.tip_link + "'" + nearest_name_hint(ext.link, links));
+    if (frame->second.body == 0)
+      throw InputError(scene.location(element), element,
+                       "link '" + ext.link + "' of external force '" + ext.name +
+                           "' is fixed to the base; a force on it moves nothing");
+  }
+  solver::validate(scene.layout, chain, scene.path.empty() ? "command line" : scene.path);
+  return chain;
+}
+
+Scene default_scene(const std::string& urdf, const std::string& root, const std::string& tip) {
+  Scene scene;
+  std::string name = std::filesystem::path(urdf).stem().string();
+  for (char& c : name)
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_')) c = '_';
+  while (name.find("__") != std::string::npos) name.replace(name.find("__"), 2, "_");
+  if (name.empty() || !is_identifier(name) || name == "std") name = "robot_" + name;
+  while (name.find("__") != std::string::npos) name.replace(name.find("__"), 2, "_");
+  if (!is_identifier(name)) name = "robot";
+  scene.solver = name;
+
+  scene.chain.urdf = urdf;
+  scene.chain.root_link = root;
+  scene.chain.tip_link = tip;
+  scene.locations["urdf"] = "--urdf";
+  if (!root.empty()) scene.locations["root"] = "--root";
+  if (!tip.empty()) scene.locations["tip"] = "--tip";
+  scene.layout.decompose_all();  // the bias alone, until the tip is known
+  const model::Chain chain = load_scene_chain(scene);  // resolves root and tip
+  scene.chain.root_link = chain.root_link;
+  scene.chain.tip_link = chain.tip_link;
+
+  scene.layout.torques = {"tau_ff"};
+  scene.layout.external_forces = {solver::ExternalForceDriver{"f_ext_tip", chain.tip_link}};
+  scene.layout.constraints = solver::kMaxConstraints;
+  scene.layout.decompose_all();
+  scene.policies = {solver::Policy::original, solver::Policy::prioritize_external, solver::Policy::saturate,
+                    solver::Policy::saturate_exact};
+  return scene;
+}
+
+}  // namespace sweepgen::scene

@@ -1,0 +1,120 @@
+// The scene file: what the generator emits, for which chain, with which drivers.
+//
+// Scene file schema, version 1 (YAML). Keys not listed are errors, as are wrong types,
+// duplicate keys and duplicate names; every error names file:line:column, the element and
+// the reason.
+//
+//   sweepgen_scene: 1               # required: schema version (integer; only 1 exists)
+//   solver: panda_nc6               # required: C++ namespace of the generated solver; one
+//                                   #   identifier or several joined by '::' (e.g. robots::panda);
+//                                   #   no C++ keywords, no reserved names ('__', '_X'), not 'std'
+//   urdf: ../panda/panda.urdf       # required: URDF file, relative to the scene file's
+//                                   #   directory (absolute paths work too)
+//   root: panda_link0               # optional: root (base) link; default: the URDF's root
+//   tip: panda_hand                 # optional: tip link (constraint frame); default: the deepest
+//                                   #   link below the root, if nothing branches
+//   gravity: [0, 0, -9.81]          # optional: gravity in the root frame [m/s^2];
+//                                   #   default [0, 0, -9.81]
+//   rotor_inertia:                  # optional: armature d_i (>= 0) by moving-joint name;
+//     panda_joint1: 0.1             #   joints not listed get 0
+//   drivers:                        # optional: no drivers (bias only, Nc = 0) when absent
+//     torques: [tau_ff]             # optional: feed-forward torque instances (identifiers)
+//     external_forces:              # optional: external wrench instances, each acting on a
+//       - {name: contact, link: panda_link5}   # link of the chain (not fixed to the base),
+//                                   #   given in that link's frame about its origin
+//     constraints: 6                # optional: Nc in 0..6; the directions (alpha, tip frame)
+//                                   #   are run-time inputs of the generated code; default 0
+//     # constraints:                # ... or fixed directions folded into the code:
+//     #   directions: [[0,0,0,1,0,0], [0,0,0,0,1,0]]   # unit 6-vectors [moment; force] in the
+//                                   #   tip frame (|v| = 1 within 1e-9), at most 6; Nc = count
+//   decomposition: decomposed       # optional: 'composed' (one track, Alg. 1), 'decomposed'
+//                                   #   (bias and every instance on a track of its own, Alg. 2;
+//                                   #   the default), or a list of groups, each a list of
+//                                   #   instance names sharing one track, e.g.
+//                                   #   [[bias, tau_ff], [contact, push]]; 'bias' names the
+//                                   #   velocity-product terms; an instance may be in at most one
+//                                   #   group; everything not named (the bias too) gets a track
+//                                   #   of its own. A group's track is named after its first
+//                                   #   member; the tracks are the groups in the order given,
+//                                   #   then the unnamed ones (bias, torques, external forces).
+//   policies: [original, prioritize_external, saturate, saturate_exact]
+//                                   # optional: solver-sweep policies to emit, no duplicates;
+//                                   #   default [original]. prioritize_external (Alg. 4) needs
+//                                   #   every external force on a track without the bias or
+//                                   #   torques (so not with 'composed').
+//   scalars: [double, float]        # optional: scalar types to emit, no duplicates;
+//                                   #   default [double]
+//   expose: outputs                 # optional: 'outputs' (default) or 'all' intermediates
+//   pivot_tolerance: 1e-12          # optional: relative pivot tolerance of the constraint
+//                                   #   factorisation, 0 < t < 1; default: 1000 * epsilon of
+//                                   #   the emitted scalar
+//
+// Driver instance names (torques and external forces) share one namespace: identifiers,
+// unique, not C++ keywords, not 'bias' and not 'alpha'.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "model/chain.hpp"
+#include "model/urdf_loader.hpp"
+#include "solver/drivers.hpp"
+#include "solver/policy.hpp"
+#include "solver/solver_model.hpp"
+#include "spatial/spatial.hpp"
+
+namespace sweepgen::scene {
+
+constexpr int kSceneVersion = 1;
+
+struct Scene {
+  std::string path;    // the scene file as given ("" for default_scene)
+  std::string solver;  // C++ namespace of the generated solver
+  model::ChainSpec chain;  // urdf resolved against the scene file's directory
+  Eigen::Vector3d gravity{0, 0, -9.81};
+  solver::DriverLayout layout;  // tracks built
+  // Fixed constraint directions [moment; force] in the tip frame; empty when the directions
+  // are run-time inputs. When non-empty, layout.constraints == fixed_directions.size().
+  std::vector<spatial::Force<double>> fixed_directions;
+  std::vector<solver::Policy> policies{solver::Policy::original};
+  std::vector<std::string> scalars{"double"};
+  bool expose_all = false;
+  double pivot_tolerance = 0;  // 0: the default for the emitted scalar
+
+  // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
+  // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",
+  // "drivers.external_forces[i].link". A CLI flag overriding a field should set its entry to
+  // the flag's name (e.g. locations["tip"] = "--tip").
+  std::map<std::string, std::string> locations;
+
+  // Where `element` came from, for messages: its entry in `locations`, else the scene file,
+  // else "command line".
+  std::string location(const std::string& element) const;
+
+  solver::SolverOptions solver_options() const;
+};
+
+// Reads and validates the scene file (structure, types, names, ranges; everything that does not
+// need the URDF). Throws InputError("file:line:column", element, reason) on anything invalid,
+// YAML syntax errors included.
+Scene load_scene(const std::string& path);
+
+// Loads the scene's chain (model::load_chain) and checks the scene's names against it: rotor
+// inertia joints exist, external-force links are on the chain and not fixed to the base, and
+// solver::validate. Errors name the scene location of the offending entry; errors inside the
+// URDF are reported at the scene's 'urdf' (or 'root'/'tip') entry with the URDF's own message.
+model::Chain load_scene_chain(const Scene& scene);
+
+// The scene used when there is no scene file (`--urdf --root --tip` only): namespace from the
+// URDF file's stem (made an identifier: 'panda.urdf' -> panda, '7dof-arm.urdf' -> robot_7dof_arm);
+// one torque instance "tau_ff"; one external force "f_ext_tip" on the tip link; Nc = 6 with
+// run-time directions; every policy; decomposed (Alg. 2); scalars [double]; outputs only; default
+// gravity and pivot tolerance. Loads the URDF to resolve an empty root/tip (so both are filled
+// in); throws InputError if it cannot be loaded.
+Scene default_scene(const std::string& urdf, const std::string& root = "", const std::string& tip = "");
+
+// Whether `name` is a usable C++ identifier (not a keyword, not reserved).
+bool is_identifier(const std::string& name);
+
+}  // namespace sweepgen::scene

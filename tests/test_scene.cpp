@@ -1,0 +1,558 @@
+// The scene file (generator/scene/scene.hpp): a full valid scene, the default scene, the track
+// layouts, and one test per kind of error, each checking file:line:column, element and reason.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "model/error.hpp"
+#include "scene/scene.hpp"
+#include "support/bundled_robots.hpp"
+#include "support/temp_dir.hpp"
+
+namespace sweepgen {
+namespace {
+
+using scene::Scene;
+using solver::Policy;
+
+std::string panda_urdf() { return test::source_path("robots/panda/panda.urdf"); }
+
+// A valid scene using every key; tests replace one piece of it. @URDF@ is the Panda's path.
+const std::string kFullScene = R"(sweepgen_scene: 1
+solver: panda_nc6
+urdf: @URDF@
+root: panda_link0
+tip: panda_hand
+gravity: [0, 0, -9.80665]
+rotor_inertia: {panda_joint1: 0.1, panda_joint7: 0.02}
+drivers:
+  torques: [tau_ff]
+  external_forces:
+    - {name: contact, link: panda_link5}
+    - {name: push, link: panda_hand}
+  constraints: 6
+decomposition: decomposed
+policies: [original, prioritize_external, saturate, saturate_exact]
+scalars: [double, float]
+expose: all
+pivot_tolerance: 1e-12
+)";
+
+// `text` with the first occurrence of `from` replaced by `to` (which must exist).
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "'" << from << "' not in the scene";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+std::string with_urdf(const std::string& text, const std::string& urdf = panda_urdf()) {
+  return replace(text, "@URDF@", urdf);
+}
+
+// "line:column" (1-based) of the `occurrence`-th `token` in line `line` of `text`.
+std::string position(const std::string& text, int line, const std::string& token, int occurrence = 1) {
+  std::size_t start = 0;
+  for (int i = 1; i < line; ++i) start = text.find('\n', start) + 1;
+  const std::string row = text.substr(start, text.find('\n', start) - start);
+  std::size_t column = std::string::npos;
+  for (int k = 0; k < occurrence; ++k) column = row.find(token, column == std::string::npos ? 0 : column + 1);
+  EXPECT_NE(column, std::string::npos) << "'" << token << "' not on line " << line << ": " << row;
+  return std::to_string(line) + ":" + std::to_string(column + 1);
+}
+
+void expect_contains(const std::string& text, const std::string& part) {
+  EXPECT_NE(text.find(part), std::string::npos) << "'" << part << "' missing in: " << text;
+}
+
+struct Loaded {
+  std::string path;
+  std::string message;  // "" if everything loaded
+};
+
+// Writes `text` as scene.yaml, loads it and its chain; returns the error message (or "").
+Loaded load(const test::TempDir& dir, const std::string& text) {
+  Loaded out{dir.write("scene.yaml", text), ""};
+  try {
+    const Scene s = scene::load_scene(out.path);
+    scene::load_scene_chain(s);
+  } catch (const InputError& e) {
+    out.message = e.what();
+  }
+  return out;
+}
+
+// Expects an error at `where` ("line:column") on `element`, with `reason` in the message.
+void expect_error(const std::string& text, const std::string& where, const std::string& element,
+                  const std::string& reason, const std::string& hint = "") {
+  test::TempDir dir;
+  const Loaded loaded = load(dir, text);
+  ASSERT_FALSE(loaded.message.empty()) << "no error for:\n" << text;
+  expect_contains(loaded.message, loaded.path + ":" + where + ": " + element + ": ");
+  expect_contains(loaded.message, reason);
+  if (!hint.empty()) expect_contains(loaded.message, "(did you mean '" + hint + "'?)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Valid scenes
+
+TEST(Scene, FullSceneReadsEveryField) {
+  test::TempDir dir;
+  const std::string text = with_urdf(kFullScene);
+  const std::string path = dir.write("scene.yaml", text);
+  const Scene s = scene::load_scene(path);
+
+  EXPECT_EQ(s.path, path);
+  EXPECT_EQ(s.solver, "panda_nc6");
+  EXPECT_EQ(s.chain.urdf, panda_urdf());
+  EXPECT_EQ(s.chain.root_link, "panda_link0");
+  EXPECT_EQ(s.chain.tip_link, "panda_hand");
+  EXPECT_EQ(s.chain.rotor_inertia, (std::map<std::string, double>{{"panda_joint1", 0.1}, {"panda_joint7", 0.02}}));
+  EXPECT_EQ(s.chain.rotor_inertia_source, path + ":" + position(text, 7, "{"));
+  EXPECT_EQ(s.gravity, Eigen::Vector3d(0, 0, -9.80665));
+
+  ASSERT_EQ(s.layout.torques, std::vector<std::string>{"tau_ff"});
+  ASSERT_EQ(s.layout.external_forces.size(), 2u);
+  EXPECT_EQ(s.layout.external_forces[0].name, "contact");
+  EXPECT_EQ(s.layout.external_forces[0].link, "panda_link5");
+  EXPECT_EQ(s.layout.external_forces[1].name, "push");
+  EXPECT_EQ(s.layout.external_forces[1].link, "panda_hand");
+  EXPECT_EQ(s.layout.constraints, 6u);
+  EXPECT_TRUE(s.fixed_directions.empty());
+  ASSERT_EQ(s.layout.tracks.size(), 4u);  // decomposed
+  EXPECT_TRUE(s.layout.tracks[0].bias);
+
+  EXPECT_EQ(s.policies, (std::vector<Policy>{Policy::original, Policy::prioritize_external, Policy::saturate,
+                                             Policy::saturate_exact}));
+  EXPECT_EQ(s.scalars, (std::vector<std::string>{"double", "float"}));
+  EXPECT_TRUE(s.expose_all);
+  EXPECT_EQ(s.pivot_tolerance, 1e-12);
+
+  const solver::SolverOptions options = s.solver_options();
+  EXPECT_EQ(options.gravity, Eigen::Vector3d(0, 0, -9.80665));
+  EXPECT_EQ(options.pivot_tolerance, 1e-12);
+
+  EXPECT_EQ(s.locations.at("drivers.external_forces[1].link"), path + ":" + position(text, 12, "panda_hand"));
+  EXPECT_EQ(s.locations.at("rotor_inertia.panda_joint7"), path + ":" + position(text, 7, "panda_joint7"));
+
+  const model::Chain chain = scene::load_scene_chain(s);
+  EXPECT_EQ(chain.dof(), 7u);
+  EXPECT_EQ(chain.tip_link, "panda_hand");
+  EXPECT_EQ(chain.joints[1].rotor_inertia, 0.1);
+  EXPECT_EQ(chain.joints[7].rotor_inertia, 0.02);
+  EXPECT_EQ(chain.joints[4].rotor_inertia, 0.0);
+}
+
+TEST(Scene, MinimalSceneGetsDefaults) {
+  test::TempDir dir;
+  const std::string path =
+      dir.write("scene.yaml", with_urdf("sweepgen_scene: 1\nsolver: robots::panda\nurdf: @URDF@\n"));
+  const Scene s = scene::load_scene(path);
+  EXPECT_EQ(s.solver, "robots::panda");
+  EXPECT_TRUE(s.chain.root_link.empty());
+  EXPECT_TRUE(s.chain.tip_link.empty());
+  EXPECT_TRUE(s.chain.rotor_inertia.empty());
+  EXPECT_EQ(s.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_TRUE(s.layout.torques.empty());
+  EXPECT_TRUE(s.layout.external_forces.empty());
+  EXPECT_EQ(s.layout.constraints, 0u);
+  ASSERT_EQ(s.layout.tracks.size(), 1u);
+  EXPECT_TRUE(s.layout.tracks[0].bias);
+  EXPECT_EQ(s.policies, std::vector<Policy>{Policy::original});
+  EXPECT_EQ(s.scalars, std::vector<std::string>{"double"});
+  EXPECT_FALSE(s.expose_all);
+  EXPECT_EQ(s.pivot_tolerance, 0.0);
+  const model::Chain chain = scene::load_scene_chain(s);
+  EXPECT_EQ(chain.root_link, "panda_link0");
+  EXPECT_EQ(chain.tip_link, "panda_hand");
+}
+
+TEST(Scene, RelativeUrdfPathIsResolvedAgainstTheSceneDirectory) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.path() / "scenes");
+  const std::string relative = std::filesystem::relative(panda_urdf(), dir.path() / "scenes").string();
+  ASSERT_FALSE(std::filesystem::path(relative).is_absolute());
+  const std::string path = dir.write("scenes/scene.yaml", with_urdf(kFullScene, relative));
+  const Scene s = scene::load_scene(path);
+  EXPECT_TRUE(std::filesystem::path(s.chain.urdf).is_absolute());
+  EXPECT_TRUE(std::filesystem::equivalent(s.chain.urdf, panda_urdf())) << s.chain.urdf;
+  EXPECT_EQ(scene::load_scene_chain(s).dof(), 7u);
+}
+
+TEST(Scene, FixedConstraintDirections) {
+  test::TempDir dir;
+  const std::string path = dir.write(
+      "scene.yaml", with_urdf(replace(kFullScene, "constraints: 6",
+                                      "constraints: {directions: [[0,0,0,1,0,0], [0.6,0,0.8,0,0,0]]}")));
+  const Scene s = scene::load_scene(path);
+  EXPECT_EQ(s.layout.constraints, 2u);
+  ASSERT_EQ(s.fixed_directions.size(), 2u);
+  EXPECT_EQ(s.fixed_directions[0].moment, Eigen::Vector3d::Zero());
+  EXPECT_EQ(s.fixed_directions[0].force, Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(s.fixed_directions[1].moment, Eigen::Vector3d(0.6, 0, 0.8));
+  EXPECT_EQ(s.fixed_directions[1].force, Eigen::Vector3d::Zero());
+  EXPECT_EQ(scene::load_scene_chain(s).dof(), 7u);
+}
+
+TEST(Scene, ComposedDecomposition) {
+  test::TempDir dir;
+  const std::string text = replace(replace(kFullScene, "decomposition: decomposed", "decomposition: composed"),
+                                   "original, prioritize_external,", "original,");
+  const Scene s = scene::load_scene(dir.write("scene.yaml", with_urdf(text)));
+  ASSERT_EQ(s.layout.tracks.size(), 1u);
+  const solver::Track& t = s.layout.tracks[0];
+  EXPECT_TRUE(t.bias);
+  EXPECT_EQ(t.torques, std::vector<std::size_t>{0});
+  EXPECT_EQ(t.external_forces, (std::vector<std::size_t>{0, 1}));
+  EXPECT_FALSE(s.layout.external_forces_separable());
+}
+
+TEST(Scene, DecomposedDecomposition) {
+  test::TempDir dir;
+  const Scene s = scene::load_scene(dir.write("scene.yaml", with_urdf(kFullScene)));
+  const auto& tracks = s.layout.tracks;
+  ASSERT_EQ(tracks.size(), 4u);
+  EXPECT_EQ(tracks[0].name, "bias");
+  EXPECT_TRUE(tracks[0].bias);
+  EXPECT_TRUE(tracks[0].torques.empty() && tracks[0].external_forces.empty());
+  EXPECT_EQ(tracks[1].name, "tau_ff");
+  EXPECT_EQ(tracks[1].torques, std::vector<std::size_t>{0});
+  EXPECT_EQ(tracks[2].name, "contact");
+  EXPECT_EQ(tracks[2].external_forces, std::vector<std::size_t>{0});
+  EXPECT_EQ(tracks[3].name, "push");
+  EXPECT_EQ(tracks[3].external_forces, std::vector<std::size_t>{1});
+  EXPECT_TRUE(s.layout.external_forces_separable());
+}
+
+TEST(Scene, DecompositionGroups) {
+  test::TempDir dir;
+  {
+    const Scene s = scene::load_scene(dir.write(
+        "scene.yaml",
+        with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: [[bias, tau_ff], [contact, push]]"))));
+    const auto& tracks = s.layout.tracks;
+    ASSERT_EQ(tracks.size(), 2u);
+    EXPECT_EQ(tracks[0].name, "bias");
+    EXPECT_TRUE(tracks[0].bias);
+    EXPECT_EQ(tracks[0].torques, std::vector<std::size_t>{0});
+    EXPECT_TRUE(tracks[0].external_forces.empty());
+    EXPECT_EQ(tracks[1].name, "contact");
+    EXPECT_FALSE(tracks[1].bias);
+    EXPECT_EQ(tracks[1].external_forces, (std::vector<std::size_t>{0, 1}));
+    EXPECT_TRUE(s.layout.external_forces_separable());
+    scene::load_scene_chain(s);  // solver::validate accepts it
+  }
+  {  // Unnamed instances (the bias too) get tracks of their own, after the groups.
+    const Scene s = scene::load_scene(
+        dir.write("scene.yaml", with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: [[push]]"))));
+    const auto& tracks = s.layout.tracks;
+    ASSERT_EQ(tracks.size(), 4u);
+    EXPECT_EQ(tracks[0].name, "push");
+    EXPECT_EQ(tracks[0].external_forces, std::vector<std::size_t>{1});
+    EXPECT_EQ(tracks[1].name, "bias");
+    EXPECT_TRUE(tracks[1].bias);
+    EXPECT_EQ(tracks[2].name, "tau_ff");
+    EXPECT_EQ(tracks[2].torques, std::vector<std::size_t>{0});
+    EXPECT_EQ(tracks[3].name, "contact");
+    EXPECT_EQ(tracks[3].external_forces, std::vector<std::size_t>{0});
+    scene::load_scene_chain(s);
+  }
+}
+
+TEST(Scene, DefaultScene) {
+  const Scene s = scene::default_scene(panda_urdf(), "", "");
+  EXPECT_TRUE(s.path.empty());
+  EXPECT_EQ(s.solver, "panda");
+  EXPECT_EQ(s.chain.urdf, panda_urdf());
+  EXPECT_EQ(s.chain.root_link, "panda_link0");
+  EXPECT_EQ(s.chain.tip_link, "panda_hand");
+  EXPECT_EQ(s.layout.torques, std::vector<std::string>{"tau_ff"});
+  ASSERT_EQ(s.layout.external_forces.size(), 1u);
+  EXPECT_EQ(s.layout.external_forces[0].name, "f_ext_tip");
+  EXPECT_EQ(s.layout.external_forces[0].link, "panda_hand");
+  EXPECT_EQ(s.layout.constraints, 6u);
+  EXPECT_TRUE(s.fixed_directions.empty());
+  ASSERT_EQ(s.layout.tracks.size(), 3u);  // decomposed: bias, tau_ff, f_ext_tip
+  EXPECT_TRUE(s.layout.tracks[0].bias);
+  EXPECT_TRUE(s.layout.external_forces_separable());
+  EXPECT_EQ(s.policies, (std::vector<Policy>{Policy::original, Policy::prioritize_external, Policy::saturate,
+                                             Policy::saturate_exact}));
+  EXPECT_EQ(s.scalars, std::vector<std::string>{"double"});
+  EXPECT_FALSE(s.expose_all);
+  EXPECT_EQ(s.pivot_tolerance, 0.0);
+  EXPECT_EQ(s.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_EQ(scene::load_scene_chain(s).dof(), 7u);
+
+  // An explicit tip: the external force follows it.
+  const Scene to_link7 = scene::default_scene(panda_urdf(), "panda_link0", "panda_link7");
+  EXPECT_EQ(to_link7.layout.external_forces[0].link, "panda_link7");
+  EXPECT_EQ(scene::load_scene_chain(to_link7).tip_link, "panda_link7");
+
+  // Every bundled robot gets a usable namespace.
+  for (const auto& robot : test::bundled_robots()) {
+    const Scene r = scene::default_scene(test::source_path(robot.urdf), robot.root, robot.tip);
+    EXPECT_TRUE(scene::is_identifier(r.solver)) << r.solver;
+  }
+  EXPECT_EQ(scene::default_scene(test::source_path("robots/planar/planar_rpr.urdf")).solver, "planar_rpr");
+}
+
+TEST(Scene, DefaultSceneNamespaceFromAnOddFileName) {
+  test::TempDir dir;
+  const std::string copy = (dir.path() / "7dof-arm.v2.urdf").string();
+  std::filesystem::copy_file(panda_urdf(), copy);
+  EXPECT_EQ(scene::default_scene(copy).solver, "robot_7dof_arm_v2");
+}
+
+TEST(Scene, DefaultSceneErrorsNameTheFlag) {
+  try {
+    scene::default_scene(panda_urdf(), "", "panda_hnd");
+    FAIL();
+  } catch (const InputError& e) {
+    expect_contains(e.what(), "--tip: tip: ");
+    expect_contains(e.what(), "(did you mean 'panda_hand'?)");
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Errors: each one names file:line:column, the element and the reason.
+
+TEST(SceneErrors, YamlSyntaxError) {
+  const std::string text = with_urdf(replace(kFullScene, "gravity: [0, 0, -9.80665]", "gravity: [0, 0, -9.80665"));
+  test::TempDir dir;
+  const Loaded loaded = load(dir, text);
+  expect_contains(loaded.message, loaded.path + ":7:");
+  expect_contains(loaded.message, "YAML: syntax error: ");
+  expect_contains(loaded.message, "end of sequence flow not found");
+}
+
+TEST(SceneErrors, MissingFile) {
+  try {
+    scene::load_scene("/nonexistent/scene.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    expect_contains(e.what(), "/nonexistent/scene.yaml: file: cannot be opened");
+  }
+}
+
+TEST(SceneErrors, EmptyFileAndNonMapping) {
+  expect_error("", "1:1", "scene", "the scene file is empty");
+  expect_error("- a\n- b\n", "1:1", "scene", "expected a mapping");
+}
+
+TEST(SceneErrors, MissingRequiredKey) {
+  const std::string text = with_urdf(replace(kFullScene, "solver: panda_nc6\n", ""));
+  expect_error(text, "1:1", "solver", "missing required key 'solver'");
+  expect_error(replace(kFullScene, "urdf: @URDF@\n", ""), "1:1", "urdf", "missing required key 'urdf'");
+  expect_error(with_urdf(replace(kFullScene, "sweepgen_scene: 1\n", "")), "1:1", "sweepgen_scene",
+               "missing required key 'sweepgen_scene'");
+}
+
+TEST(SceneErrors, UnsupportedVersion) {
+  const std::string text = with_urdf(replace(kFullScene, "sweepgen_scene: 1", "sweepgen_scene: 2"));
+  expect_error(text, position(text, 1, "2"), "sweepgen_scene", "unsupported scene version 2");
+  const std::string text2 = with_urdf(replace(kFullScene, "sweepgen_scene: 1", "sweepgen_scene: one"));
+  expect_error(text2, position(text2, 1, "one"), "sweepgen_scene", "expected an integer, got 'one'");
+}
+
+TEST(SceneErrors, UnknownTopLevelKey) {
+  const std::string text = with_urdf(replace(kFullScene, "expose: all", "expsoe: all"));
+  expect_error(text, position(text, 17, "expsoe"), "expsoe", "unknown key 'expsoe'", "expose");
+}
+
+TEST(SceneErrors, UnknownNestedKeys) {
+  const std::string text = with_urdf(replace(kFullScene, "{name: push, link:", "{name: push, lnk:"));
+  expect_error(text, position(text, 12, "lnk"), "drivers.external_forces[1].lnk", "unknown key 'lnk'", "link");
+  const std::string text2 = with_urdf(replace(kFullScene, "  torques:", "  torque:"));
+  expect_error(text2, position(text2, 9, "torque"), "drivers.torque", "unknown key 'torque'", "torques");
+  const std::string text3 =
+      with_urdf(replace(kFullScene, "constraints: 6", "constraints: {direction: [[0,0,0,1,0,0]]}"));
+  expect_error(text3, position(text3, 13, "direction"), "drivers.constraints.direction", "unknown key 'direction'",
+               "directions");
+}
+
+TEST(SceneErrors, DuplicateKey) {
+  const std::string text = with_urdf(replace(kFullScene, "expose: all\n", "expose: all\nexpose: outputs\n"));
+  expect_error(text, position(text, 18, "expose"), "expose", "duplicate key (first given at ");
+  const std::string text2 = with_urdf(replace(kFullScene, "panda_joint7: 0.02", "panda_joint1: 0.02"));
+  expect_error(text2, position(text2, 7, "panda_joint1", 2), "rotor_inertia.panda_joint1", "duplicate joint");
+}
+
+TEST(SceneErrors, WrongTypes) {
+  const std::string text = with_urdf(replace(kFullScene, "gravity: [0, 0, -9.80665]", "gravity: -9.81"));
+  expect_error(text, position(text, 6, "-9.81"), "gravity", "expected a list, got '-9.81'");
+  const std::string text2 = with_urdf(replace(kFullScene, "gravity: [0, 0, -9.80665]", "gravity: [0, down, -9.8]"));
+  expect_error(text2, position(text2, 6, "down"), "gravity[1]", "expected a number, got 'down'");
+  const std::string text3 = with_urdf(replace(kFullScene, "gravity: [0, 0, -9.80665]", "gravity: [0, -9.8]"));
+  expect_error(text3, position(text3, 6, "["), "gravity", "expected 3 numbers");
+  const std::string text4 = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: [panda]"));
+  expect_error(text4, position(text4, 2, "["), "solver", "expected a string, got a list");
+  const std::string text5 = with_urdf(replace(kFullScene, "constraints: 6", "constraints: six"));
+  expect_error(text5, position(text5, 13, "six"), "drivers.constraints", "expected an integer, got 'six'");
+  const std::string text6 = with_urdf("sweepgen_scene: 1\nsolver: a\nurdf: @URDF@\ndrivers: 3\n");
+  expect_error(text6, position(text6, 4, "3"), "drivers", "expected a mapping");
+  const std::string text7 = with_urdf(replace(kFullScene, "panda_joint7: 0.02", "panda_joint7: heavy"));
+  expect_error(text7, position(text7, 7, "heavy"), "rotor_inertia.panda_joint7", "expected a number");
+  const std::string text8 = with_urdf(replace(kFullScene, "panda_joint7: 0.02", "panda_joint7: -0.02"));
+  expect_error(text8, position(text8, 7, "-0.02"), "rotor_inertia.panda_joint7", "must be >= 0");
+  const std::string text9 = with_urdf(replace(kFullScene, "root: panda_link0", "root:"));
+  expect_error(text9, "4:1", "root", "expected a string, got nothing");
+  const std::string text10 = with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: {a: b}"));
+  expect_error(text10, position(text10, 14, "{"), "decomposition", "expected 'composed', 'decomposed' or a list");
+  const std::string text11 = with_urdf(replace(kFullScene, "    - {name: push, link: panda_hand}", "    - push"));
+  expect_error(text11, position(text11, 12, "push"), "drivers.external_forces[1]", "expected a mapping");
+  const std::string text12 = with_urdf(replace(kFullScene, "{name: push, link: panda_hand}", "{name: push}"));
+  expect_error(text12, position(text12, 12, "{"), "drivers.external_forces[1]", "missing key 'link'");
+}
+
+TEST(SceneErrors, SolverNamespace) {
+  for (const std::string bad : {"class", "2fast", "panda-nc6", "robots::new", "::panda", "robots::", "a__b", "_Panda",
+                                "std::panda"}) {
+    const std::string text = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: '" + bad + "'"));
+    expect_error(text, position(text, 2, "'"), "solver", "'" + bad + "' is not a");
+  }
+  const std::string text = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: robots::new"));
+  expect_error(text, position(text, 2, "robots"), "solver", "'new' is a C++ keyword");
+}
+
+TEST(SceneErrors, DuplicateInstanceNames) {
+  const std::string text = with_urdf(replace(kFullScene, "torques: [tau_ff]", "torques: [tau_ff, tau_ff]"));
+  expect_error(text, position(text, 9, "tau_ff", 2), "drivers.torques[1]",
+               "duplicate driver instance name 'tau_ff' (first given at ");
+  const std::string text2 = with_urdf(replace(kFullScene, "{name: push,", "{name: tau_ff,"));
+  expect_error(text2, position(text2, 12, "tau_ff"), "drivers.external_forces[1].name",
+               "duplicate driver instance name 'tau_ff'");
+  const std::string text3 = with_urdf(replace(kFullScene, "torques: [tau_ff]", "torques: [bias]"));
+  expect_error(text3, position(text3, 9, "bias"), "drivers.torques[0]", "'bias' is reserved");
+  const std::string text4 = with_urdf(replace(kFullScene, "torques: [tau_ff]", "torques: [tau ff]"));
+  expect_error(text4, position(text4, 9, "tau ff"), "drivers.torques[0]", "is not a usable C++ identifier");
+}
+
+TEST(SceneErrors, DecompositionGroupNamesUnknownInstance) {
+  const std::string text =
+      with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: [[bias, tau_f], [contact]]"));
+  expect_error(text, position(text, 14, "tau_f"), "decomposition[0][1]", "unknown driver instance 'tau_f'", "tau_ff");
+  const std::string text2 = with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: split"));
+  expect_error(text2, position(text2, 14, "split"), "decomposition", "unknown decomposition 'split'");
+  const std::string text3 = with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: [[bias], []]"));
+  expect_error(text3, position(text3, 14, "[]"), "decomposition[1]", "empty group");
+}
+
+TEST(SceneErrors, InstanceInTwoGroups) {
+  const std::string text =
+      with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: [[bias, push], [contact, push]]"));
+  expect_error(text, position(text, 14, "push", 2), "decomposition[1][1]", "'push' is already in a group (at ");
+}
+
+TEST(SceneErrors, PrioritizeExternalNeedsSeparableExternalForces) {
+  const std::string text = with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: composed"));
+  expect_error(text, position(text, 15, "prioritize_external"), "policies[1]",
+               "external force 'contact' shares track 'composed' with the bias, torque 'tau_ff'");
+  const std::string text2 =
+      with_urdf(replace(kFullScene, "decomposition: decomposed", "decomposition: [[tau_ff, push]]"));
+  expect_error(text2, position(text2, 15, "prioritize_external"), "policies[1]",
+               "external force 'push' shares track 'tau_ff' with torque 'tau_ff'");
+}
+
+TEST(SceneErrors, ConstraintCountOutOfRange) {
+  for (const std::string count : {"7", "-1"}) {
+    const std::string text = with_urdf(replace(kFullScene, "constraints: 6", "constraints: " + count));
+    expect_error(text, position(text, 13, count), "drivers.constraints", "must be in 0..6, got " + count);
+  }
+  const std::string text = with_urdf(replace(
+      kFullScene, "constraints: 6",
+      "constraints: {directions: [[1,0,0,0,0,0],[1,0,0,0,0,0],[1,0,0,0,0,0],[1,0,0,0,0,0],[1,0,0,0,0,0],[1,0,0,0,0,0],"
+      "[1,0,0,0,0,0]]}"));
+  expect_error(text, position(text, 13, "[["), "drivers.constraints.directions", "at most 6 constraint directions");
+}
+
+TEST(SceneErrors, FixedDirectionNotUnit) {
+  const std::string text =
+      with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1,0,0], [0,0,1,0,0,1]]}"));
+  expect_error(text, position(text, 13, "[0,0,1"), "drivers.constraints.directions[1]", "not a unit vector");
+  const std::string text2 = with_urdf(
+      replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1.000000001,0,0]]}"));
+  expect_error(text2, position(text2, 13, "[0,0,0"), "drivers.constraints.directions[0]", "not a unit vector");
+  const std::string text3 =
+      with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1,0]]}"));
+  expect_error(text3, position(text3, 13, "[0,0,0"), "drivers.constraints.directions[0]", "expected 6 numbers");
+  // Within 1e-9 is accepted.
+  test::TempDir dir;
+  EXPECT_EQ(load(dir, with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1.0000000001,0,0]]}")))
+                .message,
+            "");
+}
+
+TEST(SceneErrors, FixedDirectionNaN) {
+  const std::string text =
+      with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1,0,.nan]]}"));
+  expect_error(text, position(text, 13, ".nan"), "drivers.constraints.directions[0][5]", "not finite");
+}
+
+TEST(SceneErrors, UnknownPolicy) {
+  const std::string text = with_urdf(replace(kFullScene, "saturate_exact]", "saturate_exakt]"));
+  expect_error(text, position(text, 15, "saturate_exakt"), "policies[3]", "unknown policy 'saturate_exakt'",
+               "saturate_exact");
+  const std::string text2 = with_urdf(replace(kFullScene, "saturate_exact]", "original]"));
+  expect_error(text2, position(text2, 15, "original", 2), "policies[3]", "duplicate policy 'original'");
+  const std::string text3 = with_urdf(replace(kFullScene, "policies: [original, prioritize_external, saturate, saturate_exact]", "policies: []"));
+  expect_error(text3, position(text3, 15, "[]"), "policies", "at least one policy");
+}
+
+TEST(SceneErrors, UnknownScalar) {
+  const std::string text = with_urdf(replace(kFullScene, "scalars: [double, float]", "scalars: [double, flaot]"));
+  expect_error(text, position(text, 16, "flaot"), "scalars[1]", "unknown scalar type 'flaot'", "float");
+  const std::string text2 = with_urdf(replace(kFullScene, "scalars: [double, float]", "scalars: [double, double]"));
+  expect_error(text2, position(text2, 16, "double", 2), "scalars[1]", "duplicate scalar type 'double'");
+}
+
+TEST(SceneErrors, ExposeAndPivotTolerance) {
+  const std::string text = with_urdf(replace(kFullScene, "expose: all", "expose: everything"));
+  expect_error(text, position(text, 17, "everything"), "expose", "unknown expose mode 'everything'");
+  for (const std::string bad : {"0", "1", "-1e-9"}) {
+    const std::string text2 = with_urdf(replace(kFullScene, "pivot_tolerance: 1e-12", "pivot_tolerance: " + bad));
+    expect_error(text2, position(text2, 18, bad), "pivot_tolerance", "must be > 0 and < 1");
+  }
+}
+
+// Errors found against the chain (load_scene_chain).
+
+TEST(SceneErrors, ExternalForceLinkNotOnChain) {
+  const std::string text = with_urdf(replace(kFullScene, "link: panda_link5", "link: panda_lnk5"));
+  expect_error(text, position(text, 11, "panda_lnk5"), "drivers.external_forces[0].link",
+               "link 'panda_lnk5' of external force 'contact' is not on the chain", "panda_link5");
+  // On the URDF but beyond the tip.
+  const std::string text2 = with_urdf(replace(kFullScene, "tip: panda_hand", "tip: panda_link7"));
+  expect_error(text2, position(text2, 12, "panda_hand"), "drivers.external_forces[1].link",
+               "link 'panda_hand' of external force 'push' is not on the chain");
+}
+
+TEST(SceneErrors, ExternalForceLinkFixedToBase) {
+  const std::string text = with_urdf(replace(kFullScene, "link: panda_link5", "link: panda_link0"));
+  expect_error(text, position(text, 11, "panda_link0"), "drivers.external_forces[0].link", "is fixed to the base");
+}
+
+TEST(SceneErrors, RotorInertiaUnknownJoint) {
+  const std::string text = with_urdf(replace(kFullScene, "panda_joint7: 0.02", "panda_jiont7: 0.02"));
+  expect_error(text, position(text, 7, "panda_jiont7"), "rotor_inertia.panda_jiont7",
+               "no moving joint 'panda_jiont7' on the chain", "panda_joint7");
+  // A fixed joint is not a moving joint.
+  const std::string text2 = with_urdf(replace(kFullScene, "panda_joint7: 0.02", "panda_joint8: 0.02"));
+  expect_error(text2, position(text2, 7, "panda_joint8"), "rotor_inertia.panda_joint8", "no moving joint");
+}
+
+TEST(SceneErrors, UrdfProblemsPointAtTheSceneEntry) {
+  const std::string text = with_urdf(replace(kFullScene, "root: panda_link0", "root: panda_lnk0"));
+  test::TempDir dir;
+  Loaded loaded = load(dir, text);
+  expect_contains(loaded.message, loaded.path + ":" + position(text, 4, "panda_lnk0") + ": root: " + panda_urdf());
+  expect_contains(loaded.message, "(did you mean 'panda_link0'?)");
+
+  const std::string text2 = replace(kFullScene, "@URDF@", "missing.urdf");
+  loaded = load(dir, text2);
+  expect_contains(loaded.message, loaded.path + ":" + position(text2, 3, "missing") + ": urdf: ");
+  expect_contains(loaded.message, "cannot be opened");
+}
+
+}  // namespace
+}  // namespace sweepgen
