@@ -15,10 +15,7 @@ std::string literal(double value, const std::string& scalar) {
   const auto result = single ? std::to_chars(buffer, buffer + sizeof buffer, static_cast<float>(value))
                              : std::to_chars(buffer, buffer + sizeof buffer, value);
   std::string text(buffer, result.ptr);
-  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
-  else if (text.find('.') == std::string::npos && text.find('e') != std::string::npos) {
-    text.insert(text.find('e'), ".0");
-  }
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";  // "2" would be an int
   return single ? text + "f" : text;
 }
 

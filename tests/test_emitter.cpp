@@ -1,0 +1,124 @@
+// The emitter leaves out what a scene does not need, tags every stored quantity with its
+// equation, and prints numbers that read back exactly.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "emit/equations.hpp"
+#include "emit/literal.hpp"
+#include "emit/solver_emitter.hpp"
+#include "support/bundled_robots.hpp"
+#include "symbolic/trace.hpp"
+
+namespace sweepgen {
+namespace {
+
+const std::vector<solver::Policy> kAllPolicies = {solver::Policy::original, solver::Policy::prioritize_external,
+                                                  solver::Policy::saturate, solver::Policy::saturate_exact};
+
+model::Chain panda() { return test::load_bundled(test::bundled_robots().front()); }
+
+symbolic::TraceRequest request(std::vector<solver::ExternalForceDriver> external, std::size_t nc) {
+  symbolic::TraceRequest r;
+  r.layout.torques = {"tau_ff"};
+  r.layout.external_forces = std::move(external);
+  r.layout.constraints = nc;
+  r.layout.decompose_all();
+  r.policies = kAllPolicies;
+  r.epsilon = std::numeric_limits<double>::epsilon();
+  return r;
+}
+
+bool is_external_force_input(const std::string& name) {
+  return name.rfind("drivers.push", 0) == 0 || name.rfind("drivers.contact", 0) == 0;
+}
+
+// Operations (non-leaf nodes) the outputs of every policy need, and how many of them depend
+// on an external-force input.
+std::pair<std::size_t, std::size_t> needed_operations(const symbolic::Trace& trace) {
+  const auto& g = trace.graph;
+  std::vector<bool> external(g.size(), false), needed(g.size(), false);
+  for (symbolic::NodeId id = 0; id < g.size(); ++id) {
+    const auto& n = g.node(id);
+    if (n.op == symbolic::Op::input) external[id] = is_external_force_input(g.inputs()[n.input].name);
+    for (int k = 0; k < symbolic::arity(n.op); ++k) external[id] = external[id] || external[n.args[k]];
+  }
+  std::vector<symbolic::NodeId> stack;
+  for (const auto& f : trace.fields)
+    if (f.output) stack.push_back(f.node);
+  while (!stack.empty()) {
+    const auto id = stack.back();
+    stack.pop_back();
+    if (needed[id]) continue;
+    needed[id] = true;
+    const auto& n = g.node(id);
+    for (int k = 0; k < symbolic::arity(n.op); ++k) stack.push_back(n.args[k]);
+  }
+  std::size_t operations = 0, external_operations = 0;
+  for (symbolic::NodeId id = 0; id < g.size(); ++id) {
+    const auto op = g.node(id).op;
+    if (!needed[id] || op == symbolic::Op::constant || op == symbolic::Op::input) continue;
+    ++operations;
+    external_operations += external[id] ? 1 : 0;
+  }
+  return {operations, external_operations};
+}
+
+std::size_t full_solve_operations(const model::Chain& chain, const symbolic::TraceRequest& r) {
+  const emit::EmitRequest emit_request{"scene", {"double"}, false, r, "test"};
+  for (const auto& c : emit::emit_solver(chain, emit_request).costs)
+    if (c.function == "full solve_original") return c.ops.total();
+  return 0;
+}
+
+// Without external forces no operation depends on them, and the code is smaller than with
+// them: at least the operations that do not involve them, at most all of those with them
+// (each operation that mixed an external force in has a cheaper twin without it).
+TEST(Emitter, ASceneWithoutExternalForcesHasNoExternalForceOperations) {
+  const model::Chain chain = panda();
+  for (std::size_t nc : {0u, 3u, 6u}) {
+    const auto with_request = request({{"push", "panda_hand"}, {"contact", "panda_link5"}}, nc);
+    const auto without_request = request({}, nc);
+    const auto [with_total, with_external] = needed_operations(symbolic::trace_solver(chain, with_request));
+    const auto [without_total, without_external] = needed_operations(symbolic::trace_solver(chain, without_request));
+    EXPECT_EQ(without_external, 0u);
+    EXPECT_GT(with_external, 0u);
+    EXPECT_GE(without_total, with_total - with_external) << "Nc=" << nc;
+    EXPECT_LT(without_total, with_total) << "Nc=" << nc;
+    // And the emitted operation counts say the same.
+    EXPECT_LT(full_solve_operations(chain, without_request), full_solve_operations(chain, with_request)) << "Nc=" << nc;
+  }
+}
+
+TEST(Emitter, EveryStoredArrayHasAnEquation) {
+  const auto trace = symbolic::trace_solver(panda(), request({{"push", "panda_hand"}}, 6));
+  std::set<std::string> arrays;
+  for (const auto& f : trace.fields) arrays.insert(f.array);
+  EXPECT_GT(arrays.size(), 20u);
+  for (const auto& array : arrays) EXPECT_NO_THROW(emit::equation_of(array)) << array;
+  EXPECT_THROW(emit::equation_of("no_such_array"), std::logic_error);
+}
+
+TEST(Emitter, LiteralsRoundTrip) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> mantissa(-1, 1);
+  std::uniform_int_distribution<int> exponent(-300, 300);
+  for (int k = 0; k < 100000; ++k) {
+    const double value = std::ldexp(mantissa(rng), exponent(rng) / 1);
+    const std::string d = emit::literal(value, "double");
+    EXPECT_EQ(std::strtod(d.c_str(), nullptr), value) << d;
+    EXPECT_NE(d.find_first_of(".e"), std::string::npos) << d;
+    const float f = static_cast<float>(std::ldexp(mantissa(rng), exponent(rng) / 10));
+    const std::string fl = emit::literal(f, "float");
+    ASSERT_EQ(fl.back(), 'f');
+    EXPECT_EQ(std::strtof(fl.c_str(), nullptr), f) << fl;
+  }
+  EXPECT_EQ(emit::literal(1.0, "double"), "1.0");
+  EXPECT_EQ(emit::literal(-2.0, "float"), "-2.0f");
+  EXPECT_EQ(emit::literal(1e300, "double"), "1e+300");
+  EXPECT_EQ(emit::literal(std::numeric_limits<double>::infinity(), "double"), "std::numeric_limits<double>::infinity()");
+}
+
+}  // namespace
+}  // namespace sweepgen
