@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev liburdfdom-dev          # tool: linear algebra, URDF parsing
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libkainjow-mustache-dev
   libgtest-dev libbenchmark-dev         # tests and benchmarks
-  liborocos-kdl-dev libkdl-parser-dev   # test oracle only (KDL's Vereshchagin solver)
+  liborocos-kdl-dev libkdl-parser-dev   # test oracle and the optional KDL row of `sweepgen report`
   gnuplot-nox valgrind                  # reports, instruction counts
   clang libclang-rt-14-dev              # second compiler, sanitizers and fuzzing
 )

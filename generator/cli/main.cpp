@@ -6,6 +6,7 @@
 #include "cli/output_files.hpp"
 #include "cli/solve_command.hpp"
 #include "model/error.hpp"
+#include "report/report_command.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"sweepgen: robot-specific Popov-Vereshchagin (ACHD) solvers from URDF"};
@@ -17,6 +18,8 @@ int main(int argc, char** argv) {
   sweepgen::cli::add_generate_command(app, generate_options);
   sweepgen::cli::SceneOptions info_options;
   sweepgen::cli::add_info_command(app, info_options);
+  sweepgen::report::ReportOptions report_options;
+  sweepgen::report::add_report_command(app, report_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -26,6 +29,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("solve")) return sweepgen::cli::run_solve(solve_options);
     if (app.got_subcommand("generate")) return sweepgen::cli::run_generate(generate_options);
     if (app.got_subcommand("info")) return sweepgen::cli::run_info(info_options);
+    if (app.got_subcommand("report")) return sweepgen::report::run_report(report_options);
   } catch (const sweepgen::InputError& e) {
     std::cerr << "sweepgen: error: " << e.what() << "\n";
     return 1;

@@ -1,0 +1,222 @@
+#include "report/kdl_oracle.hpp"
+
+#ifndef SWEEPGEN_HAVE_KDL
+
+namespace sweepgen::report {
+
+VariantResult measure_kdl(const scene::Scene&, const model::Chain&, const std::vector<Problem>&, const TimingOptions&) {
+  return {"kdl", "double", "KDL not found at build time", {}, {}};
+}
+
+}  // namespace sweepgen::report
+
+#else
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <kdl/chain.hpp>
+#include <kdl/chainhdsolver_vereshchagin.hpp>
+#include <kdl/chainjnttojacsolver.hpp>
+#include <kdl/tree.hpp>
+#include <kdl_parser/kdl_parser.hpp>
+
+#include "solver/reference_solver.hpp"
+
+namespace sweepgen::report {
+namespace {
+
+KDL::Vector kdl_vector(const Eigen::Vector3d& v) { return KDL::Vector(v.x(), v.y(), v.z()); }
+Eigen::Vector3d from_kdl(const KDL::Vector& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
+
+KDL::JntArray kdl_joints(const Eigen::VectorXd& v) {
+  KDL::JntArray a(static_cast<unsigned>(v.size()));
+  a.data = v;
+  return a;
+}
+
+VariantResult unavailable(const std::string& why) { return {"kdl", "double", why, {}, {}}; }
+
+// kdl_parser::treeFromFile with its console messages (e.g. "the root link has an inertia",
+// irrelevant for a fixed base) held back, and shown only when it fails.
+bool read_tree(const std::string& urdf, KDL::Tree& tree) {
+  std::fflush(stderr);
+  char path[] = "/tmp/sweepgen-kdl-parser-XXXXXX";
+  const int capture = ::mkstemp(path);
+  const int saved = capture >= 0 ? ::dup(2) : -1;
+  if (saved >= 0) ::dup2(capture, 2);
+  const bool ok = kdl_parser::treeFromFile(urdf, tree);
+  if (saved >= 0) {
+    std::fflush(stderr);
+    ::dup2(saved, 2);
+    ::close(saved);
+  }
+  if (capture >= 0) {
+    if (!ok) {
+      std::ifstream in(path);
+      std::cerr << in.rdbuf();
+    }
+    ::close(capture);
+    ::unlink(path);
+  }
+  return ok;
+}
+
+// The KDL chain root -> last moving link, with the links behind fixed joints after it lumped
+// into its segment's inertia (as sweepgen lumps them); false and the reason in `why` when the
+// scene cannot be expressed.
+bool kdl_chain(const scene::Scene& s, const model::Chain& chain, KDL::Chain& out, std::string& why) {
+  const std::size_t n = chain.dof();
+  KDL::Tree tree;
+  if (!read_tree(s.chain.urdf, tree)) {
+    why = "kdl_parser cannot read " + s.chain.urdf;
+    return false;
+  }
+  KDL::Chain parsed;
+  if (!tree.getChain(chain.root_link, chain.tip_link, parsed)) {
+    why = "KDL has no chain " + chain.root_link + " -> " + chain.tip_link;
+    return false;
+  }
+  // Fixed joints are allowed only after the last moving one.
+  unsigned moving = 0;
+  for (unsigned i = 0; i < parsed.getNrOfSegments(); ++i) {
+    const bool fixed = parsed.getSegment(i).getJoint().getType() == KDL::Joint::None;
+    if (fixed && moving < n) {
+      why = "not expressible: KDL's Vereshchagin solver cannot take fixed joints, and " +
+            parsed.getSegment(i).getJoint().getName() + " is fixed before the last moving joint";
+      return false;
+    }
+    if (!fixed) {
+      if (parsed.getSegment(i).getName() != chain.bodies[moving + 1].link) {
+        why = "not expressible: KDL segment " + parsed.getSegment(i).getName() + " is not body " +
+              std::to_string(moving + 1) + " (" + chain.bodies[moving + 1].link + ")";
+        return false;
+      }
+      ++moving;
+    }
+  }
+  if (moving != n || chain.tip().body != n) {
+    why = "not expressible: KDL's chain has " + std::to_string(moving) + " moving joints, sweepgen's " + std::to_string(n);
+    return false;
+  }
+  // The links behind the fixed joints after body N, in body N's frame.
+  KDL::RigidBodyInertia lumped = KDL::RigidBodyInertia::Zero();
+  KDL::Frame behind = KDL::Frame::Identity();
+  for (unsigned i = static_cast<unsigned>(n); i < parsed.getNrOfSegments(); ++i) {
+    behind = behind * parsed.getSegment(i).getFrameToTip();
+    lumped = lumped + behind * parsed.getSegment(i).getInertia();
+  }
+  for (unsigned i = 0; i < n; ++i) {
+    const KDL::Segment& segment = parsed.getSegment(i);
+    const KDL::Joint& joint = segment.getJoint();
+    // Rotor inertia d_i as KDL joint inertia (added to D_i the same way).
+    const double d = chain.joints[i + 1].rotor_inertia;
+    const KDL::Joint with_rotor = d == 0 ? joint
+                                         : KDL::Joint(joint.getName(), joint.JointOrigin(), joint.JointAxis(),
+                                                      joint.getType(), 1, 0, d);
+    const KDL::RigidBodyInertia inertia = i + 1 == n ? segment.getInertia() + lumped : segment.getInertia();
+    out.addSegment(KDL::Segment(segment.getName(), with_rotor, segment.getFrameToTip(), inertia));
+  }
+  return true;
+}
+
+// One state in KDL's terms.
+struct KdlInput {
+  KDL::JntArray q, qd, ff, beta;
+  KDL::Jacobian alfa;
+  KDL::Wrenches f_ext;
+  Eigen::Matrix3d R_tip_body;  // rotation of body N into the base
+};
+
+}  // namespace
+
+VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
+                          const TimingOptions& timing) {
+  KDL::Chain kdl;
+  std::string why;
+  if (!kdl_chain(s, chain, kdl, why)) return unavailable(why);
+  const std::size_t n = chain.dof(), nc = s.layout.constraints;
+  const unsigned segments = kdl.getNrOfSegments();
+
+  // Inputs in base orientation, from the rotations of the outward sweep (untimed).
+  solver::ReferenceSolver<double> kinematics(chain, s.layout, s.solver_options());
+  const model::Frame& tip = chain.tip();
+  std::vector<KdlInput> inputs;
+  inputs.reserve(problems.size());
+  for (const Problem& p : problems) {
+    kinematics.outward(p.q, p.qd);
+    std::vector<Eigen::Matrix3d> R(n + 1, Eigen::Matrix3d::Identity());
+    for (std::size_t i = 1; i <= n; ++i) R[i] = R[i - 1] * kinematics.kinematics().body[i].X.E.transpose();
+    KdlInput in;
+    in.q = kdl_joints(p.q);
+    in.qd = kdl_joints(p.qd);
+    in.ff = kdl_joints(p.tau_ff);
+    in.beta = KDL::JntArray(static_cast<unsigned>(nc));
+    in.beta.data = p.beta;
+    in.alfa = KDL::Jacobian(static_cast<unsigned>(nc));
+    for (std::size_t k = 0; k < nc; ++k) {
+      const spatial::Force<double> on_body = tip.X.apply_transpose(p.alpha[k]);  // body N frame, about its origin
+      in.alfa.data.block<3, 1>(0, static_cast<Eigen::Index>(k)) = R[n] * on_body.force;
+      in.alfa.data.block<3, 1>(3, static_cast<Eigen::Index>(k)) = R[n] * on_body.moment;
+    }
+    in.f_ext.assign(segments, KDL::Wrench::Zero());
+    for (std::size_t e = 0; e < p.wrenches.size(); ++e) {
+      const model::Frame& frame = chain.frames.at(s.layout.external_forces[e].link);
+      const spatial::Force<double> on_body = frame.X.apply_transpose(p.wrenches[e]);
+      in.f_ext[frame.body - 1] += KDL::Wrench(kdl_vector(R[frame.body] * on_body.force), kdl_vector(R[frame.body] * on_body.moment));
+    }
+    in.R_tip_body = R[n];
+    inputs.push_back(std::move(in));
+  }
+
+  const Eigen::Vector3d g = s.gravity;
+  KDL::ChainHdSolver_Vereshchagin hd(kdl, KDL::Twist(kdl_vector(-g), KDL::Vector::Zero()), static_cast<unsigned>(nc));
+  std::vector<KDL::JntArray> qdd(problems.size(), KDL::JntArray(static_cast<unsigned>(n)));
+  std::vector<Eigen::VectorXd> nu(problems.size(), Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nc)));
+  std::vector<KDL::Twist> tip_acceleration(problems.size());
+  KDL::JntArray constraint_torques(static_cast<unsigned>(n));
+  std::vector<KDL::Twist> accelerations(segments + 1);
+  int failure = 0;
+  const auto run_all = [&] {
+    for (std::size_t state = 0; state < inputs.size(); ++state) {
+      const KdlInput& in = inputs[state];
+      const int status = hd.CartToJnt(in.q, in.qd, qdd[state], in.alfa, in.beta, in.f_ext, in.ff, constraint_torques);
+      if (status != 0) failure = status;
+      hd.getContraintForceMagnitude(nu[state]);
+      hd.getTransformedLinkAcceleration(accelerations);
+      tip_acceleration[state] = accelerations[segments];
+    }
+  };
+  VariantResult result{"kdl", "double", "", time_passes(problems.size(), timing, run_all), {}};
+  if (failure != 0) return unavailable("KDL CartToJnt failed (status " + std::to_string(failure) + ")");
+
+  KDL::ChainJntToJacSolver jacobian_solver(kdl);
+  KDL::Jacobian J(static_cast<unsigned>(n));
+  for (std::size_t state = 0; state < problems.size(); ++state) {
+    const KdlInput& in = inputs[state];
+    Outcome o;
+    for (std::size_t i = 0; i < n; ++i) o.qdd.push_back(qdd[state](static_cast<unsigned>(i)));
+    // τcmd = τff + J^T w, w = −alfa ν_KDL the physical constraint wrench on the last moving
+    // link (about its origin, base orientation; J's rows [linear; angular] pair with it).
+    if (jacobian_solver.JntToJac(in.q, J) < 0) return unavailable("KDL JntToJac failed");
+    const Eigen::VectorXd tau = problems[state].tau_ff + J.data.transpose() * (-(in.alfa.data * nu[state]));
+    for (std::size_t i = 0; i < n; ++i) o.tau_cmd.push_back(tau[static_cast<Eigen::Index>(i)]);
+    // KDL's Ẍ_N (base orientation, about body N's origin) -> body N frame -> tip frame.
+    const spatial::Motion<double> body{in.R_tip_body.transpose() * from_kdl(tip_acceleration[state].rot),
+                                       in.R_tip_body.transpose() * from_kdl(tip_acceleration[state].vel)};
+    const spatial::Motion<double> at_tip = tip.X.apply(body);
+    for (int k = 0; k < 3; ++k) {
+      o.tip_acceleration[static_cast<std::size_t>(k)] = at_tip.angular[k];
+      o.tip_acceleration[static_cast<std::size_t>(3 + k)] = at_tip.linear[k];
+    }
+    result.outcomes.push_back(std::move(o));
+  }
+  return result;
+}
+
+}  // namespace sweepgen::report
+
+#endif

@@ -1,0 +1,47 @@
+// `sweepgen report`: the generated solver compiled by the system compiler into a shared
+// library and loaded into the running process, and other external tools (gnuplot).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace sweepgen::report {
+
+// Runs argv[0] (searched in PATH) with argv, standard input from /dev/null and standard output
+// and error appended to `log_path`. Returns the exit status (128 + signal when killed, -1 when
+// it could not be started).
+int run_process(const std::vector<std::string>& argv, const std::string& log_path);
+
+// The command line as a shell would take it (words quoted where needed), for messages.
+std::string command_line(const std::vector<std::string>& argv);
+
+// The last `max_lines` lines of a text file ("" if unreadable).
+std::string tail_of_file(const std::string& path, std::size_t max_lines = 30);
+
+// The C++ source of the wrapper: extern "C" entry points around the original policy's flat
+// solve of `solver_namespace` (f64, and f32 when `with_float`) plus the flat sizes:
+//   void report_solve_f64(const double* in, double* out);
+//   void report_solve_f32(const float* in, float* out);
+//   int report_flat_in_size(void);  int report_flat_out_size(void);
+std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float);
+
+// The compile command for `sources` into the shared library `output`.
+std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
+                                         const std::string& include_dir, const std::string& output);
+
+// A dlopen()ed shared library, closed on destruction. Throws cli::IoError with dlerror()'s text.
+class SharedLibrary {
+ public:
+  explicit SharedLibrary(const std::string& path);
+  ~SharedLibrary();
+  SharedLibrary(const SharedLibrary&) = delete;
+  SharedLibrary& operator=(const SharedLibrary&) = delete;
+  // The address of `name`; throws cli::IoError when it is missing.
+  void* symbol(const std::string& name) const;
+
+ private:
+  std::string path_;
+  void* handle_ = nullptr;
+};
+
+}  // namespace sweepgen::report
