@@ -1,0 +1,118 @@
+// bench_calls: a minimal driver for instruction counting (bench/count_instructions.sh).
+//
+//   bench_calls --list
+//   bench_calls <id> <policy> <N> [full|decompose|resolve]
+//
+// prepares the inputs of <id> (kStates random problems), then makes N calls, cycling through
+// them, and prints a checksum. Running it under callgrind for N = 0 and N = 1000 and dividing
+// the difference of the instruction counts by 1000 gives the instructions per call, without
+// the set-up (scene and URDF parsing, input preparation). Ids:
+//   <scene>/f64, <scene>/f32  generated solver (<scene> alone means f64); modes: full = flat
+//                             solve_<policy>_flat (outward + decompose + solve), decompose =
+//                             outward + decompose, resolve = solve_<policy> on a decomposed
+//                             state with new setpoints
+//   reference/<scene>         ReferenceSolver<double>; full or resolve
+//   kdl/nc0, kdl/nc3, kdl/nc6 KDL's ChainHdSolver_Vereshchagin on panda_link0 -> panda_link7
+//                             (if built with KDL); policy ignored (pass "-"), mode full
+// --list prints one line per id: "<id> <policy> <policy>..." ("kdl/ncK -" for KDL).
+#include <algorithm>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "support/generated_variant.hpp"
+#include "support/reference_bench.hpp"
+#include "support/scene_list.hpp"
+#ifdef SWEEPGEN_BENCH_HAVE_KDL
+#include "support/kdl_bench.hpp"
+#endif
+
+namespace {
+
+using namespace sweepgen::bench;
+
+int usage() {
+  std::cerr << "usage: bench_calls --list\n       bench_calls <id> <policy> <N> [full|decompose|resolve]\n";
+  return 2;
+}
+
+int run(const std::string& id, const std::string& policy, long calls, Mode mode) {
+  double checksum = 0;
+  if (id.rfind("kdl/nc", 0) == 0) {
+#ifdef SWEEPGEN_BENCH_HAVE_KDL
+    if (mode != Mode::full) throw std::runtime_error("KDL: only mode full");
+    KdlBench bench(static_cast<unsigned>(std::stoul(id.substr(6))));
+    for (long c = 0; c < calls; ++c) checksum += bench.call(static_cast<std::size_t>(c) % bench.count());
+#else
+    throw std::runtime_error("built without KDL");
+#endif
+  } else if (id.rfind("reference/", 0) == 0) {
+    const std::string stem = id.substr(10);
+    const auto scenes = bundled_scenes();
+    const auto scene = std::find_if(scenes.begin(), scenes.end(), [&](const auto& s) { return s.first == stem; });
+    if (scene == scenes.end()) throw std::runtime_error("no scene " + stem);
+    const auto p = sweepgen::solver::policy_from_name(policy);
+    if (!p) throw std::runtime_error("no policy " + policy);
+    ReferenceBench bench(scene->second);
+    if (mode == Mode::resolve) {
+      bench.decompose_all();
+      for (long c = 0; c < calls; ++c) checksum += bench.resolve(static_cast<std::size_t>(c) % bench.count(), *p).qdd[0];
+    } else if (mode == Mode::full) {
+      for (long c = 0; c < calls; ++c) checksum += bench.full(static_cast<std::size_t>(c) % bench.count(), *p).qdd[0];
+    } else {
+      throw std::runtime_error("reference: modes full and resolve");
+    }
+  } else {
+    const std::string full_id = id.find('/') == std::string::npos ? id + "/f64" : id;
+    for (const auto& v : generated_variants()) {
+      if (v.id() != full_id) continue;
+      const auto k = std::find(v.policies.begin(), v.policies.end(), policy);
+      if (k == v.policies.end() && mode != Mode::decompose)
+        throw std::runtime_error(full_id + " has no policy " + policy);
+      const std::size_t index = k == v.policies.end() ? 0 : static_cast<std::size_t>(k - v.policies.begin());
+      checksum = v.run_calls(make_inputs(v.scene_path), index, mode, calls);
+      std::cout << checksum << "\n";
+      return 0;
+    }
+    throw std::runtime_error("no generated variant " + full_id);
+  }
+  std::cout << checksum << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == "--list") {
+    auto variants = generated_variants();
+    std::sort(variants.begin(), variants.end(), [](const auto& a, const auto& b) { return a.id() < b.id(); });
+    for (const auto& v : variants) {
+      std::cout << v.id();
+      for (const auto& p : v.policies) std::cout << " " << p;
+      std::cout << "\n";
+    }
+    for (const auto& [stem, path] : bundled_scenes()) std::cout << "reference/" << stem << " original\n";
+#ifdef SWEEPGEN_BENCH_HAVE_KDL
+    for (int nc : {0, 3, 6}) std::cout << "kdl/nc" << nc << " -\n";
+#endif
+    return 0;
+  }
+  if (argc != 4 && argc != 5) return usage();
+  Mode mode = Mode::full;
+  if (argc == 5) {
+    const std::string m = argv[4];
+    if (m == "full") mode = Mode::full;
+    else if (m == "decompose") mode = Mode::decompose;
+    else if (m == "resolve") mode = Mode::resolve;
+    else return usage();
+  }
+  char* end = nullptr;
+  const long calls = std::strtol(argv[3], &end, 10);
+  if (*end != '\0' || calls < 0) return usage();
+  try {
+    return run(argv[1], argv[2], calls, mode);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_calls: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,199 @@
+// The benchmark kernels of one generated solver variant (a scene's f64 or f32 namespace),
+// instantiated by the per-scene sources that bench/CMakeLists.txt configures from
+// scene_variants.cpp.in. Each variant registers itself in generated_variants(); with
+// SWEEPGEN_BENCH_GBENCH defined (bench_generated) it also registers Google Benchmark cases.
+//
+// All inputs are prepared before any timed or counted loop: kStates flat inputs (cast to the
+// variant's scalar), the same as Drivers structs, and kStates States after outward() +
+// decompose() with other setpoints for the re-solves. The loops cycle through them.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <iterator>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "support/inputs.hpp"
+
+#ifdef SWEEPGEN_BENCH_GBENCH
+#include <benchmark/benchmark.h>
+#endif
+
+// Describes the generated variant in namespace `ns` (e.g. panda_nc6::f64) as struct `Name`
+// (the idea of SWEEPGEN_GENERATED_API in tests/support/generated_check.hpp, plus Drivers).
+#define SWEEPGEN_BENCH_API(Name, ns)                                                             \
+  struct Name {                                                                                  \
+    using Scalar = ns::Scalar;                                                                   \
+    using State = ns::State;                                                                     \
+    using Solution = ns::Solution;                                                               \
+    using Drivers = ns::Drivers;                                                                 \
+    static constexpr const auto& solves = ns::solves;                                            \
+    static constexpr const auto& flat_solves = ns::flat_solves;                                  \
+    static constexpr int flat_in_size = ns::flat_in_size;                                        \
+    static constexpr int flat_out_size = ns::flat_out_size;                                      \
+    static void outward(const Scalar* q, const Scalar* qd, State& s) noexcept { ns::outward(q, qd, s); } \
+    static Drivers drivers_from_flat(const Scalar* in) noexcept { return ns::drivers_from_flat(in); } \
+    static void decompose(const Drivers& d, State& s) noexcept { ns::decompose(d, s); }         \
+  }
+
+namespace sweepgen::bench {
+
+enum class Mode { full, decompose, resolve };
+
+struct GeneratedVariant {
+  std::string stem;        // scene file stem, e.g. panda_nc6
+  std::string tag;         // f64 or f32
+  std::string scene_path;  // the scene file
+  std::vector<std::string> policies;
+#ifdef SWEEPGEN_BENCH_GBENCH
+  void (*register_benchmarks)(const GeneratedVariant&, const SceneInputs&);
+#endif
+  // Runs `calls` iterations of `mode` (policy index `policy`; ignored for decompose),
+  // cycling through the prepared inputs; returns a checksum of the outputs.
+  double (*run_calls)(const SceneInputs&, std::size_t policy, Mode mode, long calls);
+  std::string id() const { return stem + "/" + tag; }
+};
+
+inline std::vector<GeneratedVariant>& generated_variants() {
+  static std::vector<GeneratedVariant> variants;
+  return variants;
+}
+
+template <class Api>
+struct Prepared {
+  using Scalar = typename Api::Scalar;
+  std::size_t dof;
+  std::vector<Scalar> flat;  // kStates * flat_in_size, contiguous
+  std::vector<typename Api::Drivers> drivers;
+  std::vector<typename Api::State> states;  // after outward + decompose
+  std::vector<std::array<Scalar, 6>> new_beta;
+
+  explicit Prepared(const SceneInputs& inputs) : dof(inputs.dof) {
+    for (std::size_t i = 0; i < inputs.flat.size(); ++i) {
+      const auto& in = inputs.flat[i];
+      if (in.size() != static_cast<std::size_t>(Api::flat_in_size))
+        throw std::logic_error("flat input size mismatch for " + inputs.scene.solver);
+      const std::size_t base = flat.size();
+      for (double v : in) flat.push_back(static_cast<Scalar>(v));
+      drivers.push_back(Api::drivers_from_flat(flat.data() + base + 2 * dof));
+      std::array<Scalar, 6> beta{};
+      for (std::size_t k = 0; k < inputs.new_beta[i].size(); ++k) beta[k] = static_cast<Scalar>(inputs.new_beta[i][k]);
+      new_beta.push_back(beta);
+    }
+    states.resize(inputs.flat.size());
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      Api::outward(in(i), in(i) + dof, states[i]);
+      Api::decompose(drivers[i], states[i]);
+    }
+  }
+  std::size_t count() const { return states.size(); }
+  const Scalar* in(std::size_t i) const { return flat.data() + i * Api::flat_in_size; }
+};
+
+template <class Api>
+double run_calls(const SceneInputs& inputs, std::size_t policy, Mode mode, long calls) {
+  const Prepared<Api> p(inputs);
+  const std::size_t count = p.count();
+  double checksum = 0;
+  std::size_t i = 0;
+  switch (mode) {
+    case Mode::full: {
+      const auto solve = Api::flat_solves[policy].solve;
+      std::array<typename Api::Scalar, Api::flat_out_size> out{};
+      for (long c = 0; c < calls; ++c) {
+        solve(p.in(i), out.data());
+        checksum += static_cast<double>(out[0]);
+        if (++i == count) i = 0;
+      }
+      break;
+    }
+    case Mode::decompose: {
+      typename Api::State state{};
+      for (long c = 0; c < calls; ++c) {
+        Api::outward(p.in(i), p.in(i) + p.dof, state);
+        Api::decompose(p.drivers[i], state);
+        checksum += static_cast<double>(reinterpret_cast<const typename Api::Scalar*>(&state)[0]);
+        if (++i == count) i = 0;
+      }
+      break;
+    }
+    case Mode::resolve: {
+      const auto solve = Api::solves[policy].solve;
+      typename Api::Solution out{};
+      for (long c = 0; c < calls; ++c) {
+        solve(p.states[i], p.new_beta[i].data(), out);
+        checksum += static_cast<double>(out.qdd[0]);
+        if (++i == count) i = 0;
+      }
+      break;
+    }
+  }
+  return checksum;
+}
+
+#ifdef SWEEPGEN_BENCH_GBENCH
+template <class Api>
+void register_generated(const GeneratedVariant& variant, const SceneInputs& inputs) {
+  const auto p = std::make_shared<const Prepared<Api>>(inputs);
+  const std::string prefix = variant.id() + "/";
+  for (std::size_t k = 0; k < std::size(Api::flat_solves); ++k) {
+    benchmark::RegisterBenchmark((prefix + "full/" + Api::flat_solves[k].policy).c_str(), [p, k](benchmark::State& st) {
+      const auto solve = Api::flat_solves[k].solve;
+      std::array<typename Api::Scalar, Api::flat_out_size> out{};
+      std::size_t i = 0;
+      for (auto _ : st) {
+        solve(p->in(i), out.data());
+        benchmark::DoNotOptimize(out);
+        benchmark::ClobberMemory();
+        if (++i == p->count()) i = 0;
+      }
+    });
+  }
+  benchmark::RegisterBenchmark((prefix + "decompose").c_str(), [p](benchmark::State& st) {
+    typename Api::State state{};
+    std::size_t i = 0;
+    for (auto _ : st) {
+      Api::outward(p->in(i), p->in(i) + p->dof, state);
+      Api::decompose(p->drivers[i], state);
+      benchmark::DoNotOptimize(state);
+      benchmark::ClobberMemory();
+      if (++i == p->count()) i = 0;
+    }
+  });
+  for (std::size_t k = 0; k < std::size(Api::solves); ++k) {
+    benchmark::RegisterBenchmark((prefix + "resolve/" + Api::solves[k].policy).c_str(), [p, k](benchmark::State& st) {
+      const auto solve = Api::solves[k].solve;
+      typename Api::Solution out{};
+      std::size_t i = 0;
+      for (auto _ : st) {
+        solve(p->states[i], p->new_beta[i].data(), out);
+        benchmark::DoNotOptimize(out);
+        benchmark::ClobberMemory();
+        if (++i == p->count()) i = 0;
+      }
+    });
+  }
+}
+#endif
+
+// Adds the variant `Api` of the scene to generated_variants() (from a static initialiser).
+template <class Api>
+struct RegisterGenerated {
+  RegisterGenerated(const char* stem, const char* tag, const char* scene_path) {
+    GeneratedVariant v;
+    v.stem = stem;
+    v.tag = tag;
+    v.scene_path = scene_path;
+    for (const auto& s : Api::solves) v.policies.push_back(s.policy);
+#ifdef SWEEPGEN_BENCH_GBENCH
+    v.register_benchmarks = &register_generated<Api>;
+#endif
+    v.run_calls = &run_calls<Api>;
+    generated_variants().push_back(std::move(v));
+  }
+};
+
+}  // namespace sweepgen::bench
