@@ -98,7 +98,7 @@ ops() {  # <id> <policy> <mode>
   local id=$1 policy=$2 mode=$3
   case $id in kdl/* | reference/*) return 0 ;; esac
   local stem=${id%/*} tag=${id#*/}
-  local header=$build/bench/sweepgen/${stem}_bench_solver/${stem}_bench_solver.hpp
+  local header=$build/sweepgen/${stem}_solver/${stem}_solver.hpp
   local total='s/.*(total \([0-9]*\)).*/\1/p'
   case $mode in
     full) grep -F "//   $tag: outward + decompose + solve_$policy:" "$header" | sed -n "$total" ;;

@@ -1,19 +1,22 @@
 // ν = (E^A_cstr,0)^-1 r  for the symmetric positive semi-definite Nc x Nc matrix E^A_cstr,0
 // (docs/derivation.md, "Singular constraints").
 //
-// Policy: LDL^T with diagonal (symmetric) pivoting, branch-free. Step k first moves the
-// largest remaining diagonal entry of the Schur complement to position k (a tournament of
-// conditional swaps), then takes it as the pivot. A pivot d_k <= tol * max_j E_jj is treated
-// as zero: its multiplier is set to 0 and its column of L to 0, so that direction of the
-// constraint is not enforced and no NaN/Inf can arise. The tolerance is relative, hence
-// invariant under any scaling of the robot's units. The number of dropped pivots is returned
-// (the caller raises status_constraint_rank_deficient). Because every pivot is the largest
-// remaining diagonal entry, a dropped pivot bounds the whole remaining Schur complement of
-// the PSD matrix (|S_ij| <= sqrt(S_ii S_jj) <= tol * max E_jj): all later pivots are dropped
-// as well and the kept directions are solved to that tolerance. Without pivoting, a zero pivot
-// computed after an ill-conditioned leading block can come out far above any tolerance (the
-// rounding of E amplified by that block's condition number), and redundant constraints would
-// be enforced with multipliers of 1e16.
+// Policy: LDL^T with diagonal (symmetric) pivoting, branch-free, judged relative to each
+// direction's own diagonal entry. Step k first moves the remaining direction with the largest
+// ratio of Schur-complement diagonal to original diagonal, S_jj / E_jj, to position k (a
+// tournament of conditional swaps), then takes it as the pivot. A pivot d_k <= tol * E_kk
+// (E_kk the original diagonal entry of that direction) is treated as zero: its multiplier is
+// set to 0 and its column of L to 0, so that direction of the constraint is not enforced and
+// no NaN/Inf can arise. Ratios and threshold are invariant under scaling each direction, so
+// moment and force directions and any unit system get the same rank decision. The number of
+// dropped pivots is returned (the caller raises status_constraint_rank_deficient).
+// Why pivot: once the largest remaining ratio S_jj / E_jj is at most tol, so is every remaining
+// one (and |S_ij| <= sqrt(S_ii S_jj) in the PSD Schur complement): the kept directions are
+// solved to that tolerance and the dropped ones are redundant to it. Without pivoting, a pivot
+// that is zero in exact arithmetic (a redundant direction) computed after an ill-conditioned
+// leading block comes out as the rounding of E amplified by that block's condition number,
+// often far above the tolerance: the redundant constraint was then enforced with multipliers
+// of 1e16 and q̈ wrong by 100%, with no status raised (tests/test_dense_oracle.cpp).
 #pragma once
 
 #include "solver/scalar_ops.hpp"
@@ -36,22 +39,26 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
   ConstraintMatrix<Scalar> swapped = ConstraintMatrix<Scalar>::Zero(nc, nc);  // 1 where step k swapped k and j
   ConstraintVector<Scalar> pivot(nc), inverse_pivot(nc);
   ConstraintVector<Scalar> y = rhs;
+  ConstraintVector<Scalar> own = E.diagonal();  // E_jj of the direction now at position j
   const auto conditional_swap = [](const Scalar& s, Scalar& a, Scalar& b) {
     const Scalar a0 = a;
     a = select_greater(s, Scalar(0.5), b, a0);
     b = select_greater(s, Scalar(0.5), a0, b);
   };
   for (Eigen::Index k = 0; k < nc; ++k) {
-    for (Eigen::Index j = k + 1; j < nc; ++j) {
-      const Scalar s = select_greater(A(j, j), A(k, k), Scalar(1), Scalar(0));
+    // At k = 0 every ratio is E_jj / E_jj: no swap can happen (the products below are equal).
+    for (Eigen::Index j = k + 1; k > 0 && j < nc; ++j) {
+      // S_jj / E_jj > S_kk / E_kk, without dividing (E_jj >= 0).
+      const Scalar s = select_greater(A(j, j) * own[k], A(k, k) * own[j], Scalar(1), Scalar(0));
       swapped(k, j) = s;
       for (Eigen::Index c = k; c < nc; ++c) conditional_swap(s, A(k, c), A(j, c));  // rows
       for (Eigen::Index r = k; r < nc; ++r) conditional_swap(s, A(r, k), A(r, j));  // columns
       for (Eigen::Index c = 0; c < k; ++c) conditional_swap(s, L(k, c), L(j, c));
       conditional_swap(s, y[k], y[j]);
+      conditional_swap(s, own[k], own[j]);
     }
     const Scalar d = A(k, k);
-    const Scalar threshold = tolerance * E(k, k);
+    const Scalar threshold = tolerance * own[k];
     const Scalar kept = select_greater(d, threshold, Scalar(1), Scalar(0));
     dropped_pivots += Scalar(1) - kept;
     pivot[k] = kept * d;

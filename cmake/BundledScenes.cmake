@@ -1,0 +1,24 @@
+# The bundled scenes (robots/*/*.yaml), each generated at build time into one library
+# <stem>_solver that tests/ and bench/ share, compiled warning-free under -Wall -Wextra
+# -Wpedantic -Werror. Sets SWEEPGEN_BUNDLED_SCENES (the files) and, per scene stem,
+# SWEEPGEN_SCENE_<stem>_NAMESPACE and SWEEPGEN_SCENE_<stem>_HAS_FLOAT, read from the one-line
+# `solver:` and `scalars:` entries our scenes use.
+option(SWEEPGEN_NATIVE "Compile the bundled generated solvers with -march=native" OFF)
+file(GLOB SWEEPGEN_BUNDLED_SCENES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.yaml)
+foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
+  get_filename_component(stem ${scene} NAME_WE)
+  file(STRINGS ${scene} solver_line REGEX "^solver:")
+  string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
+  file(STRINGS ${scene} float_line REGEX "^scalars:.*float")
+  if(float_line)
+    set(SWEEPGEN_SCENE_${stem}_HAS_FLOAT 1)
+  else()
+    set(SWEEPGEN_SCENE_${stem}_HAS_FLOAT 0)
+  endif()
+  sweepgen_add_solver(${stem}_solver SCENE ${scene})
+  target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror)
+  if(SWEEPGEN_NATIVE)
+    # Plain arrays, no Eigen: the ABI does not change with it.
+    target_compile_options(${stem}_solver PRIVATE -march=native)
+  endif()
+endforeach()

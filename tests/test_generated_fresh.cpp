@@ -1,0 +1,75 @@
+// generated/ holds the output of every bundled scene (robots/*/*.yaml) byte for byte, and that
+// output compiles warning-free under both g++ and clang++ with -Wall -Wextra -Wpedantic -Werror.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "support/run_command.hpp"
+#include "support/temp_dir.hpp"
+
+namespace sweepgen {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> bundled_scenes() {
+  std::vector<fs::path> scenes;
+  for (const auto& robot : fs::directory_iterator(fs::path(SWEEPGEN_SOURCE_DIR) / "robots"))
+    if (robot.is_directory())
+      for (const auto& file : fs::directory_iterator(robot.path()))
+        if (file.path().extension() == ".yaml") scenes.push_back(file.path());
+  std::sort(scenes.begin(), scenes.end());
+  return scenes;
+}
+
+std::string contents(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+const char* kHowToRegenerate = "generated/ is stale: run `cmake --build build --target regenerate` and commit it";
+
+TEST(GeneratedFiles, MatchTheGeneratorByteForByte) {
+  const auto scenes = bundled_scenes();
+  ASSERT_GE(scenes.size(), 6u);
+  test::TempDir dir;
+  std::size_t files = 0;
+  for (const auto& scene : scenes) {
+    const auto run = test::run_command(
+        test::shell_command({SWEEPGEN_EXECUTABLE, "generate", "--scene", scene.string(), "--out", dir.path().string()}));
+    ASSERT_EQ(run.exit_code, 0) << scene << "\n" << run.err;
+  }
+  for (const auto& fresh : fs::directory_iterator(dir.path())) {
+    const fs::path committed = fs::path(SWEEPGEN_SOURCE_DIR) / "generated" / fresh.path().filename();
+    ASSERT_TRUE(fs::exists(committed)) << committed << " is missing; " << kHowToRegenerate;
+    EXPECT_EQ(contents(fresh.path()), contents(committed)) << committed << " differs; " << kHowToRegenerate;
+    ++files;
+  }
+  std::size_t committed_files = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(SWEEPGEN_SOURCE_DIR) / "generated"))
+    committed_files += entry.path().extension() != ".md" ? 1 : 0;
+  EXPECT_EQ(committed_files, files) << "generated/ holds files no bundled scene produces; " << kHowToRegenerate;
+}
+
+class GeneratedCompiles : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(GeneratedCompiles, WarningFreeUnderPedanticFlags) {
+  const std::string compiler = GetParam();
+  if (test::run_command(compiler + " --version").exit_code != 0) GTEST_SKIP() << compiler << " is not installed";
+  for (const auto& entry : fs::directory_iterator(fs::path(SWEEPGEN_SOURCE_DIR) / "generated")) {
+    if (entry.path().extension() != ".cpp") continue;
+    const auto run = test::run_command(test::shell_command(
+        {compiler, "-std=c++17", "-O1", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", entry.path().string(), "-o", "/dev/null"}));
+    EXPECT_EQ(run.exit_code, 0) << compiler << " on " << entry.path() << ":\n" << run.err;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Compilers, GeneratedCompiles, ::testing::Values("g++", "clang++"),
+                         [](const auto& info) { return info.param == "g++" ? std::string("gcc") : std::string("clang"); });
+
+}  // namespace
+}  // namespace sweepgen
