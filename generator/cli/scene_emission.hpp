@@ -1,0 +1,25 @@
+// What the emitter needs from a scene: one translation, used by `generate`, `info` and
+// `report`.
+#pragma once
+
+#include <string>
+
+#include "emit/solver_emitter.hpp"
+#include "scene/scene.hpp"
+
+namespace sweepgen::cli {
+
+inline emit::EmitRequest emit_request(const scene::Scene& s, const std::string& provenance) {
+  emit::EmitRequest request;
+  request.solver_namespace = s.solver;
+  request.scalars = s.scalars;
+  request.expose_all = s.expose_all;
+  request.trace.layout = s.layout;
+  request.trace.fixed_directions = s.fixed_directions;
+  request.trace.policies = s.policies;
+  request.trace.options = s.solver_options();
+  request.provenance = provenance;
+  return request;
+}
+
+}  // namespace sweepgen::cli
