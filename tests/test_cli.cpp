@@ -147,7 +147,8 @@ TEST(CliSolve, ValidLinesAnswerOneObjectEachInOrder) {
   EXPECT_NEAR(ordered_json::parse(original_out[0])["xdd_tip"][4].get<double>(), -0.5, 1e-8);
   EXPECT_NE(original_out[0], out[2]);
   // Without drivers, tau_ctrl and tau_cmd are zero.
-  for (const auto& t : ordered_json::parse(out[0])["tau_cmd"]) EXPECT_EQ(t.get<double>(), 0.0);
+  const ordered_json bias_only = ordered_json::parse(out[0]);  // (the range-for must not iterate a temporary)
+  for (const auto& t : bias_only["tau_cmd"]) EXPECT_EQ(t.get<double>(), 0.0);
 }
 
 struct BadLine {
@@ -182,7 +183,24 @@ const std::vector<BadLine> kBadLines = {
     {"invalid JSON", R"({"q": [0.1, -0.5,)", {"not valid JSON"}},
     {"a JSON array", "[1, 2, 3]", {"expected a JSON object"}},
     {"a JSON number", "42", {"expected a JSON object"}},
+    // JSON has no NaN or Inf; a number beyond double's range is the closest a line can come.
+    {"a number that overflows double", R"({"q": [1e999, -0.5, 0.2, -2.0, 0.1, 1.8, 0.6], )" + kQd + "}",
+     {"number overflow", "1e999"}},
 };
+
+// Finite inputs whose results overflow: the line is answered, the non-finite values are null
+// and the status says not_finite (README, "sweepgen solve"); a result, not an input error.
+TEST(CliSolve, ResultsThatOverflowAreFlaggedNotFinite) {
+  CommandResult r;
+  const auto out = solve_lines({"{" + kState + R"(, "tau_ff": [1e308, -1e308, 1e308, 0, 0, 0, 0]})", kValid[0]}, &r);
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  ASSERT_EQ(out.size(), 2u) << describe(r);
+  const ordered_json overflow = ordered_json::parse(out[0]);
+  EXPECT_EQ(overflow["status"], "not_finite") << out[0];
+  EXPECT_TRUE(std::any_of(overflow["qdd"].begin(), overflow["qdd"].end(), [](const auto& v) { return v.is_null(); }))
+      << out[0];
+  EXPECT_EQ(ordered_json::parse(out[1])["status"], "ok");
+}
 
 // Each bad line between valid ones: only that line is answered with an error, the valid lines
 // still get their answers in order, and the exit code is 1.
@@ -473,6 +491,25 @@ TEST(CliGenerate, AFailedRunLeavesTheOutputUntouched) {
                                     "--out", out.string(), "--depfile", unwritable_depfile});
   EXPECT_EQ(r.exit_code, 3) << describe(r);
   expect_contains(r.err, unwritable_depfile);
+  EXPECT_EQ(snapshot(out), before);
+  EXPECT_FALSE(has_temporaries(out));
+}
+
+// A full disk, simulated by a file-size limit (ulimit -f, 512-byte blocks in sh) smaller than
+// the generated source: the write fails part-way, and the previous output stays as it was.
+TEST(CliGenerate, AFullDiskLeavesTheOutputUntouched) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(sweepgen({"generate", "--urdf", kPanda, "--out", out.string()}).exit_code, 0);
+  const auto before = snapshot(out);
+  ASSERT_EQ(before.size(), 3u);
+  const std::string command =
+      "ulimit -f 16 && " + test::shell_command({SWEEPGEN_EXECUTABLE, "generate", "--urdf", kPanda, "--solver",
+                                                 "renamed", "--file-stem", "panda", "--out", out.string()});
+  const CommandResult r = test::run_command(command);
+  EXPECT_EQ(r.exit_code, 3) << describe(r);
+  expect_contains(r.err, "cannot write");
+  expect_contains(r.err, (out / "panda").string());
   EXPECT_EQ(snapshot(out), before);
   EXPECT_FALSE(has_temporaries(out));
 }

@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "support/oracle_problem.hpp"
+#include "support/state_count.hpp"
 
 namespace sweepgen {
 namespace {
@@ -20,8 +21,8 @@ using test::LongDouble;
 using test::Oracle;
 using test::OracleVec;
 
-constexpr int kStatesPerRobot = 1000;
-constexpr int kRandomChains = 1000;
+const int kStatesPerRobot = test::state_count(1000);
+const int kRandomChains = test::state_count(1000);
 
 // Torque balance ‖RNEA + d q̈ − (τff + Σ J^T F)‖∞ / max(1, ‖τff + Σ J^T F‖∞): the solver's q̈
 // comes from a backward-stable recursion, so its torque residual is rounding of the torques

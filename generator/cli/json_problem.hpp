@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "model/chain.hpp"
+#include "model/error.hpp"
 #include "solver/policy.hpp"
 #include "solver/state.hpp"
 
@@ -16,7 +17,8 @@ namespace sweepgen::cli {
 // A problem that cannot be read: names the offending key.
 class KeyError : public std::runtime_error {
  public:
-  KeyError(const std::string& key, const std::string& reason) : std::runtime_error("key '" + key + "': " + reason) {}
+  KeyError(const std::string& key, const std::string& reason)
+      : std::runtime_error(message_text("key '" + key + "': " + reason)) {}
 };
 
 struct Problem {

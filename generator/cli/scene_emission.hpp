@@ -14,6 +14,7 @@ inline emit::EmitRequest emit_request(const scene::Scene& s, const std::string& 
   request.solver_namespace = s.solver;
   request.scalars = s.scalars;
   request.expose_all = s.expose_all;
+  request.check_inputs = s.check_inputs;
   request.trace.layout = s.layout;
   request.trace.fixed_directions = s.fixed_directions;
   request.trace.policies = s.policies;

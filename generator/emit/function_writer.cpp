@@ -1,6 +1,8 @@
 #include "emit/function_writer.hpp"
 
 #include <map>
+#include <set>
+#include <vector>
 #include <sstream>
 
 #include "emit/equations.hpp"
@@ -40,12 +42,13 @@ class Writer {
   FunctionText write() {
     name_fields();
     count_uses();
-    load_leaves();
+    name_leaves();
+    collect_stores();
     for (NodeId id : f_.computed) {
       ops_.count(graph_.node(id).op);
       if (local_.count(id) || uses_[id] != 1) declare(id);
     }
-    store();
+    store_rest();
     return {text_.str(), ops_};
   }
 
@@ -77,9 +80,10 @@ class Writer {
     }
   }
 
-  void load_leaves() {
-    if (f_.leaves.empty()) return;
-    text_ << "  // Inputs and values computed by earlier sweeps.\n";
+  // Inputs and values of earlier functions: named here, loaded right before their first use
+  // (short live ranges: a value loaded at the top would occupy a register or a spill slot
+  // until then).
+  void name_leaves() {
     for (NodeId id : f_.leaves) {
       const Node& n = graph_.node(id);
       std::string source;
@@ -94,8 +98,30 @@ class Writer {
         source = "state." + plan_.carried_name.at(id);
         local_[id] = plan_.carried_name.at(id);
       }
-      text_ << "  const " << scalar_ << " " << local_[id] << " = " << source << ";\n";
+      leaf_source_[id] = source;
     }
+  }
+
+  // A leaf's local, loading it first if this is its first use.
+  const std::string& leaf(NodeId id) {
+    if (loaded_.insert(id).second) pending_loads_.push_back(id);
+    return local_.at(id);
+  }
+
+  void flush_loads() {
+    for (NodeId id : pending_loads_)
+      text_ << "  const " << scalar_ << " " << local_.at(id) << " = " << leaf_source_.at(id) << ";\n";
+    pending_loads_.clear();
+  }
+
+  // Where each stored node goes: stored right after it is computed, so that it need not stay
+  // live (in a register or a spill slot) until the end of the function.
+  void collect_stores() {
+    for (std::size_t i : f_.fields) {
+      const Field& field = trace_.fields[i];
+      stores_[field.node].push_back(is_state_field(field) ? state_field_access(field) : solution_field_access(field));
+    }
+    for (NodeId id : f_.carried_out) stores_[id].push_back("state." + plan_.carried_name.at(id));
   }
 
   void banner_for(NodeId id) {
@@ -126,8 +152,14 @@ class Writer {
   void declare(NodeId id) {
     banner_for(id);
     if (!local_.count(id)) local_[id] = "e" + std::to_string(next_expression_++);
-    text_ << "  const " << scalar_ << " " << local_[id] << " = " << expression(id, kTernary) << ";\n";
+    const std::string value = expression(id, kTernary);
+    flush_loads();
+    text_ << "  const " << scalar_ << " " << local_[id] << " = " << value << ";\n";
     declared_[id] = true;
+    const auto targets = stores_.find(id);
+    if (targets == stores_.end()) return;
+    for (const std::string& target : targets->second) text_ << "  " << target << " = " << local_[id] << ";\n";
+    stores_.erase(targets);
   }
 
   // Text of node `id` as an operand of an operator of precedence `context`. Right operands
@@ -139,9 +171,8 @@ class Writer {
       const std::string text = literal(n.value, scalar_);
       return n.value < 0 && context >= kUnary ? "(" + text + ")" : text;
     }
-    if (declared_.count(id) || (local_.count(id) && n.op == Op::input) || plan_.stage[id] < f_.stage ||
-        n.op == Op::input)
-      return local_.at(id);
+    if (declared_.count(id)) return local_.at(id);
+    if (n.op == Op::input || plan_.stage[id] < f_.stage) return leaf(id);
     const int own = precedence(n.op);
     const std::string text = expression(id, own);
     return own < context ? "(" + text + ")" : text;
@@ -198,6 +229,7 @@ class Writer {
       case Op::sin: return "std::sin(" + operand(a, kTernary) + ")";
       case Op::cos: return "std::cos(" + operand(a, kTernary) + ")";
       case Op::abs: return "std::abs(" + operand(a, kTernary) + ")";
+      case Op::equilibration_scale: return "equilibration_scale(" + operand(a, kTernary) + ")";
       case Op::min: return "std::min<" + T + ">(" + operand(a, kTernary) + ", " + operand(b, kTernary) + ")";
       case Op::max: return "std::max<" + T + ">(" + operand(a, kTernary) + ", " + operand(b, kTernary) + ")";
       case Op::select_greater:
@@ -209,16 +241,21 @@ class Writer {
     return "";
   }
 
-  void store() {
-    if (f_.fields.empty() && f_.carried_out.empty()) return;
-    text_ << "\n  // Stores.\n";
+  // Stored values that are not computed here (constants, inputs, earlier results).
+  void store_rest() {
+    if (stores_.empty()) return;
+    std::ostringstream lines;
     for (std::size_t i : f_.fields) {
       const Field& field = trace_.fields[i];
+      if (!stores_.count(field.node)) continue;
       const std::string target = is_state_field(field) ? state_field_access(field) : solution_field_access(field);
-      text_ << "  " << target << " = " << operand(field.node, kTernary) << ";\n";
+      lines << "  " << target << " = " << operand(field.node, kTernary) << ";\n";
     }
     for (NodeId id : f_.carried_out)
-      text_ << "  state." << plan_.carried_name.at(id) << " = " << operand(id, kTernary) << ";\n";
+      if (stores_.count(id)) lines << "  state." << plan_.carried_name.at(id) << " = " << operand(id, kTernary) << ";\n";
+    text_ << "\n  // Values computed before this function, and constants.\n";
+    flush_loads();
+    text_ << lines.str();
   }
 
   const symbolic::Trace& trace_;
@@ -231,6 +268,10 @@ class Writer {
   std::map<NodeId, int> uses_;
   std::map<NodeId, std::string> local_;
   std::map<NodeId, bool> declared_;
+  std::map<NodeId, std::string> leaf_source_;
+  std::set<NodeId> loaded_;
+  std::vector<NodeId> pending_loads_;
+  std::map<NodeId, std::vector<std::string>> stores_;
   std::ostringstream text_;
   OpCount ops_;
   int next_expression_ = 0;

@@ -1,7 +1,9 @@
-// Writes one planned function as straight-line C++: inputs and earlier results loaded into
-// locals, then the derivation body by body under a banner naming link and joint, each stored
-// quantity tagged with its equation, then the stores. Values used once are written inline;
-// values used more than once, and every named quantity, get a `const` local.
+// Writes one planned function as straight-line C++: the derivation body by body under a
+// banner naming link and joint, each stored quantity tagged with its equation. Inputs and
+// earlier results are loaded into locals right before their first use, and each stored value
+// is stored right after it is computed (short live ranges: fewer spills, see bench/README.md).
+// Values used once are written inline; values used more than once, and every named quantity,
+// get a `const` local.
 #pragma once
 
 #include <string>

@@ -13,6 +13,7 @@ void OpCount::count(symbolic::Op op) {
     case Op::sin:
     case Op::cos: ++trig; break;
     case Op::abs:
+    case Op::equilibration_scale:
     case Op::min:
     case Op::max:
     case Op::select_greater: ++compare; break;

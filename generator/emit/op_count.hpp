@@ -14,7 +14,7 @@ struct OpCount {
   std::size_t div = 0;
   std::size_t neg = 0;      // sign flips
   std::size_t trig = 0;     // sin, cos
-  std::size_t compare = 0;  // abs, min, max, select
+  std::size_t compare = 0;  // abs, min, max, select, equilibration_scale
 
   void count(symbolic::Op op);
   std::size_t total() const { return add + mul + div + neg + trig + compare; }

@@ -53,26 +53,43 @@ std::string array_members(const symbolic::Trace& trace, const std::vector<std::s
   return text;
 }
 
+// One array of the Drivers struct: its declarator, the loop header(s) over its values, the
+// element those loops reach and what it holds.
+struct DriverArray {
+  std::string declarator, loops, element, doc;
+};
+
+std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request, std::size_t nc) {
+  std::vector<DriverArray> arrays;
+  for (const auto& name : request.layout.torques)
+    arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques"});
+  for (const auto& ext : request.layout.external_forces)
+    arrays.push_back({ext.name + "[6]", "for (int i = 0; i < 6; ++i)", ext.name + "[i]",
+                      "wrench [moment; force] on link " + ext.link + ", in its frame"});
+  if (request.fixed_directions.empty() && nc > 0)
+    arrays.push_back({"alpha[constraints][6]", "for (int k = 0; k < constraints; ++k)\n    for (int i = 0; i < 6; ++i)",
+                      "alpha[k][i]", "constraint directions [moment; force], tip frame, unit norm"});
+  return arrays;
+}
+
 std::string drivers_members(const symbolic::TraceRequest& request, std::size_t nc) {
   std::string text;
-  for (const auto& name : request.layout.torques)
-    text += "  Scalar " + name + "[dof];  // feed-forward joint torques\n";
-  for (const auto& ext : request.layout.external_forces)
-    text += "  Scalar " + ext.name + "[6];  // wrench [moment; force] on link " + ext.link + ", in its frame\n";
-  if (request.fixed_directions.empty() && nc > 0)
-    text += "  Scalar alpha[constraints][6];  // constraint directions [moment; force], tip frame, unit norm\n";
+  for (const auto& a : driver_arrays(request, nc)) text += "  Scalar " + a.declarator + ";  // " + a.doc + "\n";
   return text;
 }
 
 std::string unpack_drivers(const symbolic::TraceRequest& request, std::size_t nc) {
   std::string text = "  [[maybe_unused]] const Scalar* cursor = drivers_in;\n";
-  for (const auto& name : request.layout.torques)
-    text += "  for (int i = 0; i < dof; ++i) drivers." + name + "[i] = *cursor++;\n";
-  for (const auto& ext : request.layout.external_forces)
-    text += "  for (int i = 0; i < 6; ++i) drivers." + ext.name + "[i] = *cursor++;\n";
-  if (request.fixed_directions.empty() && nc > 0)
-    text += "  for (int k = 0; k < constraints; ++k)\n    for (int i = 0; i < 6; ++i) drivers.alpha[k][i] = *cursor++;\n";
+  for (const auto& a : driver_arrays(request, nc)) text += "  " + a.loops + " drivers." + a.element + " = *cursor++;\n";
   return text;
+}
+
+// decompose(): NaN/Inf among the drivers (scene: check_inputs).
+std::string check_drivers(const symbolic::TraceRequest& request, std::size_t nc) {
+  std::string text = "  Scalar residue = 0;  // NaN/Inf among the drivers (scene: check_inputs; see outward())\n";
+  for (const auto& a : driver_arrays(request, nc))
+    text += "  " + a.loops + " residue += drivers." + a.element + " - drivers." + a.element + ";\n";
+  return text + "  state.drivers_input_status = residue == Scalar(0) ? status_ok : status_not_finite;";
 }
 
 std::size_t flat_in_size(const symbolic::TraceRequest& request, std::size_t n, std::size_t nc) {
@@ -92,13 +109,29 @@ std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc) {
 
 const char* kFlatOut = "qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), status";
 
+// The Solution arrays of kFlatOut, in its order, with their loop headers.
+std::vector<std::pair<std::string, std::string>> solution_arrays(std::size_t nc) {
+  std::vector<std::pair<std::string, std::string>> arrays;
+  for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"}) arrays.emplace_back(name + std::string("[i]"), "for (int i = 0; i < dof; ++i)");
+  if (nc > 0) arrays.emplace_back("nu[k]", "for (int k = 0; k < constraints; ++k)");
+  arrays.emplace_back("tip_acceleration[i]", "for (int i = 0; i < 6; ++i)");
+  return arrays;
+}
+
 std::string pack_solution(std::size_t nc) {
   std::string text = "  Scalar* cursor_out = out;\n";
-  for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"})
-    text += std::string("  for (int i = 0; i < dof; ++i) *cursor_out++ = solution.") + name + "[i];\n";
-  if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) *cursor_out++ = solution.nu[k];\n";
-  text += "  for (int i = 0; i < 6; ++i) *cursor_out++ = solution.tip_acceleration[i];\n";
+  for (const auto& [element, loop] : solution_arrays(nc)) text += "  " + loop + " *cursor_out++ = solution." + element + ";\n";
   text += "  *cursor_out = static_cast<Scalar>(solution.status);";
+  return text;
+}
+
+// solve_<policy>(): NaN/Inf among the setpoints and the results (scene: check_inputs).
+std::string check_solution(std::size_t nc) {
+  std::string text = "  Scalar residue = 0;  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
+  if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
+  for (const auto& [element, loop] : solution_arrays(nc))
+    text += "  " + loop + " residue += out." + element + " - out." + element + ";\n";
+  text.pop_back();  // the template ends the line
   return text;
 }
 
@@ -183,6 +216,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variant.set("flat_in_size", std::to_string(flat_in_size(request.trace, n, nc)));
     variant.set("flat_out_size", std::to_string(3 * n + nc + 7));
     variant.set("unpack_drivers", unpack_drivers(request.trace, nc));
+    variant.set("check_drivers", check_drivers(request.trace, nc));
+    variant.set("check_solution", check_solution(nc));
     variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
                                                  : " (expose: outputs; carried values only)");
     variants.push_back(variant);
@@ -198,6 +233,9 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("directions_note", request.trace.fixed_directions.empty() ? "" : ", fixed");
   values.set("alpha_note", request.trace.fixed_directions.empty() && nc > 0 ? ", alpha" : "");
   values.set("namespace", request.solver_namespace);
+  values.set("has_constraints", nc > 0);
+  values.set("check_inputs", request.check_inputs);
+  values.set("check_inputs_value", request.check_inputs ? "true" : "false");
   values.set("op_counts", op_lines);
   values.set("variants", variants);
   values.set("header_name", stem + ".hpp");

@@ -16,6 +16,7 @@ struct EmitRequest {
   bool expose_all = false;            // store every intermediate in State / Solution
   symbolic::TraceRequest trace;       // drivers, fixed directions, policies, options
   std::string provenance;             // one line: generator version and input hashes
+  bool check_inputs = true;           // emit the NaN/Inf checks raising status_not_finite
 };
 
 struct EmittedFile {

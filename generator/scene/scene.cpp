@@ -68,7 +68,8 @@ class Reader {
 
   std::string where(const Item& item) const { return format_mark(file_, item.mark); }
   [[noreturn]] void fail(const Item& item, const std::string& reason) const {
-    throw InputError(where(item), item.element, reason);
+    // The top level has no element path of its own (a non-scalar or empty top-level key): name it.
+    throw InputError(where(item), item.element.empty() ? "scene" : item.element, reason);
   }
 
   // The mapping's entries, in order; fails on a non-mapping, non-string keys, duplicate keys and
@@ -364,8 +365,9 @@ Scene load_scene(const std::string& path) {
 
   Scene scene;
   scene.path = path;
-  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf", "root", "tip", "gravity", "rotor_inertia",
-                                         "drivers", "decomposition", "policies", "scalars", "expose", "pivot_tolerance"};
+  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip",
+                                         "gravity",        "rotor_inertia", "drivers", "decomposition", "policies",
+                                         "scalars",        "expose", "pivot_tolerance", "check_inputs"};
   std::map<std::string, Item> values;
   for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
   const auto get = [&](const std::string& key) -> std::optional<Item> {
@@ -392,6 +394,8 @@ Scene load_scene(const std::string& path) {
   const Item urdf = require("urdf", "path of the URDF file, relative to the scene file");
   const std::string urdf_text = reader.string(urdf);
   if (urdf_text.empty()) reader.fail(urdf, "path is empty");
+  // The file system would read the path only up to the NUL (YAML "\0"): another file than named.
+  if (urdf_text.find('\0') != std::string::npos) reader.fail(urdf, "path contains a NUL character");
   const std::filesystem::path urdf_path(urdf_text);
   scene.chain.urdf = urdf_path.is_absolute()
                          ? urdf_path.lexically_normal().string()
@@ -481,6 +485,8 @@ Scene load_scene(const std::string& path) {
     if (!(t > 0 && t < 1)) reader.fail(*item, "relative pivot tolerance must be > 0 and < 1");
     scene.pivot_tolerance = t;
   }
+  if (const auto item = get("check_inputs"))
+    scene.check_inputs = reader.choice(*item, {"true", "false"}, "check_inputs value") == "true";
   return scene;
 }
 
@@ -493,9 +499,10 @@ model::Chain load_scene_chain(const Scene& scene) {
     } catch (const InputError& e) {
       const std::string message = e.what();
       if (message.rfind(s.urdf + ":", 0) != 0) throw;  // already names the scene (rotor inertia)
-      std::string element = "urdf";
-      if (!s.root_link.empty() && message.find("root link '" + s.root_link + "'") != std::string::npos) element = "root";
-      if (!s.tip_link.empty() && (message.find("tip link '" + s.tip_link + "'") != std::string::npos ||
+      std::string element = "urdf";  // names are compared as the message spells them (message_text)
+      if (!s.root_link.empty() && message.find(message_text("root link '" + s.root_link + "'")) != std::string::npos)
+        element = "root";
+      if (!s.tip_link.empty() && (message.find(message_text("tip link '" + s.tip_link + "'")) != std::string::npos ||
                                   message.find("not connected") != std::string::npos))
         element = "tip";
       throw InputError(scene.location(element), element, message);

@@ -48,6 +48,10 @@
 //   pivot_tolerance: 1e-12          # optional: relative pivot tolerance of the constraint
 //                                   #   factorisation, 0 < t < 1; default: 1000 * epsilon of
 //                                   #   the emitted scalar
+//   check_inputs: true              # optional: true (default) or false. When true, the generated
+//                                   #   code checks every input (q, qd, drivers, beta) and output
+//                                   #   for NaN/Inf and raises status_not_finite; false leaves the
+//                                   #   checks out (bench/README.md gives their cost)
 //
 // Driver instance names (torques and external forces) share one namespace: identifiers,
 // unique, not C++ keywords, not 'bias' and not 'alpha'.
@@ -81,6 +85,7 @@ struct Scene {
   std::vector<std::string> scalars{"double"};
   bool expose_all = false;
   double pivot_tolerance = 0;  // 0: the default for the emitted scalar
+  bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
   // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",

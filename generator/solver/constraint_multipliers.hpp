@@ -10,6 +10,13 @@
 // no NaN/Inf can arise. Ratios and threshold are invariant under scaling each direction, so
 // moment and force directions and any unit system get the same rank decision. The number of
 // dropped pivots is returned (the caller raises status_constraint_rank_deficient).
+// Equilibration first: the factorisation works on Ê = S E S, r̂ = S r with s_j =
+// equilibration_scale(E_jj) (scalar_ops.hpp), the power of two that brings Ê_jj into [1, 4), and
+// returns ν = S x̂. Powers of two scale without rounding, so in exact arithmetic and in floating
+// point this is the same solve; what it removes is under- and overflow: in float a direction
+// with E_jj ~ 1e-42 (subnormal) made the threshold tol · E_jj underflow to 0, kept a subnormal
+// pivot and overflowed 1/d to Inf (a thin rod spun about its own axis near a singularity,
+// tests/test_stability.cpp). After it, every kept pivot is > tol and every threshold is >= tol.
 // Why pivot: once the largest remaining ratio S_jj / E_jj is at most tol, so is every remaining
 // one (and |S_ij| <= sqrt(S_ii S_jj) in the PSD Schur complement): the kept directions are
 // solved to that tolerance and the dropped ones are redundant to it. Without pivoting, a pivot
@@ -34,12 +41,17 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
 
   // P E P^T = L diag(pivot) L^T with P the product of the conditional swaps; A holds the Schur
   // complement (rows and columns >= k are live), y the permuted right-hand side.
-  ConstraintMatrix<Scalar> A = E;
+  ConstraintVector<Scalar> scale(nc);  // s_j: Ê = S E S, r̂ = S r, ν = S x̂
+  for (Eigen::Index j = 0; j < nc; ++j) scale[j] = equilibration_scale(E(j, j));
+  ConstraintMatrix<Scalar> A(nc, nc);
+  for (Eigen::Index i = 0; i < nc; ++i)
+    for (Eigen::Index j = 0; j < nc; ++j) A(i, j) = scale[i] * E(i, j) * scale[j];
   ConstraintMatrix<Scalar> L = ConstraintMatrix<Scalar>::Identity(nc, nc);
   ConstraintMatrix<Scalar> swapped = ConstraintMatrix<Scalar>::Zero(nc, nc);  // 1 where step k swapped k and j
   ConstraintVector<Scalar> pivot(nc), inverse_pivot(nc);
-  ConstraintVector<Scalar> y = rhs;
-  ConstraintVector<Scalar> own = E.diagonal();  // E_jj of the direction now at position j
+  ConstraintVector<Scalar> y(nc);
+  for (Eigen::Index j = 0; j < nc; ++j) y[j] = scale[j] * rhs[j];
+  ConstraintVector<Scalar> own = A.diagonal();  // Ê_jj of the direction now at position j
   const auto conditional_swap = [](const Scalar& s, Scalar& a, Scalar& b) {
     const Scalar a0 = a;
     a = select_greater(s, Scalar(0.5), b, a0);
@@ -76,6 +88,7 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
     for (Eigen::Index j = k + 1; j < nc; ++j) y[k] -= L(j, k) * y[j];
   for (Eigen::Index k = nc - 1; k >= 0; --k)
     for (Eigen::Index j = nc - 1; j > k; --j) conditional_swap(swapped(k, j), y[k], y[j]);
+  for (Eigen::Index j = 0; j < nc; ++j) y[j] *= scale[j];
   return y;
 }
 

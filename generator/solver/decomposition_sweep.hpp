@@ -14,6 +14,7 @@
 // −F^A_ext/E^A_ext, and the single track of Alg. 1 the composed F^A_b/E^A_conf.
 #pragma once
 
+#include "solver/joint_inertia.hpp"
 #include "solver/solver_model.hpp"
 #include "solver/state.hpp"
 
@@ -76,7 +77,12 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
 
     a.U = a.articulated_inertia * joint.S;
     a.D = joint.rotor_inertia + spatial::dot(a.U, joint.S);
-    a.inverse_D = Scalar(1) / a.D;
+    // Joint-inertia policy (solver/joint_inertia.hpp): D_i <= tol (d_i + tr block) is treated
+    // as 0, branch-free: D_i^-1 := 0, so the joint is locked (no projection in (M^A), q̈_i = 0)
+    // and no Inf/NaN can arise where M(q) is singular.
+    const Scalar threshold = model.joint_inertia_tolerance * joint_inertia_scale(joint, a.articulated_inertia);
+    a.locked = select_greater(a.D, threshold, Scalar(0), Scalar(1));
+    a.inverse_D = select_greater(a.D, threshold, Scalar(1), Scalar(0)) / select_greater(a.D, threshold, a.D, Scalar(1));
 
     if (i > 1)  // (M^A)
       parent.articulated_inertia = parent.articulated_inertia +

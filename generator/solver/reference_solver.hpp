@@ -26,21 +26,37 @@ class ReferenceSolver {
   // Outward sweep for joint positions and velocities (N each).
   void outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd) {
     outward_sweep_base_to_tip(model_, q, qd, kinematics_);
+    kinematics_finite_ = all_finite(q) && all_finite(qd);
   }
   // Driver values used by the next decompose(); sizes as in the layout.
   DriverInputs<Scalar>& drivers() { return inputs_; }
   // Inward sweep over the layout's tracks (Alg. 1, Alg. 2 or any grouping between).
-  void decompose() { decomposition_sweep_tip_to_base(model_, kinematics_, inputs_, articulated_); }
+  void decompose() {
+    decomposition_sweep_tip_to_base(model_, kinematics_, inputs_, articulated_);
+    drivers_finite_ = true;
+    for (const auto& tau : inputs_.torques) drivers_finite_ = drivers_finite_ && all_finite(tau);
+    for (const auto& f : inputs_.external_forces) drivers_finite_ = drivers_finite_ && all_finite(f.moment) && all_finite(f.force);
+    for (std::size_t k = 0; k < model_.constraints(); ++k)
+      drivers_finite_ = drivers_finite_ && all_finite(inputs_.constraint_directions[k].moment) &&
+                        all_finite(inputs_.constraint_directions[k].force);
+  }
   // Solver sweep for setpoints E_cstr,N (Nc entries) under `policy`.
   const Solution<Scalar>& solve(Policy policy, const ConstraintVector<Scalar>& setpoints) {
     solver_sweep_base_to_tip(model_, kinematics_, articulated_, inputs_, setpoints, policy, solution_);
+    setpoints_finite_ = all_finite(setpoints);
     return solution_;
   }
   unsigned status() const {
     unsigned s = status_ok;
     if (solution_.dropped_pivots > Scalar(0)) s |= status_constraint_rank_deficient;
+    if (solution_.locked_joints > Scalar(0)) s |= status_joint_inertia_singular;
     for (Eigen::Index i = 0; i < solution_.saturated.size(); ++i)
       if (solution_.saturated[i] > Scalar(0)) s |= status_saturated;
+    const Solution<Scalar>& r = solution_;
+    const bool finite = kinematics_finite_ && drivers_finite_ && setpoints_finite_ && all_finite(r.qdd) &&
+                        all_finite(r.tau_cmd) && all_finite(r.tau_ctrl) && all_finite(r.nu) &&
+                        all_finite(r.tip_acceleration.angular) && all_finite(r.tip_acceleration.linear);
+    if (!finite) s |= status_not_finite;
     return s;
   }
 
@@ -54,6 +70,8 @@ class ReferenceSolver {
   ArticulatedState<Scalar> articulated_;
   DriverInputs<Scalar> inputs_;
   Solution<Scalar> solution_;
+  // Whether the inputs of the last outward(), decompose() and solve() were free of NaN/Inf.
+  bool kinematics_finite_ = true, drivers_finite_ = true, setpoints_finite_ = true;
 };
 
 }  // namespace sweepgen::solver

@@ -2,6 +2,7 @@
 // scalar can trace them (it overloads these names; calls are unqualified so ADL finds them).
 #pragma once
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -28,6 +29,30 @@ Scalar maximum(const Scalar& a, const Scalar& b) {
 template <class Scalar, std::enable_if_t<std::is_floating_point_v<Scalar>, int> = 0>
 Scalar abs_value(const Scalar& a) {
   return std::abs(a);
+}
+
+// The power of two s with s² x in [1, 4) for x > 0 (x = f 2^k, f in [1, 2): s = 2^-floor(k/2)),
+// and 0 for x <= 0 or NaN. Multiplying by it is exact (no rounding), so it rescales a quantity
+// to unit order without changing any digit: the constraint factorisation equilibrates
+// E^A_cstr,0 with it (constraint_multipliers.hpp). Generated code spells it the same way
+// (templates/solver.cpp.mustache).
+template <class Scalar, std::enable_if_t<std::is_floating_point_v<Scalar>, int> = 0>
+Scalar equilibration_scale(const Scalar& x) {
+  const int k = x > Scalar(0) ? std::ilogb(x) : 0;
+  return x > Scalar(0) ? std::ldexp(Scalar(1), ((k & 1) - k) / 2) : Scalar(0);
+}
+
+// Neither NaN nor ±Inf, for any IEEE-style scalar (x − x is NaN exactly for those).
+template <class Scalar>
+bool is_finite_value(const Scalar& x) {
+  return x - x == Scalar(0);
+}
+
+template <class Derived>
+bool all_finite(const Eigen::DenseBase<Derived>& values) {
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+    if (!is_finite_value(values.derived().coeff(i))) return false;
+  return true;
 }
 
 // x clamped to [-limit, limit].

@@ -23,10 +23,16 @@ struct SolverOptions {
   // Relative pivot tolerance of the E^A_cstr,0 factorisation (docs/derivation.md,
   // "Singular constraints"); <= 0 picks default_pivot_tolerance(epsilon of the scalar).
   double pivot_tolerance = 0;
+  // Relative tolerance of the joint-inertia policy (solver/joint_inertia.hpp): joint i is locked
+  // when D_i <= t (d_i + tr of its block of M^A_i); <= 0 picks 1000 epsilon of the scalar.
+  double joint_inertia_tolerance = 0;
 
   static double default_pivot_tolerance(double epsilon) { return 1000 * epsilon; }
   double pivot_tolerance_for(double epsilon) const {
     return pivot_tolerance > 0 ? pivot_tolerance : default_pivot_tolerance(epsilon);
+  }
+  double joint_inertia_tolerance_for(double epsilon) const {
+    return joint_inertia_tolerance > 0 ? joint_inertia_tolerance : 1000 * epsilon;
   }
 };
 
@@ -65,6 +71,7 @@ struct SolverModel {
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
   Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g]
   Scalar pivot_tolerance;
+  Scalar joint_inertia_tolerance;
   DriverLayout layout;
 
   std::size_t dof() const { return joints.size() - 1; }
@@ -101,6 +108,7 @@ struct SolverModel {
     }
     base_acceleration.linear = (-options.gravity).cast<Scalar>();
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
+    joint_inertia_tolerance = Scalar(options.joint_inertia_tolerance_for(epsilon));
   }
 };
 

@@ -104,6 +104,8 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
                               const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs,
                               const ConstraintVector<Scalar>& setpoints, Policy policy, Solution<Scalar>& sol) {
   const Policy constraint_policy = policy == Policy::saturate_exact ? Policy::original : policy;
+  sol.locked_joints = Scalar(0);
+  for (std::size_t i = 1; i <= model.dof(); ++i) sol.locked_joints += art.body[i].locked;
   constraint_multipliers(model, art, setpoints, constraint_policy, sol);
   control_torques(model, art, constraint_policy, sol);
   const std::vector<spatial::Force<Scalar>>* no_extra_force = nullptr;

@@ -56,7 +56,8 @@ struct BodyArticulated {
   spatial::Inertia<Scalar> articulated_inertia;  // M^A_i
   spatial::Force<Scalar> U;                      // M^A_i S_i
   Scalar D{};                                    // d_i + S_i^T M^A_i S_i
-  Scalar inverse_D{};
+  Scalar inverse_D{};                            // 0 where the joint is locked
+  Scalar locked{};                               // 1 where D_i fell below the joint-inertia tolerance, else 0
   ConstraintForces<Scalar> constraint_force;    // F^A_cstr,i (Nc columns)
   ConstraintMatrix<Scalar> constraint_energy;   // E^A_cstr,i (Nc x Nc)
 };
@@ -87,6 +88,8 @@ enum Status : unsigned {
   status_ok = 0,
   status_constraint_rank_deficient = 1u << 0,  // a pivot of E^A_cstr,0 fell below tolerance
   status_saturated = 1u << 1,                  // a saturating policy clamped a torque
+  status_joint_inertia_singular = 1u << 3,     // a joint's D_i fell below tolerance: joint locked (q̈_i = 0)
+  status_not_finite = 1u << 2,                 // NaN/Inf in an input (q, q̇, a driver, E_cstr) or a result
 };
 
 template <class Scalar>
@@ -94,6 +97,7 @@ struct Solution {
   ConstraintVector<Scalar> nu;               // ν, Lagrange multipliers (constraint wrench = F_cstr ν)
   ConstraintVector<Scalar> conf_energy;      // E_conf
   Scalar dropped_pivots{};                   // count of E^A_cstr,0 pivots treated as zero
+  Scalar locked_joints{};                    // count of joints locked by the joint-inertia policy
   JointVector<Scalar> tau_ctrl;              // τctrl (articulated share)
   JointVector<Scalar> qdd;                   // q̈
   JointVector<Scalar> tau_cmd;               // τcmd, the torque that realises q̈

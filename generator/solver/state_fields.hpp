@@ -60,6 +60,7 @@ void visit_fields(const ArticulatedState<Scalar>& art, const DriverLayout& layou
       visit_force(visit, "U", i, b.U);
       visit(std::string("D"), i, 0, b.D);
       visit(std::string("inverse_D"), i, 0, b.inverse_D);
+      visit(std::string("locked"), i, 0, b.locked);
     }
     for (int k = 0; k < nc; ++k) visit_force(visit, "constraint_force", i, b.constraint_force[k], 6 * k);
     visit_matrix(visit, "constraint_energy", i, b.constraint_energy);
@@ -82,6 +83,7 @@ void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
   visit_motion(visit, "tip_acceleration", kBodyless, s.tip_acceleration);
   for (int i = 0; i < s.saturated.size(); ++i) visit(std::string("saturated"), kBodyless, i, s.saturated[i]);
   visit(std::string("dropped_pivots"), kBodyless, 0, s.dropped_pivots);
+  visit(std::string("locked_joints"), kBodyless, 0, s.locked_joints);
   for (int k = 0; k < s.conf_energy.size(); ++k) visit(std::string("conf_energy"), kBodyless, k, s.conf_energy[k]);
   for (int i = 1; i < static_cast<int>(s.acceleration.size()); ++i) visit_motion(visit, "acceleration", i, s.acceleration[i]);
   if (policy == Policy::saturate_exact)
@@ -92,7 +94,7 @@ void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
 // The arrays of a Solution that are outputs of every solve (the rest are intermediates).
 inline bool is_solution_output(const std::string& array) {
   return array == "nu" || array == "qdd" || array == "tau_ctrl" || array == "tau_cmd" || array == "tip_acceleration" ||
-         array == "saturated" || array == "dropped_pivots";
+         array == "saturated" || array == "dropped_pivots" || array == "locked_joints";
 }
 
 }  // namespace sweepgen::solver

@@ -1,5 +1,7 @@
 #include "symbolic/graph.hpp"
 
+#include "solver/scalar_ops.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -32,6 +34,7 @@ const char* op_name(Op op) {
     case Op::min: return "min";
     case Op::max: return "max";
     case Op::select_greater: return "select";
+    case Op::equilibration_scale: return "equilibration_scale";
   }
   return "?";
 }
@@ -43,7 +46,8 @@ int arity(Op op) {
     case Op::neg:
     case Op::sin:
     case Op::cos:
-    case Op::abs: return 1;
+    case Op::abs:
+    case Op::equilibration_scale: return 1;
     case Op::select_greater: return 4;
     default: return 2;
   }
@@ -113,6 +117,7 @@ NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
       case Op::min: return constant(std::min(u, v));
       case Op::max: return constant(std::max(u, v));
       case Op::select_greater: return u > v ? args[2] : args[3];
+      case Op::equilibration_scale: return constant(solver::equilibration_scale(u));
       default: break;
     }
   }
@@ -147,12 +152,22 @@ NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
       break;
     case Op::neg:
       if (x.op == Op::neg) return x.args[0];
+      // -(c y) = (-c) y exactly: the sign goes into the constant.
+      if (x.op == Op::mul) {
+        const NodeId a = x.args[0], b = x.args[1];  // copies: constant() may grow nodes_
+        if (nodes_[a].op == Op::constant) return make(Op::mul, constant(-nodes_[a].value), b);
+        if (nodes_[b].op == Op::constant) return make(Op::mul, a, constant(-nodes_[b].value));
+      }
       break;
     case Op::abs:
       if (x.op == Op::neg) return make(Op::abs, x.args[0]);
       break;
     case Op::select_greater:
       if (args[2] == args[3]) return args[2];
+      // (a > b ? 1 : 0) > t ? p : q  with 0 <= t < 1 is  a > b ? p : q.
+      if (x.op == Op::select_greater && is(nodes_[x.args[2]], 1) && is(nodes_[x.args[3]], 0) && y.op == Op::constant &&
+          y.value >= 0 && y.value < 1)
+        return make(Op::select_greater, x.args[0], x.args[1], args[2], args[3]);
       break;
     default: break;
   }

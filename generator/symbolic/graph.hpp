@@ -4,6 +4,7 @@
 // expression it has seen before (common subexpressions are shared by construction).
 //   x+0 = x   x-0 = x   0-x = -x   x-x = 0   x*0 = 0   x*1 = x   x*(-1) = -x   x/1 = x
 //   0/x = 0   -(-x) = x   a+(-b) = a-b   a-(-b) = a+b   select(a, b, x, x) = x
+//   -(c*x) = (-c)*x for a constant c   select(select(a, b, 1, 0), t, x, y) = select(a, b, x, y), 0 <= t < 1
 // x*0 = 0 assumes finite x: every input of a dynamics solve is (NaN checks live elsewhere).
 #pragma once
 
@@ -31,6 +32,7 @@ enum class Op : std::uint8_t {
   min,
   max,
   select_greater,  // args[0] > args[1] ? args[2] : args[3]
+  equilibration_scale,  // the power of two s with s² x in [1, 4), 0 for x <= 0 (solver/scalar_ops.hpp)
 };
 
 const char* op_name(Op op);

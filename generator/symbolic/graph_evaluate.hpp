@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/scalar_ops.hpp"
+
 namespace sweepgen::symbolic {
 
 template <class Scalar>
@@ -26,6 +28,7 @@ std::vector<Scalar> Graph::evaluate(const std::vector<Scalar>& input_values) con
       case Op::min: v[i] = std::min(a(0), a(1)); break;
       case Op::max: v[i] = std::max(a(0), a(1)); break;
       case Op::select_greater: v[i] = a(0) > a(1) ? a(2) : a(3); break;
+      case Op::equilibration_scale: v[i] = solver::equilibration_scale(a(0)); break;
     }
   }
   return v;

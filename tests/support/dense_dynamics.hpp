@@ -279,7 +279,9 @@ class DenseDynamics {
     KktSolution s;
     s.qdd = x.head(n_);
     s.nu = x.tail(nc);
-    s.E = Jc * M.ldlt().solve(Jc.transpose());
+    // (Eigen 3.4's triangular solve binds a reference to the null data of an empty right-hand
+    // side, undefined behaviour that UBSan reports: no solve for Nc = 0.)
+    s.E = nc > 0 ? Mat(Jc * M.ldlt().solve(Jc.transpose())) : Mat(0, 0);
     s.cond = condition(s.E);
     return s;
   }

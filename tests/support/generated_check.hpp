@@ -212,4 +212,65 @@ void check_resolve_equals_full_solve(const std::string& scene_path, int states) 
   }
 }
 
+// Bad inputs at run time (README, "Generated code"): on a random problem of the scene,
+//  - NaN and +Inf written into any one flat input value make every flat solve raise
+//    status_not_finite (when the scene checks inputs; `checks_inputs` is the generated
+//    header's constant), and the clean problem does not;
+//  - a zero constraint direction alpha_k raises status_constraint_rank_deficient with finite
+//    results (the direction is not enforced);
+//  - a non-unit direction is a valid input: alpha_k and beta_k scaled by the same factor give
+//    the same q̈ (the constraint alpha_k^T Ẍ = beta_k is unchanged), to rounding.
+template <class Api>
+void check_bad_inputs(const std::string& scene_path, bool checks_inputs, unsigned not_finite_bit) {
+  using Scalar = typename Api::Scalar;
+  const scene::Scene s = scene::load_scene(scene_path);
+  const model::Chain chain = scene::load_scene_chain(s);
+  const std::size_t n = chain.dof(), nc = s.layout.constraints;
+  const std::size_t status_at = 3 * n + nc + 6;
+  RandomProblem random(5);
+  const FlatProblem p = random_flat_problem(random, s, chain);
+  const std::vector<Scalar> clean(p.in.begin(), p.in.end());
+  std::vector<Scalar> in = clean, out(Api::flat_out_size);
+  const auto status_of = [&](const auto& entry) {
+    entry.solve(in.data(), out.data());
+    return static_cast<unsigned>(out[status_at]);
+  };
+  for (const auto& entry : Api::flat_solves) EXPECT_EQ(status_of(entry) & not_finite_bit, 0u) << entry.policy;
+  if (checks_inputs) {
+    for (const Scalar bad : {std::numeric_limits<Scalar>::quiet_NaN(), std::numeric_limits<Scalar>::infinity()}) {
+      for (std::size_t i = 0; i < in.size(); ++i) {
+        in = clean;
+        in[i] = bad;
+        for (const auto& entry : Api::flat_solves)
+          EXPECT_NE(status_of(entry) & not_finite_bit, 0u) << entry.policy << ": " << bad << " at flat input " << i;
+      }
+    }
+  }
+  if (nc == 0 || !s.fixed_directions.empty()) return;  // alpha is not a run-time input
+  const std::size_t alpha_at = Api::flat_in_size - nc - 6 * nc;
+  for (std::size_t k = 0; k < nc; ++k) {
+    in = clean;
+    for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] = 0;
+    for (const auto& entry : Api::flat_solves) {
+      EXPECT_NE(status_of(entry) & solver::status_constraint_rank_deficient, 0u) << entry.policy << " alpha_" << k << " = 0";
+      for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " alpha_" << k << " = 0";
+    }
+  }
+  std::vector<Scalar> unit_qdd(n);
+  for (const auto& entry : Api::flat_solves) {
+    in = clean;
+    if (status_of(entry) != 0) continue;  // saturation or a dropped pivot: compare only plain solves
+    std::copy(out.begin(), out.begin() + n, unit_qdd.begin());
+    const Scalar scale = Scalar(64);
+    for (std::size_t k = 0; k < nc; ++k) {
+      for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] *= scale;
+      in[Api::flat_in_size - nc + k] *= scale;
+    }
+    EXPECT_EQ(status_of(entry), 0u) << entry.policy;
+    const long double e = relative_error(std::vector<long double>(out.begin(), out.begin() + n),
+                                         std::vector<long double>(unit_qdd.begin(), unit_qdd.end()));
+    EXPECT_LE(e, 1e4L * std::numeric_limits<Scalar>::epsilon()) << entry.policy << ": alpha and beta scaled by 64";
+  }
+}
+
 }  // namespace sweepgen::test

@@ -1,0 +1,34 @@
+// The joint-space articulated inertia D_i = d_i + S_i^T M^A_i S_i (docs/derivation.md, I1) and
+// the scale it is judged against (docs/stability.md, "Joint-space inertia D_i").
+//
+// D_i is the inertia the outboard articulated body shows through joint i. Rounding perturbs
+// it by about eps times the size of the entries of M^A_i it is read from, so its relative
+// accuracy is eps / ρ_i with
+//     ρ_i = D_i / (d_i + tr A^A_i)   revolute joint  (A^A_i: rotational block about the body origin, kg m²)
+//     ρ_i = D_i / (d_i + tr C^A_i)   prismatic joint (C^A_i: translational block, kg)
+// 0 <= ρ_i <= 1 (S_i is a unit axis and the blocks are positive semi-definite). ρ_i has no
+// units: scaling lengths and masses by any factors leaves it unchanged, so a rule on ρ_i
+// makes the same decision for a robot in any units.
+#pragma once
+
+#include "solver/solver_model.hpp"
+#include "solver/state.hpp"
+
+namespace sweepgen::solver {
+
+// d_i + tr of the block of M^A_i that S_i reads.
+template <class Scalar>
+Scalar joint_inertia_scale(const JointModel<Scalar>& joint, const spatial::Inertia<Scalar>& articulated) {
+  const Mat3<Scalar>& block = joint.type == model::JointType::revolute ? articulated.A : articulated.C;
+  return joint.rotor_inertia + block(0, 0) + block(1, 1) + block(2, 2);
+}
+
+// ρ_i = D_i / (d_i + tr block), 0 where the scale is 0 (nothing moves through the joint).
+// For measurements; the solver's rule compares without dividing.
+template <class Scalar>
+Scalar relative_joint_inertia(const JointModel<Scalar>& joint, const BodyArticulated<Scalar>& body) {
+  const Scalar scale = joint_inertia_scale(joint, body.articulated_inertia);
+  return scale > Scalar(0) ? body.D / scale : Scalar(0);
+}
+
+}  // namespace sweepgen::solver
