@@ -1,7 +1,9 @@
 // sweepgen command line: one subcommand per job.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <iostream>
 
+#include "cli/family_command.hpp"
 #include "cli/generate_command.hpp"
 #include "cli/output_files.hpp"
 #include "cli/solve_command.hpp"
@@ -9,6 +11,9 @@
 #include "report/report_command.hpp"
 
 int main(int argc, char** argv) {
+  // A write beyond the file-size limit (RLIMIT_FSIZE, a full quota) then fails with EFBIG
+  // instead of killing the process: the writer reports it (exit 3) and removes its temporaries.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"sweepgen: robot-specific Popov-Vereshchagin (ACHD) solvers from URDF"};
   app.set_version_flag("--version", std::string("sweepgen ") + SWEEPGEN_VERSION);
   app.require_subcommand(1);
@@ -20,6 +25,8 @@ int main(int argc, char** argv) {
   sweepgen::cli::add_info_command(app, info_options);
   sweepgen::report::ReportOptions report_options;
   sweepgen::report::add_report_command(app, report_options);
+  sweepgen::cli::FamilyOptions family_options;
+  sweepgen::cli::add_family_command(app, family_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -30,6 +37,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("generate")) return sweepgen::cli::run_generate(generate_options);
     if (app.got_subcommand("info")) return sweepgen::cli::run_info(info_options);
     if (app.got_subcommand("report")) return sweepgen::report::run_report(report_options);
+    if (app.got_subcommand("family")) return sweepgen::cli::run_family(family_options);
   } catch (const sweepgen::InputError& e) {
     std::cerr << "sweepgen: error: " << e.what() << "\n";
     return 1;

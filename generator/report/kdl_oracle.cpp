@@ -204,6 +204,7 @@ VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, cons
     if (jacobian_solver.JntToJac(in.q, J) < 0) return unavailable("KDL JntToJac failed");
     const Eigen::VectorXd tau = problems[state].tau_ff + J.data.transpose() * (-(in.alfa.data * nu[state]));
     for (std::size_t i = 0; i < n; ++i) o.tau_cmd.push_back(tau[static_cast<Eigen::Index>(i)]);
+    for (std::size_t k = 0; k < nc; ++k) o.nu.push_back(-nu[state][static_cast<Eigen::Index>(k)]);  // KDL's ν is −ν
     // KDL's Ẍ_N (base orientation, about body N's origin) -> body N frame -> tip frame.
     const spatial::Motion<double> body{in.R_tip_body.transpose() * from_kdl(tip_acceleration[state].rot),
                                        in.R_tip_body.transpose() * from_kdl(tip_acceleration[state].vel)};

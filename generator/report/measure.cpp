@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "solver/joint_inertia.hpp"
 #include "solver/reference_solver.hpp"
 
 namespace sweepgen::report {
@@ -31,11 +32,23 @@ void append(std::vector<double>& flat, const Vector& v) {
   flat.insert(flat.end(), v.data(), v.data() + v.size());
 }
 
+// cond_2 in Precise: measures condition numbers up to ~1e30, far beyond what double can.
 double condition_number(const solver::ConstraintMatrix<Precise>& E) {
   if (E.rows() == 0) return 1;
-  const Eigen::MatrixXd Ed = E.cast<double>();
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(Ed).singularValues();
-  return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : std::numeric_limits<double>::infinity();
+  using Matrix = Eigen::Matrix<Precise, Eigen::Dynamic, Eigen::Dynamic>;
+  const Eigen::Matrix<Precise, Eigen::Dynamic, 1> sv = Eigen::JacobiSVD<Matrix>(Matrix(E)).singularValues();
+  return sv(sv.size() - 1) > Precise(0) ? static_cast<double>(sv(0) / sv(sv.size() - 1))
+                                         : std::numeric_limits<double>::infinity();
+}
+
+// cond_2 of diag(E)^-1/2 E diag(E)^-1/2 (infinite when a diagonal entry is 0).
+double scaled_condition_number(const solver::ConstraintMatrix<Precise>& E) {
+  solver::ConstraintMatrix<Precise> S = E;
+  for (Eigen::Index k = 0; k < E.rows(); ++k)
+    if (!(E(k, k) > Precise(0))) return std::numeric_limits<double>::infinity();
+  for (Eigen::Index r = 0; r < E.rows(); ++r)
+    for (Eigen::Index c = 0; c < E.cols(); ++c) S(r, c) = E(r, c) / sqrt(E(r, r) * E(c, c));
+  return condition_number(S);
 }
 
 template <class Vector>
@@ -51,6 +64,23 @@ std::size_t flat_in_size(const scene::Scene& s, const model::Chain& chain) {
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   return 2 * n + s.layout.torques.size() * n + 6 * s.layout.external_forces.size() +
          (s.fixed_directions.empty() ? 6 * nc : 0) + nc;
+}
+
+void pack_flat(const scene::Scene& s, Problem& p) {
+  p.flat.clear();
+  append(p.flat, p.q);
+  append(p.flat, p.qd);
+  for (const auto& t : p.torques) append(p.flat, t);
+  for (const auto& w : p.wrenches) {
+    append(p.flat, w.moment);
+    append(p.flat, w.force);
+  }
+  if (s.fixed_directions.empty())
+    for (const auto& a : p.alpha) {
+      append(p.flat, a.moment);
+      append(p.flat, a.force);
+    }
+  append(p.flat, p.beta);
 }
 
 std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& chain, std::size_t count,
@@ -90,26 +120,19 @@ std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& 
     p.beta.resize(static_cast<Eigen::Index>(nc));
     for (auto& b : p.beta) b = random.uniform(-3, 3);
 
-    append(p.flat, p.q);
-    append(p.flat, p.qd);
-    for (const auto& t : p.torques) append(p.flat, t);
-    for (const auto& w : p.wrenches) {
-      append(p.flat, w.moment);
-      append(p.flat, w.force);
-    }
-    if (s.fixed_directions.empty())
-      for (const auto& a : p.alpha) {
-        append(p.flat, a.moment);
-        append(p.flat, a.force);
-      }
-    append(p.flat, p.beta);
+    pack_flat(s, p);
   }
   return problems;
 }
 
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
                                      const std::vector<Problem>& problems) {
-  solver::ReferenceSolver<Precise> reference(chain, s.layout, s.solver_options());
+  return precise_reference(s, chain, problems, s.solver_options());
+}
+
+std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
+                                     const std::vector<Problem>& problems, const solver::SolverOptions& options) {
+  solver::ReferenceSolver<Precise> reference(chain, s.layout, options);
   const auto cast = [](const spatial::Force<double>& f) {
     return spatial::Force<Precise>{f.moment.cast<Precise>(), f.force.cast<Precise>()};
   };
@@ -123,21 +146,55 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
     for (std::size_t k = 0; k < p.alpha.size(); ++k) d.constraint_directions[k] = cast(p.alpha[k]);
     reference.decompose();
     const auto& r = reference.solve(solver::Policy::original, p.beta.cast<Precise>());
-    truth.push_back({widen(r.qdd), widen(r.tau_cmd), condition_number(reference.articulated().body[0].constraint_energy)});
+    const auto& E = reference.articulated().body[0].constraint_energy;
+    Truth t{widen(r.qdd), widen(r.tau_cmd), widen(r.nu), {}, condition_number(E), scaled_condition_number(E), 1,
+            reference.status()};
+    for (std::size_t i = 1; i <= chain.dof(); ++i)
+      t.min_relative_D = std::min(t.min_relative_D, static_cast<double>(solver::relative_joint_inertia(
+                                                        reference.model().joints[i], reference.articulated().body[i])));
+    // The same state with α = 0: every pivot is 0, so ν = 0 and q̈ is the free motion.
+    for (std::size_t k = 0; k < p.alpha.size(); ++k) d.constraint_directions[k] = spatial::Force<Precise>{};
+    if (!p.alpha.empty()) {
+      reference.decompose();
+      t.qdd_free = widen(reference.solve(solver::Policy::original, p.beta.cast<Precise>()).qdd);
+    } else {
+      t.qdd_free = t.qdd;
+    }
+    truth.push_back(std::move(t));
   }
   return truth;
 }
 
-VariantResult measure_reference_double(const scene::Scene& s, const model::Chain& chain,
-                                       const std::vector<Problem>& problems, const TimingOptions& timing) {
-  solver::ReferenceSolver<double> reference(chain, s.layout, s.solver_options());
-  const std::size_t n = chain.dof(), stride = 2 * n + 7;
+namespace {
+// ReferenceSolver<Scalar> on the states (inputs rounded to Scalar outside the timed loop).
+template <class Scalar>
+VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
+                                const TimingOptions& timing, const char* scalar_name) {
+  solver::ReferenceSolver<Scalar> reference(chain, s.layout, s.solver_options());
+  const std::size_t n = chain.dof(), nc = s.layout.constraints, stride = 2 * n + nc + 7;
   // Results go to a plain buffer inside the timed loop (as the generated code's do), widened after.
-  std::vector<double> out(problems.size() * stride);
+  std::vector<Scalar> out(problems.size() * stride);
+  struct Input {
+    solver::JointVector<Scalar> q, qd;
+    std::vector<solver::JointVector<Scalar>> torques;
+    std::vector<spatial::Force<Scalar>> wrenches, alpha;
+    solver::ConstraintVector<Scalar> beta;
+  };
+  const auto cast = [](const spatial::Force<double>& f) {
+    return spatial::Force<Scalar>{f.moment.cast<Scalar>(), f.force.cast<Scalar>()};
+  };
+  std::vector<Input> inputs;
+  for (const Problem& p : problems) {
+    Input in{p.q.cast<Scalar>(), p.qd.cast<Scalar>(), {}, {}, {}, p.beta.cast<Scalar>()};
+    for (const auto& t : p.torques) in.torques.push_back(t.cast<Scalar>());
+    for (const auto& w : p.wrenches) in.wrenches.push_back(cast(w));
+    for (const auto& a : p.alpha) in.alpha.push_back(cast(a));
+    inputs.push_back(std::move(in));
+  }
   unsigned rank_deficient_bit = solver::status_constraint_rank_deficient;
   const auto run_all = [&] {
-    double* o = out.data();
-    for (const Problem& p : problems) {
+    Scalar* o = out.data();
+    for (const Input& p : inputs) {
       reference.outward(p.q, p.qd);
       auto& d = reference.drivers();
       for (std::size_t t = 0; t < p.torques.size(); ++t) d.torques[t] = p.torques[t];
@@ -149,25 +206,39 @@ VariantResult measure_reference_double(const scene::Scene& s, const model::Chain
         o[i] = r.qdd[static_cast<Eigen::Index>(i)];
         o[n + i] = r.tau_cmd[static_cast<Eigen::Index>(i)];
       }
+      for (std::size_t k = 0; k < nc; ++k) o[2 * n + k] = r.nu[static_cast<Eigen::Index>(k)];
       for (int k = 0; k < 3; ++k) {
-        o[2 * n + k] = r.tip_acceleration.angular[k];
-        o[2 * n + 3 + k] = r.tip_acceleration.linear[k];
+        o[2 * n + nc + k] = r.tip_acceleration.angular[k];
+        o[2 * n + nc + 3 + k] = r.tip_acceleration.linear[k];
       }
-      o[2 * n + 6] = static_cast<double>(reference.status());
+      o[2 * n + nc + 6] = static_cast<Scalar>(reference.status());
       o += stride;
     }
   };
-  VariantResult result{"reference", "double", "", time_passes(problems.size(), timing, run_all), {}};
+  VariantResult result{"reference", scalar_name, "", time_passes(problems.size(), timing, run_all), {}};
   for (std::size_t state = 0; state < problems.size(); ++state) {
-    const double* o = out.data() + state * stride;
+    const Scalar* o = out.data() + state * stride;
     Outcome outcome;
     outcome.qdd.assign(o, o + n);
     outcome.tau_cmd.assign(o + n, o + 2 * n);
-    for (int k = 0; k < 6; ++k) outcome.tip_acceleration[static_cast<std::size_t>(k)] = o[2 * n + k];
-    outcome.rank_deficient = static_cast<unsigned>(o[2 * n + 6]) & rank_deficient_bit;
+    outcome.nu.assign(o + 2 * n, o + 2 * n + nc);
+    for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[2 * n + nc + k];
+    outcome.status = static_cast<unsigned>(o[2 * n + nc + 6]);
+    outcome.rank_deficient = outcome.status & rank_deficient_bit;
     result.outcomes.push_back(std::move(outcome));
   }
   return result;
+}
+}  // namespace
+
+VariantResult measure_reference_double(const scene::Scene& s, const model::Chain& chain,
+                                       const std::vector<Problem>& problems, const TimingOptions& timing) {
+  return measure_reference<double>(s, chain, problems, timing, "double");
+}
+
+VariantResult measure_reference_float(const scene::Scene& s, const model::Chain& chain,
+                                      const std::vector<Problem>& problems, const TimingOptions& timing) {
+  return measure_reference<float>(s, chain, problems, timing, "float");
 }
 
 template <class Scalar>
@@ -190,8 +261,10 @@ VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name
     Outcome outcome;
     outcome.qdd.assign(o, o + n);
     outcome.tau_cmd.assign(o + n, o + 2 * n);
+    outcome.nu.assign(o + 3 * n, o + 3 * n + nc);
     for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[3 * n + nc + k];
-    outcome.rank_deficient = static_cast<unsigned>(o[3 * n + nc + 6]) & solver::status_constraint_rank_deficient;
+    outcome.status = static_cast<unsigned>(o[3 * n + nc + 6]);
+    outcome.rank_deficient = outcome.status & solver::status_constraint_rank_deficient;
     result.outcomes.push_back(std::move(outcome));
   }
   return result;
@@ -205,12 +278,12 @@ template VariantResult measure_generated<float>(FlatSolve<float>, const char*, s
 Precise relative_error(const std::vector<Precise>& a, const std::vector<Precise>& b) {
   Precise diff = 0, scale = 1;
   for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-    scale = std::max(scale, std::abs(b[i]));
+    diff = std::max(diff, abs(a[i] - b[i]));
+    scale = std::max(scale, abs(b[i]));
   }
   // NaN in the answer is the worst error there is.
   for (const Precise v : a)
-    if (!std::isfinite(v)) return std::numeric_limits<Precise>::infinity();
+    if (!isfinite(v)) return std::numeric_limits<Precise>::infinity();
   return diff / scale;
 }
 
@@ -239,17 +312,17 @@ Summary summarize(const VariantResult& result, const std::vector<Problem>& probl
     summary.max_rel_err_tau = std::max(summary.max_rel_err_tau, relative_error(o.tau_cmd, t.tau_cmd));
     // |alpha_k^T Xdd_tip - beta_k| / max(1, |beta|_inf, |Xdd_tip|_inf), worst k.
     Precise scale = 1, worst = 0;
-    for (const Precise v : o.tip_acceleration) scale = std::max(scale, std::abs(v));
+    for (const Precise v : o.tip_acceleration) scale = std::max(scale, abs(v));
     for (Eigen::Index k = 0; k < p.beta.size(); ++k) scale = std::max(scale, static_cast<Precise>(std::abs(p.beta[k])));
     for (std::size_t k = 0; k < p.alpha.size(); ++k) {
       Precise projection = 0;
       for (int c = 0; c < 3; ++c)
         projection += static_cast<Precise>(p.alpha[k].moment[c]) * o.tip_acceleration[static_cast<std::size_t>(c)] +
                       static_cast<Precise>(p.alpha[k].force[c]) * o.tip_acceleration[static_cast<std::size_t>(3 + c)];
-      worst = std::max(worst, std::abs(projection - static_cast<Precise>(p.beta[static_cast<Eigen::Index>(k)])));
+      worst = std::max(worst, abs(projection - static_cast<Precise>(p.beta[static_cast<Eigen::Index>(k)])));
     }
     for (const Precise v : o.tip_acceleration)
-      if (!std::isfinite(v)) worst = std::numeric_limits<Precise>::infinity();
+      if (!isfinite(v)) worst = std::numeric_limits<Precise>::infinity();
     summary.max_constraint_residual = std::max(summary.max_constraint_residual, worst / scale);
   }
   summary.median_rel_err_qdd = quantile(qdd_errors, 0.5);

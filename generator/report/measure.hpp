@@ -12,18 +12,18 @@
 
 #include "model/chain.hpp"
 #include "scene/scene.hpp"
+#include "solver/quad_scalar.hpp"
 #include "solver/state.hpp"
 #include "spatial/spatial.hpp"
 
 namespace sweepgen::report {
 
-// The referee: ReferenceSolver in a scalar wider than double. long double is the 80-bit x87
-// format on x86-64 (64-bit mantissa) and IEEE quad on aarch64; where it is only double
-// (MSVC, some PowerPC ABIs) there is no wider built-in scalar that Eigen takes as is, and the
-// report refuses to build rather than compare double with itself.
-using Precise = long double;
-static_assert(std::numeric_limits<Precise>::digits > std::numeric_limits<double>::digits,
-              "sweepgen report needs a long double wider than double as its high-precision reference");
+// The referee: ReferenceSolver in IEEE binary128 (113-bit mantissa, solver/quad_scalar.hpp).
+// Wider than long double (64 bits on x86-64), which cannot judge double where double loses more
+// than ~3 digits (docs/stability.md).
+using Precise = solver::Quad;
+static_assert(std::numeric_limits<Precise>::digits >= 2 * std::numeric_limits<double>::digits,
+              "the high-precision reference must be at least twice as wide as double");
 
 // States whose cond(E^A_cstr,0) exceeds this are counted apart: there rounding is amplified
 // by the condition number in any solver of a given precision.
@@ -48,22 +48,39 @@ struct Problem {
 std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& chain, std::size_t count,
                                      unsigned long long seed);
 
+// Fills p.flat, the generated code's flat input (q, q̇, torques, wrenches, run-time α, β).
+void pack_flat(const scene::Scene& s, Problem& p);
+
 // Number of values in the generated flat input of the scene.
 std::size_t flat_in_size(const scene::Scene& s, const model::Chain& chain);
 
 // The high-precision answer for one state.
 struct Truth {
-  std::vector<Precise> qdd, tau_cmd;
+  std::vector<Precise> qdd, tau_cmd, nu;
+  // q̈ of the same state without the constraint (α = 0): the constraint's share q̈ − q̈_free can
+  // cancel most of it, and rounding is relative to the larger of the two (docs/stability.md).
+  std::vector<Precise> qdd_free;
   double cond = 1;  // cond_2(E^A_cstr,0), 1 when Nc = 0
+  // cond_2 of E^A_cstr,0 with its diagonal scaled to 1 (each direction by 1/sqrt(E_kk)): the
+  // condition number the relative pivot test sees, invariant under the units of each direction.
+  double cond_scaled = 1;
+  // min_i D_i / (d_i + trace of M^A_i's block of the joint's kind): how close a joint's
+  // articulated inertia comes to 0 relative to its own scale (docs/stability.md).
+  double min_relative_D = 1;
+  unsigned status = 0;  // the reference's status bits in Precise, with `options`' tolerances
 };
+// `options`: the solver options the referee runs with (default: the scene's).
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
                                      const std::vector<Problem>& problems);
+std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
+                                     const std::vector<Problem>& problems, const solver::SolverOptions& options);
 
 // One variant's answer for one state, widened.
 struct Outcome {
-  std::vector<Precise> qdd, tau_cmd;
+  std::vector<Precise> qdd, tau_cmd, nu;
   std::array<Precise, 6> tip_acceleration{};  // [angular; linear], tip frame, minus gravity
   bool rank_deficient = false;                // the variant reported constraint_rank_deficient
+  unsigned status = 0;                        // every status bit the variant reported
 };
 
 // One row of the report.
@@ -97,6 +114,10 @@ std::vector<double> time_passes(std::size_t states, const TimingOptions& timing,
 // ReferenceSolver<double>: outward + decompose + solve(original) per state.
 VariantResult measure_reference_double(const scene::Scene& s, const model::Chain& chain,
                                        const std::vector<Problem>& problems, const TimingOptions& timing);
+// ReferenceSolver<float> (inputs rounded to float): the operations of the generated float code
+// (the generated code is the traced reference; tests/generated/ check them against each other).
+VariantResult measure_reference_float(const scene::Scene& s, const model::Chain& chain,
+                                      const std::vector<Problem>& problems, const TimingOptions& timing);
 
 // A generated flat solve (`in` -> `out`, layout of templates/solver.hpp.mustache) in Scalar.
 template <class Scalar>

@@ -141,7 +141,7 @@ int run_report(const ReportOptions& options) {
   const std::vector<Problem> problems = random_problems(s, chain, options.states, options.seed);
   TimingOptions timing;
   timing.repetitions = options.repetitions;
-  detail("high-precision reference (ReferenceSolver<long double>)...");
+  detail("high-precision reference (ReferenceSolver<Quad>, IEEE binary128)...");
   const std::vector<Truth> truth = precise_reference(s, chain, problems);
   std::vector<VariantResult> results;
   detail("reference double (ReferenceSolver<double>)...");
@@ -167,7 +167,7 @@ int run_report(const ReportOptions& options) {
             << "), " << n << " joints, Nc = " << nc << ", policy original\n"
             << options.states << " random states (seed " << options.seed << "); time per solve (outward + decompose + "
             << "solve) over " << options.repetitions << " passes after a warm-up: median and p90\n"
-            << "errors against ReferenceSolver<long double> (" << std::numeric_limits<Precise>::digits
+            << "errors against ReferenceSolver<Quad> (" << std::numeric_limits<Precise>::digits
             << "-bit mantissa) over the " << options.states - ill << " states with cond(E^A_cstr,0) <= 1e6; "
             << ill << " states beyond\n"
             << "generated code: " << command_line(command) << "\n\n";

@@ -206,7 +206,7 @@ void plot(const std::vector<ReportRow>& rows, const std::string& title, const st
          << "set logscale xy\n"
          << "set format y '10^{%L}'\n"
          << "set xlabel 'run time per solve, median [ns] (log)'\n"
-         << "set ylabel 'max relative error of qdd vs long double, cond <= 1e6 (log)'\n"
+         << "set ylabel 'max relative error of qdd vs quad (binary128), cond <= 1e6 (log)'\n"
          << "set grid xtics ytics mxtics\n"
          << "set key off\n"
          << "set xrange [" << x_min << ":" << x_max << "]\n"
