@@ -7,10 +7,21 @@
 
 namespace sweepgen {
 
+// what() is a C string: a NUL byte in a name taken from the input (YAML "\0", JSON "\u0000") would
+// cut the message there, dropping the element or the reason. Messages spell NUL as "\0".
+inline std::string message_text(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\0') out += "\\0";
+    else out += c;
+  }
+  return out;
+}
+
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, const std::string& element, const std::string& reason)
-      : std::runtime_error(file + ": " + element + ": " + reason) {}
+      : std::runtime_error(message_text(file + ": " + element + ": " + reason)) {}
 };
 
 // " (did you mean 'x'?)" for the candidate closest to `name` by edit distance, or "".

@@ -1,0 +1,58 @@
+# Shared by fuzz/CMakeLists.txt (the libFuzzer targets) and tests/CMakeLists.txt (the regression
+# test test_fuzz_regressions, built in every configuration): the fuzz targets' entry functions
+# and their seed inputs, so that both run the same code on the same seeds.
+
+if(NOT TARGET sweepgen_fuzz_entries)
+  # The solve-line reader (cli/json_problem.cpp) is part of the sweepgen executable, not of
+  # sweepgen_core, so it is compiled in here.
+  add_library(sweepgen_fuzz_entries STATIC
+    ${PROJECT_SOURCE_DIR}/fuzz/fuzz_entries.cpp
+    ${PROJECT_SOURCE_DIR}/generator/cli/json_problem.cpp)
+  target_include_directories(sweepgen_fuzz_entries PUBLIC ${PROJECT_SOURCE_DIR}/fuzz)
+  target_compile_definitions(sweepgen_fuzz_entries PRIVATE SWEEPGEN_FUZZ_ROBOTS_DIR="${PROJECT_SOURCE_DIR}/robots")
+  target_link_libraries(sweepgen_fuzz_entries PUBLIC sweepgen_core nlohmann_json::nlohmann_json)
+  target_compile_options(sweepgen_fuzz_entries PRIVATE -Wall -Wextra -Wpedantic)
+endif()
+
+# sweepgen_fuzz_seeds(TARGET DIR): writes the seed inputs of fuzz target TARGET (urdf, scene or
+# solve_line) into DIR: what robots/ bundles for that reader (every URDF; every scene; each line of
+# robots/panda/example_states.jsonl as a file) and the hand-written seeds in fuzz/corpus/TARGET/.
+# Runs at configure time; a change to any of those files reconfigures.
+function(sweepgen_fuzz_seeds target dir)
+  set(robots ${PROJECT_SOURCE_DIR}/robots)
+  file(MAKE_DIRECTORY ${dir})
+  if(target STREQUAL "urdf")
+    file(GLOB bundled CONFIGURE_DEPENDS ${robots}/*/*.urdf)
+  elseif(target STREQUAL "scene")
+    file(GLOB bundled CONFIGURE_DEPENDS ${robots}/*/*.yaml)
+  elseif(target STREQUAL "solve_line")
+    set(bundled)
+    set(states ${robots}/panda/example_states.jsonl)
+    file(READ ${states} text)
+    # Split by hand rather than through a CMake list: JSON's brackets and ';' confuse lists.
+    set(number 0)
+    while(NOT text STREQUAL "")
+      string(FIND "${text}" "\n" newline)
+      if(newline EQUAL -1)
+        set(line "${text}")
+        set(text "")
+      else()
+        string(SUBSTRING "${text}" 0 ${newline} line)
+        math(EXPR next "${newline} + 1")
+        string(SUBSTRING "${text}" ${next} -1 text)
+      endif()
+      math(EXPR number "${number} + 1")
+      if(NOT line MATCHES "^[ \t\r]*$")  # `sweepgen solve` skips blank lines
+        file(WRITE ${dir}/example_states_${number}.json "${line}")
+      endif()
+    endwhile()
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${states})
+  else()
+    message(FATAL_ERROR "sweepgen_fuzz_seeds: unknown fuzz target '${target}' (urdf, scene, solve_line)")
+  endif()
+  file(GLOB handwritten CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/fuzz/corpus/${target}/*)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${bundled} ${handwritten})
+  if(bundled OR handwritten)
+    file(COPY ${bundled} ${handwritten} DESTINATION ${dir})
+  endif()
+endfunction()

@@ -1,0 +1,294 @@
+#include "fuzz_entries.hpp"
+
+#include <stdlib.h>  // mkdtemp
+
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/json_problem.hpp"
+#include "model/error.hpp"
+#include "model/urdf_loader.hpp"
+#include "scene/scene.hpp"
+
+#ifndef SWEEPGEN_FUZZ_ROBOTS_DIR
+#error "SWEEPGEN_FUZZ_ROBOTS_DIR (the robots/ directory) must be defined"
+#endif
+
+namespace sweepgen::fuzz {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void violation(const std::string& what) { throw ContractViolation(what); }
+
+// Where inputs are written: the readers take file paths. One directory per process, holding
+// copies of the bundled URDFs so that fuzzed scenes can name them as the bundled scenes do.
+class Sandbox {
+ public:
+  Sandbox() {
+    std::string pattern = (fs::temp_directory_path() / "sweepgen-fuzz-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("fuzz harness: cannot create " + pattern);
+    dir_ = pattern;
+    for (const auto& robot : fs::directory_iterator(SWEEPGEN_FUZZ_ROBOTS_DIR)) {
+      if (!robot.is_directory()) continue;
+      for (const auto& file : fs::directory_iterator(robot.path()))
+        if (file.path().extension() == ".urdf")  // a name in two robots/ folders: the first one found
+          fs::copy_file(file.path(), dir_ / file.path().filename(), fs::copy_options::skip_existing);
+    }
+  }
+  ~Sandbox() {
+    std::error_code ignored;
+    fs::remove_all(dir_, ignored);
+  }
+  Sandbox(const Sandbox&) = delete;
+  Sandbox& operator=(const Sandbox&) = delete;
+
+  const fs::path& dir() const { return dir_; }
+
+  // Writes `bytes` to `name` in the sandbox and returns its path.
+  std::string write(const std::string& name, const std::string& bytes) const {
+    const fs::path path = dir_ / name;
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw std::runtime_error("fuzz harness: cannot write " + path.string());
+    return path.string();
+  }
+
+ private:
+  fs::path dir_;
+};
+
+const Sandbox& sandbox() {
+  static const Sandbox instance;
+  return instance;
+}
+
+// ---- Error messages -------------------------------------------------------------------------
+
+// InputError's "FILE: ELEMENT: REASON", where FILE is `file` itself or, for scene positions,
+// "file:LINE:COLUMN". ELEMENT and REASON must not be empty.
+void check_input_error(const std::string& message, const std::string& file) {
+  if (message.rfind(file, 0) != 0) violation("error message does not start with the file '" + file + "': " + message);
+  std::size_t at = file.size();
+  for (int field = 0; field < 2 && at < message.size() && message[at] == ':' &&
+                      at + 1 < message.size() && std::isdigit(static_cast<unsigned char>(message[at + 1]));
+       ++field) {
+    ++at;
+    while (at < message.size() && std::isdigit(static_cast<unsigned char>(message[at]))) ++at;
+  }
+  if (message.compare(at, 2, ": ") != 0) violation("no ': ' after the file (and position): " + message);
+  const std::string rest = message.substr(at + 2);
+  const std::size_t separator = rest.find(": ");
+  if (separator == 0 || separator == std::string::npos || separator + 2 == rest.size())
+    violation("error message names no element or gives no reason: " + message);
+}
+
+// KeyError's "key 'KEY': REASON" with a non-empty reason.
+void check_key_error(const std::string& message) {
+  const std::size_t separator = message.find("': ");
+  if (message.rfind("key '", 0) != 0 || separator == std::string::npos || separator + 3 == message.size())
+    violation("error message does not name the key and a reason: " + message);
+}
+
+// ---- Accepted results -----------------------------------------------------------------------
+
+template <class Matrix>
+void check_finite(const Matrix& m, const std::string& what) {
+  if (!m.allFinite()) violation(what + " is not finite");
+}
+
+// A loaded chain is what the sweeps can run on: consistent sizes, unit axes, finite numbers,
+// and the root/tip that were asked for.
+void check_chain(const model::Chain& chain, const model::ChainSpec& spec) {
+  if (chain.bodies.size() < 2 || chain.joints.size() != chain.bodies.size())
+    violation("chain has " + std::to_string(chain.bodies.size()) + " bodies and " + std::to_string(chain.joints.size()) +
+              " joints");
+  if (!spec.root_link.empty() && chain.root_link != spec.root_link) violation("root link is not the one asked for");
+  if (!spec.tip_link.empty() && chain.tip_link != spec.tip_link) violation("tip link is not the one asked for");
+  for (const std::string& link : {chain.root_link, chain.tip_link})
+    if (!chain.frames.count(link)) violation("link '" + link + "' has no frame");
+  if (chain.frames.at(chain.root_link).body != 0) violation("root link is not on the base");
+  for (const auto& [link, frame] : chain.frames) {
+    if (frame.body >= chain.bodies.size()) violation("frame of '" + link + "' on a body that does not exist");
+    check_finite(frame.X.E, "frame of '" + link + "'");
+    check_finite(frame.X.r, "frame of '" + link + "'");
+  }
+  for (std::size_t i = 1; i < chain.joints.size(); ++i) {
+    const model::Joint& joint = chain.joints[i];
+    const std::string what = "joint " + std::to_string(i) + " ('" + joint.name + "')";
+    check_finite(joint.axis, what + " axis");
+    if (std::abs(joint.axis.norm() - 1) > 1e-9) violation(what + " axis is not a unit vector");
+    check_finite(joint.tree_transform.E, what + " tree transform");
+    check_finite(joint.tree_transform.r, what + " tree transform");
+    if (!(std::isfinite(joint.rotor_inertia) && joint.rotor_inertia >= 0)) violation(what + " rotor inertia");
+    if (!(joint.effort_limit > 0 && joint.velocity_limit > 0)) violation(what + " limits are not positive");
+    const model::Body& body = chain.bodies[i];
+    if (!(std::isfinite(body.mass) && body.mass >= 0)) violation("mass of body " + std::to_string(i));
+    check_finite(body.inertia.A, "inertia of body " + std::to_string(i));
+    check_finite(body.inertia.B, "inertia of body " + std::to_string(i));
+    check_finite(body.inertia.C, "inertia of body " + std::to_string(i));
+  }
+}
+
+// A parsed scene holds what scene.hpp promises before the chain is known.
+void check_scene(const scene::Scene& s) {
+  if (s.solver.empty() || s.chain.urdf.empty()) violation("scene without solver namespace or URDF");
+  check_finite(s.gravity, "gravity");
+  const solver::DriverLayout& layout = s.layout;
+  if (layout.constraints > solver::kMaxConstraints) violation("more than 6 constraints");
+  if (!s.fixed_directions.empty() && s.fixed_directions.size() != layout.constraints)
+    violation("fixed directions and constraint count differ");
+  for (const auto& d : s.fixed_directions) {
+    const double norm = std::sqrt(d.moment.squaredNorm() + d.force.squaredNorm());
+    if (!(std::abs(norm - 1) <= 1e-9)) violation("fixed direction is not a unit vector");
+  }
+  if (s.policies.empty() || s.scalars.empty()) violation("no policy or no scalar type");
+  if (!(s.pivot_tolerance == 0 || (s.pivot_tolerance > 0 && s.pivot_tolerance < 1))) violation("pivot tolerance");
+  for (const auto& [joint, d] : s.chain.rotor_inertia)
+    if (!(std::isfinite(d) && d >= 0)) violation("rotor inertia of '" + joint + "'");
+  for (const auto& name : layout.torques)
+    if (!scene::is_identifier(name)) violation("torque instance '" + name + "' is not an identifier");
+  for (const auto& force : layout.external_forces)
+    if (!scene::is_identifier(force.name) || force.link.empty()) violation("external force '" + force.name + "'");
+  // Every instance, and the bias, on exactly one track.
+  std::size_t bias = 0;
+  std::vector<int> torque_tracks(layout.torques.size()), force_tracks(layout.external_forces.size());
+  for (const auto& track : layout.tracks) {
+    bias += track.bias;
+    for (std::size_t i : track.torques) {
+      if (i >= torque_tracks.size()) violation("track '" + track.name + "' names a torque that does not exist");
+      ++torque_tracks[i];
+    }
+    for (std::size_t i : track.external_forces) {
+      if (i >= force_tracks.size()) violation("track '" + track.name + "' names a force that does not exist");
+      ++force_tracks[i];
+    }
+  }
+  if (bias != 1) violation("the bias is on " + std::to_string(bias) + " tracks");
+  for (const auto* counts : {&torque_tracks, &force_tracks})
+    for (int count : *counts)
+      if (count != 1) violation("a driver instance is on " + std::to_string(count) + " tracks");
+}
+
+void check_problem(const cli::Problem& p, const model::Chain& chain) {
+  const auto n = static_cast<Eigen::Index>(chain.dof());
+  if (p.q.size() != n || p.qd.size() != n || p.tau_ff.size() != n) violation("q, qd or tau_ff has the wrong size");
+  check_finite(p.q, "q");
+  check_finite(p.qd, "qd");
+  check_finite(p.tau_ff, "tau_ff");
+  if (p.alpha.size() > solver::kMaxConstraints || static_cast<Eigen::Index>(p.alpha.size()) != p.beta.size())
+    violation("alpha and beta sizes");
+  check_finite(p.beta, "beta");
+  for (const auto& a : p.alpha) {
+    check_finite(a.moment, "alpha");
+    check_finite(a.force, "alpha");
+  }
+  for (const auto& [link, wrench] : p.f_ext) {
+    const auto frame = chain.frames.find(link);
+    if (frame == chain.frames.end() || frame->second.body == 0) violation("f_ext on link '" + link + "'");
+    check_finite(wrench.moment, "f_ext");
+    check_finite(wrench.force, "f_ext");
+  }
+}
+
+// ---- Inputs ---------------------------------------------------------------------------------
+
+// Root and tip from an optional "<!-- chain root=LINK tip=LINK -->" anywhere in the URDF. A name
+// ends at white space or NUL: names come from the command line (--root, --tip), and argv
+// strings cannot hold NUL.
+void read_chain_directive(const std::string& input, model::ChainSpec& spec) {
+  const std::string opening = "<!-- chain ";
+  const std::size_t begin = input.find(opening);
+  if (begin == std::string::npos) return;
+  const std::size_t end = input.find("-->", begin);
+  if (end == std::string::npos) return;
+  std::istringstream words(input.substr(begin + opening.size(), end - begin - opening.size()));
+  for (std::string word; words >> word;) {
+    word = word.substr(0, word.find('\0'));
+    if (word.rfind("root=", 0) == 0) spec.root_link = word.substr(5);
+    if (word.rfind("tip=", 0) == 0) spec.tip_link = word.substr(4);
+  }
+}
+
+// Only URDFs in the sandbox are loaded for a fuzzed scene: a scene may name any path, and
+// reading arbitrary host files (/dev/zero, say) tests the machine, not the reader.
+bool in_sandbox(const std::string& path) {
+  const fs::path p(path);
+  std::error_code error;  // e.g. a name too long for the file system: not in the sandbox either
+  return p.parent_path() == sandbox().dir() && fs::is_regular_file(p, error);
+}
+
+const model::Chain& panda() {
+  static const model::Chain chain = [] {
+    model::ChainSpec spec;
+    spec.urdf = std::string(SWEEPGEN_FUZZ_ROBOTS_DIR) + "/panda/panda.urdf";
+    try {
+      return model::load_chain(spec);
+    } catch (const InputError& e) {
+      throw std::runtime_error(std::string("fuzz harness: cannot load the bundled Panda: ") + e.what());
+    }
+  }();
+  return chain;
+}
+
+}  // namespace
+
+Outcome urdf_input(const std::string& input) {
+  model::ChainSpec spec;
+  read_chain_directive(input, spec);
+  spec.urdf = sandbox().write("input.urdf", input);
+  try {
+    check_chain(model::load_chain(spec), spec);
+    return {true, ""};
+  } catch (const InputError& e) {
+    check_input_error(e.what(), spec.urdf);
+    return {false, e.what()};
+  }
+}
+
+Outcome scene_input(const std::string& input) {
+  const std::string path = sandbox().write("input.yaml", input);
+  try {
+    const scene::Scene s = scene::load_scene(path);
+    check_scene(s);
+    if (in_sandbox(s.chain.urdf)) {
+      const model::Chain chain = scene::load_scene_chain(s);
+      check_chain(chain, s.chain);
+      for (const auto& force : s.layout.external_forces) {
+        const auto frame = chain.frames.find(force.link);
+        if (frame == chain.frames.end() || frame->second.body == 0)
+          violation("external force '" + force.name + "' on link '" + force.link + "' accepted");
+      }
+    }
+    return {true, ""};
+  } catch (const InputError& e) {
+    check_input_error(e.what(), path);
+    return {false, e.what()};
+  }
+}
+
+Outcome solve_line_input(const std::string& input) {
+  const model::Chain& chain = panda();
+  nlohmann::json line;
+  try {
+    line = nlohmann::json::parse(input);
+  } catch (const nlohmann::json::exception& e) {
+    if (std::string(e.what()).empty()) violation("JSON error without a message");
+    return {false, e.what()};
+  }
+  try {
+    check_problem(cli::parse_problem(line, chain), chain);
+    return {true, ""};
+  } catch (const cli::KeyError& e) {
+    check_key_error(e.what());
+    return {false, e.what()};
+  }
+}
+
+}  // namespace sweepgen::fuzz
