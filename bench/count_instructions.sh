@@ -12,7 +12,8 @@
 # Cases: every generated scene's f64 variant x policy, full flat solve (outward + decompose +
 # solve), and outward + decompose; every f32 variant, full solve with the original policy; the
 # Panda scenes' re-solves (solve_<policy> only, new setpoints); KDL's Vereshchagin solver on
-# panda_link0 -> panda_link7 at Nc = 0, 3, 6; ReferenceSolver<double> on every scene (original).
+# the Panda at Nc = 0, 3, 6 and the iiwa 14 and UR5 at Nc = 6 (bench/support/kdl_bench.hpp);
+# ReferenceSolver<double> on every scene (original).
 # Prints a table with the floating-point operation counts the generator wrote into each header
 # and the ratio instructions / operation, then ratios against KDL, re-solve / full, reference /
 # generated; writes everything to BUILD_DIR/bench/instructions.csv.
@@ -138,12 +139,13 @@ ratio() {  # <numerator key> <denominator key>: prints num/den or "-"
 }
 
 echo
-echo "KDL ChainHdSolver_Vereshchagin (panda_link0 -> panda_link7) / generated f64 full solve, original policy"
+echo "KDL ChainHdSolver_Vereshchagin (root -> last moving link) / generated f64 full solve, original policy"
 echo "(how many times the instructions KDL needs):"
-for pair in "panda_nc0 0" "panda_nc3 3" "panda_nc6 6" "panda_bias_only 6" "panda_composed 6"; do
+for pair in "panda_nc0 panda/nc0" "panda_nc3 panda/nc3" "panda_nc6 panda/nc6" "panda_bias_only panda/nc6" \
+  "panda_composed panda/nc6" "iiwa14_nc6 iiwa14/nc6" "ur5_nc6 ur5/nc6"; do
   set -- $pair
-  printf '  %-18s vs KDL Nc=%s: %8s / %8s = %s\n' "$1" "$2" "${per_call[kdl/nc$2 - full]:--}" \
-    "${per_call[$1/f64 original full]:--}" "$(ratio "kdl/nc$2 - full" "$1/f64 original full")"
+  printf '  %-18s vs KDL %-11s: %8s / %8s = %s\n' "$1" "$2" "${per_call[kdl/$2 - full]:--}" \
+    "${per_call[$1/f64 original full]:--}" "$(ratio "kdl/$2 - full" "$1/f64 original full")"
 done
 
 echo

@@ -12,9 +12,10 @@
 //                             outward + decompose, resolve = solve_<policy> on a decomposed
 //                             state with new setpoints
 //   reference/<scene>         ReferenceSolver<double>; full or resolve
-//   kdl/nc0, kdl/nc3, kdl/nc6 KDL's ChainHdSolver_Vereshchagin on panda_link0 -> panda_link7
-//                             (if built with KDL); policy ignored (pass "-"), mode full
-// --list prints one line per id: "<id> <policy> <policy>..." ("kdl/ncK -" for KDL).
+//   kdl/<robot>/nc<K>         KDL's ChainHdSolver_Vereshchagin (bench/support/kdl_bench.hpp:
+//                             panda at K = 0, 3, 6; iiwa14, ur5 at K = 6; if built with KDL);
+//                             policy ignored (pass "-"), mode full
+// --list prints one line per id: "<id> <policy> <policy>..." ("kdl/<robot>/ncK -" for KDL).
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
@@ -38,10 +39,12 @@ int usage() {
 
 int run(const std::string& id, const std::string& policy, long calls, Mode mode) {
   double checksum = 0;
-  if (id.rfind("kdl/nc", 0) == 0) {
+  if (id.rfind("kdl/", 0) == 0) {
 #ifdef SWEEPGEN_BENCH_HAVE_KDL
     if (mode != Mode::full) throw std::runtime_error("KDL: only mode full");
-    KdlBench bench(static_cast<unsigned>(std::stoul(id.substr(6))));
+    const auto slash = id.find("/nc", 4);
+    if (slash == std::string::npos) throw std::runtime_error("expected kdl/<robot>/nc<K>: " + id);
+    KdlBench bench(id.substr(4, slash - 4), static_cast<unsigned>(std::stoul(id.substr(slash + 3))));
     for (long c = 0; c < calls; ++c) checksum += bench.call(static_cast<std::size_t>(c) % bench.count());
 #else
     throw std::runtime_error("built without KDL");
@@ -93,7 +96,7 @@ int main(int argc, char** argv) {
     }
     for (const auto& [stem, path] : bundled_scenes()) std::cout << "reference/" << stem << " original\n";
 #ifdef SWEEPGEN_BENCH_HAVE_KDL
-    for (int nc : {0, 3, 6}) std::cout << "kdl/nc" << nc << " -\n";
+    for (const auto& [robot, nc] : kdl_cases()) std::cout << "kdl/" << robot << "/nc" << nc << " -\n";
 #endif
     return 0;
   }

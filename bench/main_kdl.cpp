@@ -1,6 +1,7 @@
-// bench_kdl: KDL's ChainHdSolver_Vereshchagin::CartToJnt on the Panda, panda_link0 ->
-// panda_link7, at Nc = 0, 3, 6 (bench/support/kdl_bench.hpp: random q, qd, tau, unit alpha,
-// beta; wrenches on panda_link5 and panda_link7). Names: kdl/panda/nc<Nc>.
+// bench_kdl: KDL's ChainHdSolver_Vereshchagin::CartToJnt on the Panda (panda_link0 ->
+// panda_link7) at Nc = 0, 3, 6, and on the iiwa 14 and the UR5 at Nc = 6
+// (bench/support/kdl_bench.hpp: the random problems of each robot's Nc = 6 scene).
+// Names: kdl/<robot>/nc<Nc>.
 #include <benchmark/benchmark.h>
 
 #include <iostream>
@@ -13,9 +14,9 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   try {
-    for (unsigned nc : {0u, 3u, 6u}) {
-      auto bench = std::make_shared<KdlBench>(nc);
-      benchmark::RegisterBenchmark(("kdl/panda/nc" + std::to_string(nc)).c_str(), [bench](benchmark::State& st) {
+    for (const auto& [robot, nc] : kdl_cases()) {
+      auto bench = std::make_shared<KdlBench>(robot, nc);
+      benchmark::RegisterBenchmark(("kdl/" + robot + "/nc" + std::to_string(nc)).c_str(), [bench](benchmark::State& st) {
         std::size_t i = 0;
         for (auto _ : st) {
           benchmark::DoNotOptimize(bench->call(i));

@@ -1,18 +1,20 @@
-// KDL 1.5.1's ChainHdSolver_Vereshchagin on the Panda, chain panda_link0 -> panda_link7 (KDL's
-// solver crashes on chains with fixed joints, so not up to panda_hand as the scenes), on the
-// random problems of robots/panda/panda_nc6.yaml (bench/support/inputs.hpp): the same q, qd,
-// tau_ff; the `contact` wrench on panda_link5 and the `push` wrench on panda_link7 (the last
-// moving link, standing in for panda_hand); the first Nc of the random unit directions alpha
-// and setpoints beta. The wrenches and directions are passed to KDL as numbers without the
-// frame translation of tests/test_reference_kdl.cpp (KDL wants them in base orientation): the
-// cost of the solver does not depend on which frame the random numbers were meant in, and
-// external forces are always processed by KDL (a zero wrench costs the same).
+// KDL 1.5.1's ChainHdSolver_Vereshchagin on a bundled robot (kdl_targets()), on the random
+// problems of that robot's Nc = 6 scene (bench/support/inputs.hpp): the same q, qd and feed-forward
+// torque (the sum of the scene's torque instances), each external-force instance on its link's
+// segment, the first Nc of the scene's directions alpha (random unit directions, or the scene's
+// fixed ones) and setpoints beta. KDL's chain ends at the robot's last moving link (its solver
+// crashes on chains with fixed joints, so not up to the scenes' tips); loads on links behind it go
+// to its last segment. The wrenches and directions are passed to KDL as numbers without the frame
+// translation of tests/test_reference_kdl.cpp (KDL wants them in base orientation): the cost of
+// the solver does not depend on which frame the random numbers were meant in, and external forces
+// are always processed by KDL (a zero wrench costs the same).
 #pragma once
 
 #include <kdl/chain.hpp>
 #include <kdl/chainhdsolver_vereshchagin.hpp>
 #include <kdl/tree.hpp>
 #include <kdl_parser/kdl_parser.hpp>
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -22,42 +24,67 @@
 
 namespace sweepgen::bench {
 
+// The robots KDL is measured on: scene (Nc = 6), root and last moving link.
+struct KdlTarget {
+  std::string robot, scene, root, last_moving_link;
+};
+inline const std::vector<KdlTarget>& kdl_targets() {
+  static const std::vector<KdlTarget> targets = {
+      {"panda", "robots/panda/panda_nc6.yaml", "panda_link0", "panda_link7"},
+      {"iiwa14", "robots/iiwa14/iiwa14_nc6.yaml", "lbr_iiwa_link_0", "lbr_iiwa_link_7"},
+      {"ur5", "robots/ur5/ur5_nc6.yaml", "base_link", "wrist_3_link"},
+  };
+  return targets;
+}
+
 class KdlBench {
  public:
-  explicit KdlBench(unsigned nc) : nc_(nc) {
-    const std::string source = SWEEPGEN_SOURCE_DIR;
+  KdlBench(const std::string& robot, unsigned nc) : nc_(nc) {
+    const auto target = std::find_if(kdl_targets().begin(), kdl_targets().end(),
+                                     [&](const KdlTarget& t) { return t.robot == robot; });
+    if (target == kdl_targets().end()) throw std::runtime_error("KDL bench: no robot " + robot);
+    const SceneInputs s = make_inputs(std::string(SWEEPGEN_SOURCE_DIR) + "/" + target->scene);
     KDL::Tree tree;
-    if (!kdl_parser::treeFromFile(source + "/robots/panda/panda.urdf", tree))
-      throw std::runtime_error("kdl_parser cannot read robots/panda/panda.urdf");
-    if (!tree.getChain("panda_link0", "panda_link7", chain_))
-      throw std::runtime_error("KDL has no chain panda_link0 -> panda_link7");
+    if (!kdl_parser::treeFromFile(s.scene.chain.urdf, tree))
+      throw std::runtime_error("kdl_parser cannot read " + s.scene.chain.urdf);
+    if (!tree.getChain(target->root, target->last_moving_link, chain_))
+      throw std::runtime_error("KDL has no chain " + target->root + " -> " + target->last_moving_link);
     const unsigned n = chain_.getNrOfJoints();
+    if (s.dof != n || s.constraints != 6 || nc > 6) throw std::logic_error(target->scene + " does not match the KDL chain");
     // Root acceleration: minus gravity (tests/test_reference_kdl.cpp).
-    solver_ = std::make_unique<KDL::ChainHdSolver_Vereshchagin>(chain_, KDL::Twist(KDL::Vector(0, 0, 9.81), KDL::Vector::Zero()), nc);
-    const SceneInputs s = make_inputs(source + "/robots/panda/panda_nc6.yaml");
-    if (s.dof != n || s.constraints != 6) throw std::logic_error("panda_nc6 scene does not match the KDL chain");
+    const Eigen::Vector3d g = s.scene.gravity;
+    solver_ = std::make_unique<KDL::ChainHdSolver_Vereshchagin>(chain_, KDL::Twist(KDL::Vector(-g.x(), -g.y(), -g.z()), KDL::Vector::Zero()), nc);
+    std::vector<unsigned> load_segment;  // per external-force instance
+    for (const auto& ext : s.scene.layout.external_forces) {
+      unsigned segment = chain_.getNrOfSegments() - 1;
+      for (unsigned k = 0; k < chain_.getNrOfSegments(); ++k)
+        if (chain_.getSegment(k).getName() == ext.link) segment = k;
+      load_segment.push_back(segment);
+    }
     for (const auto& in : s.flat) {
       Problem p{KDL::JntArray(n), KDL::JntArray(n), KDL::JntArray(n), KDL::JntArray(nc), KDL::Jacobian(nc),
                 KDL::Wrenches(chain_.getNrOfSegments(), KDL::Wrench::Zero())};
       const double* at = in.data();
       for (unsigned i = 0; i < n; ++i) p.q(i) = *at++;
       for (unsigned i = 0; i < n; ++i) p.qd(i) = *at++;
-      for (unsigned i = 0; i < n; ++i) p.tau(i) = *at++;
-      const auto wrench = [&at] {  // [moment; force] -> Wrench(force, torque)
-        const KDL::Vector moment(at[0], at[1], at[2]), force(at[3], at[4], at[5]);
+      for (std::size_t t = 0; t < s.scene.layout.torques.size(); ++t)
+        for (unsigned i = 0; i < n; ++i) p.tau(i) += *at++;
+      for (unsigned segment : load_segment) {  // [moment; force] -> Wrench(force, torque)
+        p.f_ext[segment] = KDL::Wrench(KDL::Vector(at[3], at[4], at[5]), KDL::Vector(at[0], at[1], at[2]));
         at += 6;
-        return KDL::Wrench(force, moment);
-      };
-      p.f_ext[4] = wrench();      // contact on panda_link5 (segment 4)
-      p.f_ext[n - 1] = wrench();  // push, on panda_link7 here
-      for (unsigned k = 0; k < 6; ++k, at += 6)
-        if (k < nc)
-          for (int r = 0; r < 3; ++r) {
-            p.alfa(r, k) = at[3 + r];  // KDL rows: force, then moment
-            p.alfa(3 + r, k) = at[r];
-          }
-      for (unsigned k = 0; k < 6; ++k, ++at)
-        if (k < nc) p.beta(k) = *at;
+      }
+      std::vector<double> alpha;  // 6 x 6, [moment; force] per direction
+      for (const auto& d : s.scene.fixed_directions) alpha.insert(alpha.end(), {d.moment.x(), d.moment.y(), d.moment.z(), d.force.x(), d.force.y(), d.force.z()});
+      if (alpha.empty()) {
+        alpha.assign(at, at + 36);
+        at += 36;
+      }
+      for (unsigned k = 0; k < nc; ++k)
+        for (int r = 0; r < 3; ++r) {
+          p.alfa(r, k) = alpha[6 * k + 3 + r];  // KDL rows: force, then moment
+          p.alfa(3 + r, k) = alpha[6 * k + r];
+        }
+      for (unsigned k = 0; k < nc; ++k) p.beta(k) = at[k];
       problems_.push_back(std::move(p));
     }
     qdd_ = KDL::JntArray(n);
@@ -86,5 +113,10 @@ class KdlBench {
   std::vector<Problem> problems_;
   KDL::JntArray qdd_, torques_;
 };
+
+// What the benchmarks measure: the Panda at Nc = 0, 3, 6; the others at Nc = 6.
+inline std::vector<std::pair<std::string, unsigned>> kdl_cases() {
+  return {{"panda", 0}, {"panda", 3}, {"panda", 6}, {"iiwa14", 6}, {"ur5", 6}};
+}
 
 }  // namespace sweepgen::bench
