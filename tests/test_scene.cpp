@@ -37,6 +37,7 @@ policies: [original, prioritize_external, saturate, saturate_exact]
 scalars: [double, float]
 expose: all
 pivot_tolerance: 1e-12
+constraint_factorisation: damped
 )";
 
 // `text` with the first occurrence of `from` replaced by `to` (which must exist).
@@ -128,10 +129,12 @@ TEST(Scene, FullSceneReadsEveryField) {
   EXPECT_EQ(s.scalars, (std::vector<std::string>{"double", "float"}));
   EXPECT_TRUE(s.expose_all);
   EXPECT_EQ(s.pivot_tolerance, 1e-12);
+  EXPECT_EQ(s.constraint_factorisation, solver::ConstraintFactorisation::damped);
 
   const solver::SolverOptions options = s.solver_options();
   EXPECT_EQ(options.gravity, Eigen::Vector3d(0, 0, -9.80665));
   EXPECT_EQ(options.pivot_tolerance, 1e-12);
+  EXPECT_EQ(options.constraint_factorisation, solver::ConstraintFactorisation::damped);
 
   EXPECT_EQ(s.locations.at("drivers.external_forces[1].link"), path + ":" + position(text, 12, "panda_hand"));
   EXPECT_EQ(s.locations.at("rotor_inertia.panda_joint7"), path + ":" + position(text, 7, "panda_joint7"));
@@ -163,6 +166,7 @@ TEST(Scene, MinimalSceneGetsDefaults) {
   EXPECT_EQ(s.scalars, std::vector<std::string>{"double"});
   EXPECT_FALSE(s.expose_all);
   EXPECT_EQ(s.pivot_tolerance, 0.0);
+  EXPECT_EQ(s.constraint_factorisation, solver::ConstraintFactorisation::pivoted_ldlt);
   const model::Chain chain = scene::load_scene_chain(s);
   EXPECT_EQ(chain.root_link, "panda_link0");
   EXPECT_EQ(chain.tip_link, "panda_hand");
@@ -513,6 +517,9 @@ TEST(SceneErrors, ExposeAndPivotTolerance) {
     const std::string text2 = with_urdf(replace(kFullScene, "pivot_tolerance: 1e-12", "pivot_tolerance: " + bad));
     expect_error(text2, position(text2, 18, bad), "pivot_tolerance", "must be > 0 and < 1");
   }
+  const std::string text3 = with_urdf(replace(kFullScene, "constraint_factorisation: damped", "constraint_factorisation: dampd"));
+  expect_error(text3, position(text3, 19, "dampd"), "constraint_factorisation", "unknown constraint factorisation 'dampd'",
+               "damped");
 }
 
 // Errors found against the chain (load_scene_chain).

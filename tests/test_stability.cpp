@@ -160,6 +160,18 @@ TEST_P(Stability, ReferenceDoubleAgainstQuad) {
   check_against_referee(c, measure(c, states_per_kind(c), 7), kEps, "stability");
 }
 
+// The damped factorisation (scene key constraint_factorisation: damped) against a referee that
+// damps alike: the same checks and bound (cond of Ê + tol I is at most that of Ê, so κ still
+// bounds it). Its bias against the undamped answer is the policy's price, not rounding:
+// docs/stability.md compares the two policies (sweepgen report --stability).
+TEST_P(Stability, DampedReferenceDoubleAgainstQuad) {
+  test::TempDir dir;
+  test::StabilityCase c = stability_case(GetParam(), dir);
+  if (c.heavy && !test::stability_full()) GTEST_SKIP() << "heavy case: SWEEPGEN_STABILITY_FULL=1";
+  c.scene.constraint_factorisation = solver::ConstraintFactorisation::damped;
+  check_against_referee(c, measure(c, states_per_kind(c), 7), kEps, "stability-damped");
+}
+
 // The float variant: ReferenceSolver<float> against the referee with float's tolerances (1000
 // eps_float), same cases, kinds and states. It stands for the generated float code: that is the
 // traced reference, the same operations in the same order (tests/generated/ check each bundled

@@ -21,7 +21,7 @@ const Equation& equation_of(const std::string& array) {
       {"constraint_energy", {"inward", "E^A_cstr,i-1 = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i"}},
       {"articulated_force", {"inward", "F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc"}},
       {"acceleration_energy", {"inward", "E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)"}},
-      {"nu", {"solver", "nu = (E^A_cstr,0)^-1 (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf), LDL^T with relative pivot tolerance"}},
+      {"nu", {"solver", "nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped"}},
       {"conf_energy", {"solver", "E_conf = sum over composed tracks of E^A_t,0"}},
       {"locked_joints", {"solver", "joints locked by the joint-inertia policy (status_joint_inertia_singular)"}},
       {"dropped_pivots", {"solver", "pivots of E^A_cstr,0 below tolerance (status_constraint_rank_deficient)"}},

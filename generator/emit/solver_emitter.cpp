@@ -11,6 +11,7 @@
 #include "emit/equations.hpp"
 #include "emit/function_plan.hpp"
 #include "emit/function_writer.hpp"
+#include "emit/literal.hpp"
 #include "emit/templates.hpp"
 #include "solver/state_fields.hpp"
 
@@ -135,6 +136,17 @@ std::string check_solution(std::size_t nc) {
   return text;
 }
 
+// One line on how ν is solved (scene keys constraint_factorisation and pivot_tolerance).
+std::string factorisation_note(const solver::SolverOptions& options, std::size_t nc) {
+  if (nc == 0) return "";
+  const std::string tolerance =
+      options.pivot_tolerance > 0 ? literal(options.pivot_tolerance, "double") : std::string("1000 epsilon of the scalar");
+  return options.constraint_factorisation == solver::ConstraintFactorisation::damped
+             ? "E^A_cstr,0: equilibrated, damped by " + tolerance + " (damped least squares; scene: constraint_factorisation)."
+             : "E^A_cstr,0: equilibrated, pivoted LDL^T, relative pivot tolerance " + tolerance +
+                   " (scene: constraint_factorisation).";
+}
+
 const char* policy_doc(const std::string& group) {
   if (group == "original") return "Alg. 3, the original composition of every driver.";
   if (group == "prioritize_external") return "Alg. 4: the constraint does not react to external forces.";
@@ -234,6 +246,12 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("alpha_note", request.trace.fixed_directions.empty() && nc > 0 ? ", alpha" : "");
   values.set("namespace", request.solver_namespace);
   values.set("has_constraints", nc > 0);
+  values.set("factorisation_note", factorisation_note(request.trace.options, nc));
+  values.set("rank_deficient_doc", request.trace.options.constraint_factorisation == solver::ConstraintFactorisation::damped
+                                       ? "a damped pivot of E^A_cstr,0 was <= 2 tol: the damping\n"
+                                         "                                               // changed some multipliers by ~2x or more"
+                                       : "a pivot of E^A_cstr,0 fell below tolerance: some\n"
+                                         "                                               // constraint directions were not enforced");
   values.set("check_inputs", request.check_inputs);
   values.set("check_inputs_value", request.check_inputs ? "true" : "false");
   values.set("op_counts", op_lines);

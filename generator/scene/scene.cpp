@@ -338,6 +338,7 @@ std::string Scene::location(const std::string& element) const {
 solver::SolverOptions Scene::solver_options() const {
   solver::SolverOptions options;
   options.gravity = gravity;
+  options.constraint_factorisation = constraint_factorisation;
   options.pivot_tolerance = pivot_tolerance;
   return options;
 }
@@ -367,7 +368,7 @@ Scene load_scene(const std::string& path) {
   scene.path = path;
   const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip",
                                          "gravity",        "rotor_inertia", "drivers", "decomposition", "policies",
-                                         "scalars",        "expose", "pivot_tolerance", "check_inputs"};
+                                         "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation"};
   std::map<std::string, Item> values;
   for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
   const auto get = [&](const std::string& key) -> std::optional<Item> {
@@ -480,6 +481,10 @@ Scene load_scene(const std::string& path) {
 
   if (const auto item = get("expose")) scene.expose_all = reader.choice(*item, {"outputs", "all"}, "expose mode") == "all";
 
+  if (const auto item = get("constraint_factorisation"))
+    scene.constraint_factorisation = reader.choice(*item, {"pivoted_ldlt", "damped"}, "constraint factorisation") == "damped"
+                                          ? solver::ConstraintFactorisation::damped
+                                          : solver::ConstraintFactorisation::pivoted_ldlt;
   if (const auto item = get("pivot_tolerance")) {
     const double t = reader.number(*item);
     if (!(t > 0 && t < 1)) reader.fail(*item, "relative pivot tolerance must be > 0 and < 1");

@@ -45,9 +45,13 @@
 //   scalars: [double, float]        # optional: scalar types to emit, no duplicates;
 //                                   #   default [double]
 //   expose: outputs                 # optional: 'outputs' (default) or 'all' intermediates
-//   pivot_tolerance: 1e-12          # optional: relative pivot tolerance of the constraint
-//                                   #   factorisation, 0 < t < 1; default: 1000 * epsilon of
-//                                   #   the emitted scalar
+//   constraint_factorisation: pivoted_ldlt  # optional: pivoted_ldlt (default) drops directions
+//                                   #   whose pivot is below the tolerance (exact where kept);
+//                                   #   damped solves (E + t I) after equilibration (damped
+//                                   #   least squares: every direction kept, biased by ~t cond)
+//   pivot_tolerance: 1e-12          # optional: relative tolerance of the constraint
+//                                   #   factorisation (pivot threshold, or damping when damped),
+//                                   #   0 < t < 1; default: 1000 * epsilon of the emitted scalar
 //   check_inputs: true              # optional: true (default) or false. When true, the generated
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
@@ -84,6 +88,7 @@ struct Scene {
   std::vector<solver::Policy> policies{solver::Policy::original};
   std::vector<std::string> scalars{"double"};
   bool expose_all = false;
+  solver::ConstraintFactorisation constraint_factorisation = solver::ConstraintFactorisation::pivoted_ldlt;
   double pivot_tolerance = 0;  // 0: the default for the emitted scalar
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
 

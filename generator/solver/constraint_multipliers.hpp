@@ -17,6 +17,13 @@
 // with E_jj ~ 1e-42 (subnormal) made the threshold tol · E_jj underflow to 0, kept a subnormal
 // pivot and overflowed 1/d to Inf (a thin rod spun about its own axis near a singularity,
 // tests/test_stability.cpp). After it, every kept pivot is > tol and every threshold is >= tol.
+// Damped alternative (ConstraintFactorisation::damped, docs/stability.md): the same equilibrated
+// Ê, plus tol on its diagonal, factorised without pivoting (Ê + tol I is positive definite, every
+// pivot >= tol in exact arithmetic): ν = S (Ê + tol I)^-1 S r. Every direction is kept and the
+// result is biased by ~tol cond_s(E) relatively, boundedly so at singularities. A pivot <= 2 tol
+// is counted like a dropped one (status_constraint_rank_deficient): since the Schur complement
+// of Ê + tol I is at least that of Ê plus tol, it means that the undamped pivot was <= tol, the
+// damping changed that direction's multiplier by a factor of about 2 or more.
 // Why pivot: once the largest remaining ratio S_jj / E_jj is at most tol, so is every remaining
 // one (and |S_ij| <= sqrt(S_ii S_jj) in the PSD Schur complement): the kept directions are
 // solved to that tolerance and the dropped ones are redundant to it. Without pivoting, a pivot
@@ -27,14 +34,17 @@
 #pragma once
 
 #include "solver/scalar_ops.hpp"
+#include "solver/solver_model.hpp"
 #include "solver/state.hpp"
 
 namespace sweepgen::solver {
 
 template <class Scalar>
 ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Scalar>& E,
-                                                      const ConstraintVector<Scalar>& rhs, const Scalar& tolerance,
+                                                      const ConstraintVector<Scalar>& rhs,
+                                                      ConstraintFactorisation factorisation, const Scalar& tolerance,
                                                       Scalar& dropped_pivots) {
+  const bool damped = factorisation == ConstraintFactorisation::damped;
   const Eigen::Index nc = rhs.size();
   dropped_pivots = Scalar(0);
   if (nc == 0) return ConstraintVector<Scalar>(0);
@@ -49,6 +59,8 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
   ConstraintMatrix<Scalar> L = ConstraintMatrix<Scalar>::Identity(nc, nc);
   ConstraintMatrix<Scalar> swapped = ConstraintMatrix<Scalar>::Zero(nc, nc);  // 1 where step k swapped k and j
   ConstraintVector<Scalar> pivot(nc), inverse_pivot(nc);
+  if (damped)
+    for (Eigen::Index j = 0; j < nc; ++j) A(j, j) += tolerance;
   ConstraintVector<Scalar> y(nc);
   for (Eigen::Index j = 0; j < nc; ++j) y[j] = scale[j] * rhs[j];
   ConstraintVector<Scalar> own = A.diagonal();  // Ê_jj of the direction now at position j
@@ -59,7 +71,7 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
   };
   for (Eigen::Index k = 0; k < nc; ++k) {
     // At k = 0 every ratio is E_jj / E_jj: no swap can happen (the products below are equal).
-    for (Eigen::Index j = k + 1; k > 0 && j < nc; ++j) {
+    for (Eigen::Index j = k + 1; !damped && k > 0 && j < nc; ++j) {
       // S_jj / E_jj > S_kk / E_kk, without dividing (E_jj >= 0).
       const Scalar s = select_greater(A(j, j) * own[k], A(k, k) * own[j], Scalar(1), Scalar(0));
       swapped(k, j) = s;
@@ -70,11 +82,17 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
       conditional_swap(s, own[k], own[j]);
     }
     const Scalar d = A(k, k);
-    const Scalar threshold = tolerance * own[k];
-    const Scalar kept = select_greater(d, threshold, Scalar(1), Scalar(0));
-    dropped_pivots += Scalar(1) - kept;
-    pivot[k] = kept * d;
-    inverse_pivot[k] = kept / select_greater(d, threshold, d, Scalar(1));
+    if (damped) {
+      dropped_pivots += select_greater(d, Scalar(2) * tolerance, Scalar(0), Scalar(1));
+      pivot[k] = d;
+      inverse_pivot[k] = Scalar(1) / d;
+    } else {
+      const Scalar threshold = tolerance * own[k];
+      const Scalar kept = select_greater(d, threshold, Scalar(1), Scalar(0));
+      dropped_pivots += Scalar(1) - kept;
+      pivot[k] = kept * d;
+      inverse_pivot[k] = kept / select_greater(d, threshold, d, Scalar(1));
+    }
     for (Eigen::Index i = k + 1; i < nc; ++i) L(i, k) = A(i, k) * inverse_pivot[k];
     for (Eigen::Index i = k + 1; i < nc; ++i)
       for (Eigen::Index j = k + 1; j < nc; ++j) A(i, j) -= L(i, k) * A(k, j);

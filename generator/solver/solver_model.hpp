@@ -18,10 +18,19 @@ using spatial::Motion;
 using spatial::Transform;
 using spatial::Vec3;
 
+// How ν is solved from E^A_cstr,0 (solver/constraint_multipliers.hpp, docs/stability.md):
+// both work on E equilibrated by exact powers of two, both are scale-invariant.
+enum class ConstraintFactorisation {
+  pivoted_ldlt,  // drop a direction whose pivot is <= tol (relative): exact where kept
+  damped,        // damped least squares (Ê + tol I): every direction kept, biased by ~tol cond
+};
+
 struct SolverOptions {
   model::Vec3 gravity{0, 0, -9.81};  // in the root link's frame [m/s^2]
-  // Relative pivot tolerance of the E^A_cstr,0 factorisation (docs/derivation.md,
-  // "Singular constraints"); <= 0 picks default_pivot_tolerance(epsilon of the scalar).
+  ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
+  // Relative tolerance of the E^A_cstr,0 factorisation (docs/derivation.md, "Singular
+  // constraints"): the pivot threshold (pivoted_ldlt) or the damping (damped), both relative to
+  // the equilibrated diagonal; <= 0 picks default_pivot_tolerance(epsilon of the scalar).
   double pivot_tolerance = 0;
   // Relative tolerance of the joint-inertia policy (solver/joint_inertia.hpp): joint i is locked
   // when D_i <= t (d_i + tr of its block of M^A_i); <= 0 picks 1000 epsilon of the scalar.
@@ -70,6 +79,7 @@ struct SolverModel {
   std::vector<std::size_t> external_force_body;        // per external-force instance
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
   Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g]
+  ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
   Scalar pivot_tolerance;
   Scalar joint_inertia_tolerance;
   DriverLayout layout;
@@ -107,6 +117,7 @@ struct SolverModel {
       external_force_frame.push_back(frame.X.cast<Scalar>());
     }
     base_acceleration.linear = (-options.gravity).cast<Scalar>();
+    constraint_factorisation = options.constraint_factorisation;
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
     joint_inertia_tolerance = Scalar(options.joint_inertia_tolerance_for(epsilon));
   }

@@ -29,7 +29,8 @@ void constraint_multipliers(const SolverModel<Scalar>& model, const ArticulatedS
   ConstraintVector<Scalar> rhs(nc);
   for (std::size_t k = 0; k < nc; ++k)
     rhs[k] = setpoints[k] - spatial::dot(art.body[0].constraint_force[k], model.base_acceleration) - sol.conf_energy[k];
-  sol.nu = solve_constraint_multipliers(art.body[0].constraint_energy, rhs, model.pivot_tolerance, sol.dropped_pivots);
+  sol.nu = solve_constraint_multipliers(art.body[0].constraint_energy, rhs, model.constraint_factorisation,
+                                        model.pivot_tolerance, sol.dropped_pivots);
 }
 
 // τctrl for the policies that keep the constraint (original, prioritize_external, saturate).

@@ -1,0 +1,168 @@
+// The two factorisations of E^A_cstr,0 (solver/constraint_multipliers.hpp, docs/stability.md) on
+// matrices built to the purpose: Eν = r solved to rounding by pivoted LDLᵀ, the damped solve's
+// bias bounded by its damping, the rank-deficiency count of each rule, invariance under any
+// scaling of the directions (units), and the float case that once overflowed (a subnormal
+// diagonal entry).
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
+
+#include "solver/constraint_multipliers.hpp"
+
+namespace sweepgen {
+namespace {
+
+using solver::ConstraintFactorisation;
+using Matrix = solver::ConstraintMatrix<double>;
+using Vector = solver::ConstraintVector<double>;
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kTol = 1000 * kEps;  // the default relative tolerance in double
+constexpr ConstraintFactorisation kBoth[] = {ConstraintFactorisation::pivoted_ldlt, ConstraintFactorisation::damped};
+
+struct Solved {
+  Vector nu;
+  double dropped = 0;
+};
+
+Solved solve(const Matrix& E, const Vector& r, ConstraintFactorisation f, double tol = kTol) {
+  Solved s;
+  s.nu = solver::solve_constraint_multipliers<double>(E, r, f, tol, s.dropped);
+  return s;
+}
+
+// E = B Bᵀ with B (n x rank) random, then each direction scaled by 10^u, u in [-4, 4]: a positive
+// semi-definite matrix of the given rank with diagonal entries eight orders of magnitude apart
+// (moment and force directions in any units).
+Matrix random_energy(std::mt19937_64& random, int n, int rank) {
+  std::uniform_real_distribution<double> entry(-1, 1), exponent(-4, 4);
+  Eigen::MatrixXd B(n, rank);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < rank; ++j) B(i, j) = entry(random);
+  Eigen::VectorXd units(n);
+  for (int i = 0; i < n; ++i) units[i] = std::pow(10.0, exponent(random));
+  const Eigen::MatrixXd E = units.asDiagonal() * (B * B.transpose()) * units.asDiagonal();
+  return E;
+}
+
+// cond_2 of E with its diagonal scaled to 1 (what both rules see).
+double scaled_condition(const Matrix& E) {
+  const Eigen::VectorXd d = E.diagonal().cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd Es = d.asDiagonal() * Eigen::MatrixXd(E) * d.asDiagonal();
+  const Eigen::VectorXd mu = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Es).eigenvalues();
+  return mu.maxCoeff() / mu.minCoeff();
+}
+
+double relative(const Vector& a, const Vector& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
+
+TEST(ConstraintFactorisation, FullRankPivotedIsExactAndDampedIsBiasedByItsDamping) {
+  std::mt19937_64 random(3);
+  std::uniform_real_distribution<double> entry(-1, 1);
+  for (int trial = 0; trial < 500; ++trial) {
+    const int n = 1 + trial % 6;
+    const Matrix E = random_energy(random, n, n);
+    const double cond = scaled_condition(E);
+    if (cond > 1e8) continue;  // keep the damped bias (~tol cond) well below 1
+    Vector nu_true(n);
+    for (int i = 0; i < n; ++i) nu_true[i] = entry(random);
+    const Vector r = E * nu_true;
+    const Solved pivoted = solve(E, r, ConstraintFactorisation::pivoted_ldlt);
+    const Solved damped = solve(E, r, ConstraintFactorisation::damped);
+    EXPECT_EQ(pivoted.dropped, 0) << "cond " << cond;
+    EXPECT_EQ(damped.dropped, 0) << "cond " << cond;
+    // Backward-stable solve of the equilibrated system: eps cond, times a small constant
+    // (measured <= 3).
+    EXPECT_LE(relative(pivoted.nu, nu_true), 20 * kEps * cond) << "cond " << cond;
+    // Damping by tol on a unit-order diagonal moves ν by at most ~tol cond_s relatively (the
+    // equilibrated diagonal is in [1, 4), hence the factor 4), plus rounding.
+    EXPECT_LE(relative(damped.nu, nu_true), 4 * kTol * cond + 20 * kEps * cond) << "cond " << cond;
+  }
+}
+
+TEST(ConstraintFactorisation, RankDeficientMatricesAreReportedAndStayFinite) {
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> entry(-1, 1);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 2 + trial % 5, rank = 1 + trial % (n - 1);
+    const Matrix E = random_energy(random, n, rank);
+    Vector nu_any(n);
+    for (int i = 0; i < n; ++i) nu_any[i] = entry(random);
+    const Vector r = E * nu_any;  // consistent: some ν solves it
+    for (ConstraintFactorisation f : kBoth) {
+      const Solved s = solve(E, r, f);
+      EXPECT_TRUE(s.nu.allFinite());
+      // Pivoted: exactly the n - rank redundant directions are dropped. Damped: every direction
+      // of the null space has an undamped pivot of 0 <= tol, so at least one is counted.
+      if (f == ConstraintFactorisation::pivoted_ldlt)
+        EXPECT_EQ(s.dropped, n - rank) << "n " << n << " rank " << rank;
+      else
+        EXPECT_GE(s.dropped, 1) << "n " << n << " rank " << rank;
+      // Both still meet the consistent constraints: E ν = r to the tolerance, relative to r.
+      EXPECT_LE(relative(E * s.nu, r), 1e-9) << "n " << n << " rank " << rank;
+    }
+  }
+}
+
+TEST(ConstraintFactorisation, ScalingTheDirectionsScalesTheMultipliersOnly) {
+  // Units: direction j in other units is direction j times c_j, so E -> C E C, r -> C r and
+  // ν -> C^-1 ν, with any c_j (not only powers of two). Same decisions, same ν to rounding.
+  std::mt19937_64 random(9);
+  std::uniform_real_distribution<double> entry(-1, 1), exponent(-6, 6);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 2 + trial % 5, rank = trial % 3 == 0 ? n - 1 : n;
+    const Matrix E = random_energy(random, n, rank);
+    if (rank == n && scaled_condition(E) > 1e6) continue;
+    Vector r(n), c(n);
+    for (int i = 0; i < n; ++i) r[i] = entry(random), c[i] = std::pow(10.0, exponent(random));
+    if (rank < n) r = E * r;  // consistent
+    const Matrix E_scaled = c.asDiagonal() * E * c.asDiagonal();
+    const Vector r_scaled = c.asDiagonal() * r;
+    for (ConstraintFactorisation f : kBoth) {
+      const Solved a = solve(E, r, f), b = solve(E_scaled, r_scaled, f);
+      EXPECT_EQ(a.dropped, b.dropped) << "trial " << trial;
+      const Vector back = c.asDiagonal() * b.nu;
+      EXPECT_LE(relative(back, a.nu), rank == n ? 1e-8 : 1e-6) << "trial " << trial;
+    }
+  }
+}
+
+TEST(ConstraintFactorisation, SubnormalDiagonalInFloatGivesTheExactMultiplier) {
+  // A direction with E_jj = 1e-42 (subnormal in float) decoupled from a unit one; ν = (1, 1)
+  // exactly. Without equilibration the threshold tol E_jj underflowed to 0, the subnormal pivot
+  // was kept and 1/d overflowed to Inf.
+  using MatrixF = solver::ConstraintMatrix<float>;
+  using VectorF = solver::ConstraintVector<float>;
+  const float tiny = 1e-42f;
+  ASSERT_LT(tiny, std::numeric_limits<float>::min());
+  MatrixF E(2, 2);
+  E << 1, 0, 0, tiny;
+  VectorF r(2);
+  r << 1, tiny;
+  for (ConstraintFactorisation f : kBoth) {
+    float dropped = 0;
+    const VectorF nu = solver::solve_constraint_multipliers<float>(E, r, f, 1000 * std::numeric_limits<float>::epsilon(),
+                                                                   dropped);
+    EXPECT_EQ(dropped, 0);
+    EXPECT_NEAR(nu[0], 1, f == ConstraintFactorisation::damped ? 1e-3 : 1e-6);
+    EXPECT_NEAR(nu[1], 1, f == ConstraintFactorisation::damped ? 1e-3 : 1e-6);
+  }
+}
+
+TEST(ConstraintFactorisation, EquilibrationScaleIsAnExactPowerOfTwo) {
+  for (double x : {1.0, 2.0, 3.9, 4.0, 0.3, 1e-300, 5e-324, 1e300, 123456.0}) {
+    const double s = solver::equilibration_scale(x);
+    int exponent = 0;
+    EXPECT_EQ(std::frexp(s, &exponent), 0.5) << x;  // a power of two
+    // s x s, in the solver's order: s² alone overflows for the smallest subnormals (2^1074).
+    EXPECT_GE(s * x * s, 1.0) << x;
+    EXPECT_LT(s * x * s, 4.0) << x;
+  }
+  EXPECT_EQ(solver::equilibration_scale(0.0), 0.0);
+  EXPECT_EQ(solver::equilibration_scale(-1.0), 0.0);
+  EXPECT_EQ(solver::equilibration_scale(std::nan("")), 0.0);
+  const float smallest = std::numeric_limits<float>::denorm_min();
+  EXPECT_GE(solver::equilibration_scale(smallest) * smallest * solver::equilibration_scale(smallest), 1.0f);
+}
+
+}  // namespace
+}  // namespace sweepgen
