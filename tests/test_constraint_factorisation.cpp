@@ -53,7 +53,18 @@ double scaled_condition(const Matrix& E) {
   return mu.maxCoeff() / mu.minCoeff();
 }
 
-double relative(const Vector& a, const Vector& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
+// Errors in the equilibrated coordinates d_j ν_j, d_j = sqrt(E_jj) (what a backward-stable solve
+// of the equilibrated system bounds, and invariant under the units of each direction): multipliers
+// of directions eight orders of magnitude apart are judged each against its own scale.
+double multiplier_error(const Matrix& E, const Vector& nu, const Vector& truth) {
+  const Eigen::VectorXd d = E.diagonal().cwiseSqrt();
+  return d.cwiseProduct(nu - truth).cwiseAbs().maxCoeff() / d.cwiseProduct(truth).cwiseAbs().maxCoeff();
+}
+// ‖d^-1 (E ν − r)‖∞ / ‖d^-1 r‖∞: the constraint residual in the same coordinates.
+double residual(const Matrix& E, const Vector& nu, const Vector& r) {
+  const Eigen::VectorXd d = E.diagonal().cwiseSqrt().cwiseInverse();
+  return d.cwiseProduct(E * nu - r).cwiseAbs().maxCoeff() / d.cwiseProduct(r).cwiseAbs().maxCoeff();
+}
 
 TEST(ConstraintFactorisation, FullRankPivotedIsExactAndDampedIsBiasedByItsDamping) {
   std::mt19937_64 random(3);
@@ -72,12 +83,15 @@ TEST(ConstraintFactorisation, FullRankPivotedIsExactAndDampedIsBiasedByItsDampin
     EXPECT_EQ(damped.dropped, 0) << "cond " << cond;
     // Backward-stable solve of the equilibrated system: eps cond, times a small constant
     // (measured <= 3).
-    EXPECT_LE(relative(pivoted.nu, nu_true), 20 * kEps * cond) << "cond " << cond;
+    EXPECT_LE(multiplier_error(E, pivoted.nu, nu_true), 20 * kEps * cond) << "cond " << cond;
     // Damping by tol on a unit-order diagonal moves ν by at most ~tol cond_s relatively (the
     // equilibrated diagonal is in [1, 4), hence the factor 4), plus rounding.
-    EXPECT_LE(relative(damped.nu, nu_true), 4 * kTol * cond + 20 * kEps * cond) << "cond " << cond;
+    EXPECT_LE(multiplier_error(E, damped.nu, nu_true), 4 * kTol * cond + 20 * kEps * cond) << "cond " << cond;
   }
 }
+
+// diag(sqrt(E_jj)): setpoints of each direction's own scale.
+Eigen::MatrixXd c_scale(const Matrix& E) { return E.diagonal().cwiseSqrt().asDiagonal(); }
 
 TEST(ConstraintFactorisation, RankDeficientMatricesAreReportedAndStayFinite) {
   std::mt19937_64 random(5);
@@ -85,27 +99,34 @@ TEST(ConstraintFactorisation, RankDeficientMatricesAreReportedAndStayFinite) {
   for (int trial = 0; trial < 300; ++trial) {
     const int n = 2 + trial % 5, rank = 1 + trial % (n - 1);
     const Matrix E = random_energy(random, n, rank);
-    Vector nu_any(n);
-    for (int i = 0; i < n; ++i) nu_any[i] = entry(random);
+    Vector nu_any(n), r_impossible(n);
+    for (int i = 0; i < n; ++i) nu_any[i] = entry(random), r_impossible[i] = entry(random);
     const Vector r = E * nu_any;  // consistent: some ν solves it
-    for (ConstraintFactorisation f : kBoth) {
-      const Solved s = solve(E, r, f);
-      EXPECT_TRUE(s.nu.allFinite());
-      // Pivoted: exactly the n - rank redundant directions are dropped. Damped: every direction
-      // of the null space has an undamped pivot of 0 <= tol, so at least one is counted.
-      if (f == ConstraintFactorisation::pivoted_ldlt)
-        EXPECT_EQ(s.dropped, n - rank) << "n " << n << " rank " << rank;
-      else
-        EXPECT_GE(s.dropped, 1) << "n " << n << " rank " << rank;
-      // Both still meet the consistent constraints: E ν = r to the tolerance, relative to r.
-      EXPECT_LE(relative(E * s.nu, r), 1e-9) << "n " << n << " rank " << rank;
-    }
+    r_impossible = c_scale(E) * r_impossible;  // generic: not in the range of E
+    // Pivoted: exactly the n - rank redundant directions are dropped, whatever the setpoints;
+    // the consistent constraints are met.
+    const Solved pivoted = solve(E, r, ConstraintFactorisation::pivoted_ldlt);
+    EXPECT_TRUE(pivoted.nu.allFinite());
+    EXPECT_EQ(pivoted.dropped, n - rank) << "n " << n << " rank " << rank;
+    EXPECT_LE(residual(E, pivoted.nu, r), 1e-9) << "n " << n << " rank " << rank;
+    EXPECT_EQ(solve(E, r_impossible, ConstraintFactorisation::pivoted_ldlt).dropped, n - rank);
+    // Damped: consistent setpoints are met to sqrt(tol) and raise nothing; impossible ones
+    // raise it, with bounded (finite) multipliers.
+    const Solved met = solve(E, r, ConstraintFactorisation::damped);
+    EXPECT_TRUE(met.nu.allFinite());
+    EXPECT_EQ(met.dropped, 0) << "n " << n << " rank " << rank;
+    EXPECT_LE(residual(E, met.nu, r), std::sqrt(kTol)) << "n " << n << " rank " << rank;
+    const Solved missed = solve(E, r_impossible, ConstraintFactorisation::damped);
+    EXPECT_TRUE(missed.nu.allFinite());
+    EXPECT_GE(missed.dropped, 1) << "n " << n << " rank " << rank;
   }
 }
 
 TEST(ConstraintFactorisation, ScalingTheDirectionsScalesTheMultipliersOnly) {
   // Units: direction j in other units is direction j times c_j, so E -> C E C, r -> C r and
-  // ν -> C^-1 ν, with any c_j (not only powers of two). Same decisions, same ν to rounding.
+  // ν -> C^-1 ν, with any c_j (not only powers of two). Same decisions; full rank: the same ν to
+  // rounding; rank deficient (ν not unique: which of two redundant directions goes is decided by
+  // rounding among near-equal ratios): the same residual to the tolerance.
   std::mt19937_64 random(9);
   std::uniform_real_distribution<double> entry(-1, 1), exponent(-6, 6);
   for (int trial = 0; trial < 300; ++trial) {
@@ -120,8 +141,10 @@ TEST(ConstraintFactorisation, ScalingTheDirectionsScalesTheMultipliersOnly) {
     for (ConstraintFactorisation f : kBoth) {
       const Solved a = solve(E, r, f), b = solve(E_scaled, r_scaled, f);
       EXPECT_EQ(a.dropped, b.dropped) << "trial " << trial;
-      const Vector back = c.asDiagonal() * b.nu;
-      EXPECT_LE(relative(back, a.nu), rank == n ? 1e-8 : 1e-6) << "trial " << trial;
+      if (rank == n)
+        EXPECT_LE(multiplier_error(E, c.asDiagonal() * b.nu, a.nu), 1e-9) << "trial " << trial;
+      else
+        EXPECT_LE(residual(E_scaled, b.nu, r_scaled), 1e-9) << "trial " << trial;
     }
   }
 }

@@ -20,10 +20,14 @@
 // Damped alternative (ConstraintFactorisation::damped, docs/stability.md): the same equilibrated
 // Ê, plus tol on its diagonal, factorised without pivoting (Ê + tol I is positive definite, every
 // pivot >= tol in exact arithmetic): ν = S (Ê + tol I)^-1 S r. Every direction is kept and the
-// result is biased by ~tol cond_s(E) relatively, boundedly so at singularities. A pivot <= 2 tol
-// is counted like a dropped one (status_constraint_rank_deficient): since the Schur complement
-// of Ê + tol I is at least that of Ê plus tol, it means that the undamped pivot was <= tol, the
-// damping changed that direction's multiplier by a factor of about 2 or more.
+// result is biased by ~tol cond_s(E) relatively, boundedly so at singularities. Since
+// Ê x̂ − r̂ = −tol x̂, tol |x̂_j| is exactly how far direction j misses its setpoint; it is counted
+// like a dropped pivot (status_constraint_rank_deficient) when that exceeds sqrt(tol) times the
+// largest setpoint term max_i |r̂_i| (tested squared, tol x̂_j² > max_i r̂_i², without a square
+// root): the damping visibly held that multiplier back. A redundant direction that asks for a
+// compatible motion is met and raises nothing; one that asks for the impossible raises it.
+// r̂_j = r_j / sqrt(E_jj) up to a power of two has the same units in every direction, so the
+// rule, like the pivoted one, does not depend on units.
 // Why pivot: once the largest remaining ratio S_jj / E_jj is at most tol, so is every remaining
 // one (and |S_ij| <= sqrt(S_ii S_jj) in the PSD Schur complement): the kept directions are
 // solved to that tolerance and the dropped ones are redundant to it. Without pivoting, a pivot
@@ -64,6 +68,8 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
   ConstraintVector<Scalar> y(nc);
   for (Eigen::Index j = 0; j < nc; ++j) y[j] = scale[j] * rhs[j];
   ConstraintVector<Scalar> own = A.diagonal();  // Ê_jj of the direction now at position j
+  Scalar largest_setpoint_squared(0);             // max_i r̂_i² (damped status rule)
+  for (Eigen::Index j = 0; damped && j < nc; ++j) largest_setpoint_squared = maximum(largest_setpoint_squared, y[j] * y[j]);
   const auto conditional_swap = [](const Scalar& s, Scalar& a, Scalar& b) {
     const Scalar a0 = a;
     a = select_greater(s, Scalar(0.5), b, a0);
@@ -83,7 +89,6 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
     }
     const Scalar d = A(k, k);
     if (damped) {
-      dropped_pivots += select_greater(d, Scalar(2) * tolerance, Scalar(0), Scalar(1));
       pivot[k] = d;
       inverse_pivot[k] = Scalar(1) / d;
     } else {
@@ -106,6 +111,8 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
     for (Eigen::Index j = k + 1; j < nc; ++j) y[k] -= L(j, k) * y[j];
   for (Eigen::Index k = nc - 1; k >= 0; --k)
     for (Eigen::Index j = nc - 1; j > k; --j) conditional_swap(swapped(k, j), y[k], y[j]);
+  for (Eigen::Index j = 0; damped && j < nc; ++j)
+    dropped_pivots += select_greater(tolerance * y[j] * y[j], largest_setpoint_squared, Scalar(1), Scalar(0));
   for (Eigen::Index j = 0; j < nc; ++j) y[j] *= scale[j];
   return y;
 }
