@@ -13,6 +13,7 @@
 #include "report/measure.hpp"
 #include "report/native_library.hpp"
 #include "report/report_output.hpp"
+#include "report/stability_command.hpp"
 #include "report/text_format.hpp"
 #include "scene/scene.hpp"
 
@@ -46,13 +47,36 @@ void add_report_command(CLI::App& app, ReportOptions& options) {
   command->add_option("--root", options.root, "root link (with --urdf)");
   command->add_option("--tip", options.tip, "tip link (with --urdf)");
   command->add_option("--states", options.states, "random states")->capture_default_str()->check(CLI::Range(1, 100000000));
-  command->add_option("--out", options.out, "output directory: report.csv, report.png, build/")->capture_default_str();
+  command->add_option("--out", options.out,
+                      "output directory: report.csv, report.png, build/ (default: report); with --stability "
+                      "stability.csv, stability.png, build/ (default: stability)");
   command->add_option("--seed", options.seed, "random seed")->capture_default_str();
   command->add_option("--repetitions", options.repetitions, "timed passes over all states (>= 5)")
       ->capture_default_str()
       ->check(CLI::Range(5, 100000));
   command->add_option("--cxx", options.cxx, "C++ compiler for the generated code")->capture_default_str();
-  command->parse_complete_callback([&options] {
+  command->add_flag("--stability", options.stability,
+                    "instead of one scene: error against condition number on the stability suite's cases and extreme "
+                    "states, per ill-conditioning policy (pivoted_ldlt, damped) and variant (docs/stability.md)");
+  command->add_option("--cases", options.cases,
+                      "with --stability: these cases (comma-separated; family cases and panda_nc6, iiwa14_nc6, ur5_nc6, "
+                      "planar_nc2; default: all but the heavy ones)")
+      ->delimiter(',');
+  command->add_option("--states-per-kind", options.states_per_kind, "with --stability: states per random kind")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  command->add_flag("--full", options.full, "with --stability: the heavy cases (100 and 300 joints) too");
+  command->parse_complete_callback([command, &options] {
+    if (options.stability) {
+      for (const char* other : {"--scene", "--urdf", "--root", "--tip", "--states", "--repetitions"})
+        if (command->count(other) > 0)
+          throw CLI::ValidationError(std::string(other) + " does not go with --stability (it measures its own cases)");
+      if (options.full && !options.cases.empty()) throw CLI::ValidationError("give --full or --cases, not both");
+      return;
+    }
+    for (const char* stability_only : {"--cases", "--states-per-kind", "--full"})
+      if (command->count(stability_only) > 0)
+        throw CLI::ValidationError(std::string(stability_only) + " goes with --stability");
     if (options.scene.empty() == options.urdf.empty()) throw CLI::ValidationError("give exactly one of --scene and --urdf");
     if (!options.scene.empty() && (!options.root.empty() || !options.tip.empty()))
       throw CLI::ValidationError("--root and --tip go with --urdf (a scene file names its own)");
@@ -60,11 +84,14 @@ void add_report_command(CLI::App& app, ReportOptions& options) {
 }
 
 int run_report(const ReportOptions& options) {
+  if (options.stability)
+    return run_stability_report({options.cases, options.states_per_kind, options.full, options.seed,
+                                 options.out.empty() ? "stability" : options.out, options.cxx});
   const auto started = std::chrono::steady_clock::now();
   const scene::Scene s = resolve(options);
   const model::Chain chain = scene::load_scene_chain(s);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const std::filesystem::path out_dir = std::filesystem::absolute(options.out);
+  const std::filesystem::path out_dir = std::filesystem::absolute(options.out.empty() ? "report" : options.out);
   const std::filesystem::path build_dir = out_dir / "build";
   const CompiledSolver compiled = compile_scene_solver(s, chain, build_dir, options.cxx, {progress, detail});
   const std::vector<std::string>& command = compiled.command;
