@@ -52,7 +52,7 @@ void print_stability_table(const std::vector<StabilityRow>& rows, std::ostream& 
     while (last < rows.size() && rows[last].case_name == rows[first].case_name &&
            rows[last].policy == rows[first].policy && series(rows[last]) == series(rows[first]))
       ++last;
-    std::size_t deficient = 0, non_finite = 0, beyond = 0;
+    std::size_t deficient = 0, non_finite = 0, beyond = 0, full_rank = 0;
     double max_err = 0, max_ratio = 0, max_kappa = 1, max_bias = 0;
     const double eps = epsilon_of(rows[first].scalar);
     for (std::size_t k = first; k < last; ++k) {
@@ -61,16 +61,19 @@ void print_stability_table(const std::vector<StabilityRow>& rows, std::ostream& 
       beyond += !j.representable;
       deficient += j.representable && !j.full_rank();
       if (j.full_rank()) {
+        ++full_rank;
         max_kappa = std::max(max_kappa, j.kappa());
         max_err = std::max(max_err, j.error());
         max_ratio = std::max(max_ratio, j.error() / (eps * j.kappa()));
       }
       if (j.representable) max_bias = std::max(max_bias, rows[k].bias_vs_pivoted);
     }
+    // "-" where there is no full-rank state (a maximum over none is no figure).
     const StabilityRow& r = rows[first];
     table.push_back({r.case_name, r.policy, r.variant + " " + r.scalar, std::to_string(last - first),
-                     std::to_string(deficient), std::to_string(non_finite), std::to_string(beyond), err(max_err),
-                     format("%.2f", max_ratio), err(max_kappa),
+                     std::to_string(deficient), std::to_string(non_finite), std::to_string(beyond),
+                     full_rank ? err(max_err) : "-", full_rank ? format("%.2f", max_ratio) : "-",
+                     full_rank ? err(max_kappa) : "-",
                      std::isnan(r.bias_vs_pivoted) ? "-" : err(max_bias)});
     first = last;
   }
