@@ -7,9 +7,10 @@
 #include <cmath>
 
 #include "report/extreme_states.hpp"
+#include "report/stability_cases.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/reference_solver.hpp"
-#include "support/stability_cases.hpp"
+#include "support/temp_dir.hpp"
 
 namespace sweepgen {
 namespace {
@@ -41,7 +42,7 @@ struct Answers {
 };
 
 template <class Scalar>
-std::vector<Scalar> solve(const test::StabilityCase& c, const report::Problem& p, bool reverse_directions = false) {
+std::vector<Scalar> solve(const report::StabilityCase& c, const report::Problem& p, bool reverse_directions = false) {
   solver::SolverOptions options = c.scene.solver_options();
   options.pivot_tolerance = 1e-40;  // keep every direction in every scalar: compare one problem
   solver::ReferenceSolver<Scalar> s(c.chain, c.scene.layout, options);
@@ -74,7 +75,7 @@ double error(const std::vector<Scalar>& a, const std::vector<Quad>& b) {
 
 TEST(QuadScalar, AgreesWhereEasyAndIsWiderWhereNot) {
   test::TempDir dir;
-  const test::StabilityCase c = test::family_stability_case("arm", dir);
+  const report::StabilityCase c = report::family_stability_case("arm", dir.path());
   const auto states = report::extreme_states(c.scene, c.chain, 1, c.singular_q, 3);
   for (const auto& state : states) {
     if (state.kind != "nominal" && !(state.kind == "near_singular" && state.delta == 1e-6)) continue;

@@ -1,11 +1,13 @@
 // `sweepgen report` end to end on the small planar scene: generate, compile with the system
 // compiler, dlopen, measure, CSV and PNG; and its exit codes for a bad scene (1), a bad
-// command line (2) and a failing compiler (3).
+// command line (2) and a failing compiler (3). `sweepgen report --stability` on two small cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -204,6 +206,64 @@ TEST(Report, DlopenFailureIsAToolError) {
                                                  "5", "--cxx", fake, "--out", (dir.path() / "out").string()}));
   EXPECT_EQ(result.exit_code, 3) << result.err;
   EXPECT_NE(result.err.find("dlopen"), std::string::npos) << result.err;
+}
+
+// `sweepgen report --stability` on two small cases (a bundled scene and a scaled family arm):
+// both policies, the three variants, the documented columns, and generated double within the
+// stability suite's bound (100 eps kappa, tests/test_stability.cpp) on the full-rank states.
+TEST(Report, StabilityReportOnTwoCases) {
+  const std::vector<std::string> columns = {
+      "case",       "policy",  "variant", "scalar",          "state",          "kind",   "cond_s_E",
+      "min_rho_D",  "kappa",   "rel_err_qdd", "rel_err_tau_cmd", "rel_err_nu", "status", "referee_status",
+      "finite",     "representable", "bias_vs_pivoted"};
+  TempDir dir;
+  const auto out = dir.path() / "stability";
+  const auto result = run_command(shell_command({SWEEPGEN_EXECUTABLE, "report", "--stability", "--cases",
+                                                 "planar_nc2,arm_micro", "--states-per-kind", "2", "--out",
+                                                 out.string()}));
+  ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find("max_err/(eps*kappa)"), std::string::npos) << result.out;
+
+  std::istringstream csv(read(out / "stability.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  ASSERT_EQ(split_csv(line), columns) << line;
+  const auto column = [&columns](const char* name) {
+    return static_cast<std::size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin());
+  };
+  std::map<std::string, int> rows;  // "case policy variant scalar" -> states
+  int checked = 0;
+  while (std::getline(csv, line)) {
+    const auto f = split_csv(line);
+    ASSERT_EQ(f.size(), columns.size()) << line;
+    ++rows[f[column("case")] + " " + f[column("policy")] + " " + f[column("variant")] + " " + f[column("scalar")]];
+    EXPECT_EQ(f[column("bias_vs_pivoted")].empty(), f[column("policy")] == "pivoted_ldlt") << line;
+    const bool full_rank = f[column("representable")] == "1" && f[column("status")] == "0" &&
+                           f[column("referee_status")] == "0";
+    if (f[column("variant")] != "generated" || f[column("scalar")] != "double" || !full_rank) continue;
+    const double error = std::max({number(f[column("rel_err_qdd")]), number(f[column("rel_err_tau_cmd")]),
+                                   number(f[column("rel_err_nu")])});
+    EXPECT_LE(error, 100 * std::numeric_limits<double>::epsilon() * number(f[column("kappa")])) << line;
+    ++checked;
+  }
+  EXPECT_GT(checked, 0) << "no full-rank generated double state";
+  for (const char* c : {"planar_nc2", "arm_micro"})
+    for (const char* policy : {"pivoted_ldlt", "damped"})
+      for (const char* variant : {"reference double", "generated double", "generated float"})
+        EXPECT_GT(rows[std::string(c) + " " + policy + " " + variant], 0) << c << " " << policy << " " << variant;
+
+  EXPECT_GT(std::filesystem::file_size(out / "stability.png"), 0u);
+}
+
+TEST(Report, StabilityUnknownCaseIsAnInputError) {
+  TempDir dir;
+  const auto out = dir.path() / "stability";
+  const auto result = run_command(shell_command(
+      {SWEEPGEN_EXECUTABLE, "report", "--stability", "--cases", "planar_nc2,arm_mikro", "--out", out.string()}));
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("--cases 'arm_mikro'"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("did you mean 'arm_micro'"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "stability.csv"));
 }
 
 }  // namespace

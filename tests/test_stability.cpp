@@ -9,11 +9,14 @@
 #include <iostream>
 #include <map>
 
+#include "family/family.hpp"
 #include "report/extreme_states.hpp"
 #include "report/kdl_oracle.hpp"
+#include "report/stability_errors.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/stability_cases.hpp"
+#include "support/temp_dir.hpp"
 
 namespace sweepgen {
 namespace {
@@ -22,7 +25,7 @@ using report::Precise;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kEpsFloat = std::numeric_limits<float>::epsilon();
 // Full-rank states: relative error (q̈ against max(|q̈|, |q̈_free|), τcmd against
-// max(|τcmd|, |τff|), ν against |ν|; tests/support/stability_cases.hpp) at most
+// max(|τcmd|, |τff|), ν against |ν|; report/stability_errors.hpp) at most
 // kErrorFactor · eps · κ,  κ = max(1, cond_s(E^A_cstr,0), 1 / min_i ρ_i):
 //  - ν solves E ν = r: a backward-stable solve loses eps · cond(E) relatively; the pivoted
 //    LDLᵀ is invariant under scaling each direction, so the condition number that counts is
@@ -35,61 +38,34 @@ constexpr double kEpsFloat = std::numeric_limits<float>::epsilon();
 // 100x above rounding.
 constexpr double kErrorFactor = 100;
 
-struct Record {
+// One state's judgement (report/stability_errors.hpp) with its kind and whether the referee's
+// decision is borderline.
+struct Record : report::StateJudgement {
   std::string kind;
-  double qdd = 0, tau = 0, nu = 0;   // relative errors against the referee
-  double cond_E = 1, rho_D = 1;      // cond_2(E^A_cstr,0), min_i ρ_i (solver/joint_inertia.hpp)
-  unsigned status = 0, exact_status = 0;
-  bool borderline = false;           // the referee's decision changes within a factor 2 of the tolerances
-  bool finite = true;                // every output of the double solve is finite
-  // Every output of the referee fits the scalar under test (|x| <= its max). Where one does not
-  // (float: a thin rod's axial direction near a singularity needs a multiplier of 1e40 N), no
-  // solver in that scalar can return it: the variant must say so with status_not_finite.
-  bool representable = true;
-  double kappa() const { return std::max({1.0, cond_E, rho_D > 0 ? 1 / rho_D : INFINITY}); }
+  bool borderline = false;  // the referee's decision changes within a factor 2 of the tolerances
 };
-
-solver::SolverOptions with_tolerance_factor(const scene::Scene& s, double factor, double eps = kEps) {
-  solver::SolverOptions o = s.solver_options();
-  o.pivot_tolerance = factor * o.pivot_tolerance_for(eps);
-  o.joint_inertia_tolerance = factor * o.joint_inertia_tolerance_for(eps);
-  return o;
-}
 
 // `single`: ReferenceSolver<float> (standing for the generated float code) against the referee
 // run with float's tolerances; otherwise ReferenceSolver<double>.
-std::vector<Record> measure(const test::StabilityCase& c, std::size_t per_kind, unsigned seed, bool single = false) {
+std::vector<Record> measure(const report::StabilityCase& c, std::size_t per_kind, unsigned seed, bool single = false) {
   const double eps = single ? static_cast<double>(std::numeric_limits<float>::epsilon()) : kEps;
   const auto states = report::extreme_states(c.scene, c.chain, per_kind, c.singular_q, seed);
   std::vector<report::Problem> problems;
   for (const auto& s : states) problems.push_back(s.problem);
-  const auto truth = report::precise_reference(c.scene, c.chain, problems, with_tolerance_factor(c.scene, 1, eps));
-  const auto lower = report::precise_reference(c.scene, c.chain, problems, with_tolerance_factor(c.scene, 0.5, eps));
-  const auto upper = report::precise_reference(c.scene, c.chain, problems, with_tolerance_factor(c.scene, 2, eps));
+  const auto truth = report::precise_reference(c.scene, c.chain, problems, report::with_tolerance_factor(c.scene, 1, eps));
+  const auto lower = report::precise_reference(c.scene, c.chain, problems, report::with_tolerance_factor(c.scene, 0.5, eps));
+  const auto upper = report::precise_reference(c.scene, c.chain, problems, report::with_tolerance_factor(c.scene, 2, eps));
   report::TimingOptions untimed;
   untimed.repetitions = 0;
   const report::VariantResult result = single ? report::measure_reference_float(c.scene, c.chain, problems, untimed)
                                               : report::measure_reference_double(c.scene, c.chain, problems, untimed);
+  const double largest = single ? std::numeric_limits<float>::max() : std::numeric_limits<double>::max();
   std::vector<Record> records;
   for (std::size_t k = 0; k < states.size(); ++k) {
-    const report::Outcome& o = result.outcomes[k];
-    const report::Truth& t = truth[k];
     Record r;
+    static_cast<report::StateJudgement&>(r) = report::judge(result.outcomes[k], truth[k], problems[k], c.chain, largest);
     r.kind = states[k].kind;
-    std::vector<Precise> tau_ff(problems[k].tau_ff.data(), problems[k].tau_ff.data() + problems[k].tau_ff.size());
-    r.qdd = test::joint_relative_error(o.qdd, t.qdd, c.chain, {t.qdd_free});
-    r.tau = test::joint_relative_error(o.tau_cmd, t.tau_cmd, c.chain, {tau_ff});
-    r.nu = test::vector_relative_error(o.nu, t.nu);
-    r.cond_E = t.cond_scaled;
-    r.rho_D = t.min_relative_D;
-    r.status = o.status;
-    r.exact_status = t.status;
     r.borderline = lower[k].status != upper[k].status;
-    for (const auto* v : {&o.qdd, &o.tau_cmd, &o.nu})
-      for (const Precise& x : *v) r.finite = r.finite && isfinite(x);
-    const Precise largest = single ? Precise(std::numeric_limits<float>::max()) : Precise(std::numeric_limits<double>::max());
-    for (const auto* v : {&t.qdd, &t.tau_cmd, &t.nu})
-      for (const Precise& x : *v) r.representable = r.representable && abs(x) <= largest;
     records.push_back(r);
   }
   return records;
@@ -101,7 +77,7 @@ class Stability : public testing::TestWithParam<std::string> {};
 // where the exact result fits the scalar (status_not_finite, on top of the referee's bits, where
 // it does not); the referee's status, except where its decision changes within a factor 2 of the
 // tolerances (rounding can tip it there); full-rank states within kErrorFactor · eps · κ.
-void check_against_referee(const test::StabilityCase& c, const std::vector<Record>& records, double eps,
+void check_against_referee(const report::StabilityCase& c, const std::vector<Record>& records, double eps,
                            const char* label) {
   std::map<std::string, Record> worst;
   std::map<std::string, double> ratio;
@@ -143,19 +119,19 @@ void check_against_referee(const test::StabilityCase& c, const std::vector<Recor
   }
 }
 
-test::StabilityCase stability_case(const std::string& name, const test::TempDir& dir) {
+report::StabilityCase stability_case(const std::string& name, const test::TempDir& dir) {
   const bool bundled = name.find(".yaml") != std::string::npos;
-  return bundled ? test::bundled_stability_case(name, name.find("planar") == std::string::npos)
-                 : test::family_stability_case(name, dir);
+  return bundled ? report::bundled_stability_case(name, SWEEPGEN_SOURCE_DIR)
+                 : report::family_stability_case(name, dir.path());
 }
 
-std::size_t states_per_kind(const test::StabilityCase& c) {
+std::size_t states_per_kind(const report::StabilityCase& c) {
   return test::stability_full() ? 100 : (c.chain.dof() > 10 ? 3 : 10);
 }
 
 TEST_P(Stability, ReferenceDoubleAgainstQuad) {
   test::TempDir dir;
-  const test::StabilityCase c = stability_case(GetParam(), dir);
+  const report::StabilityCase c = stability_case(GetParam(), dir);
   if (c.heavy && !test::stability_full()) GTEST_SKIP() << "heavy case: SWEEPGEN_STABILITY_FULL=1";
   check_against_referee(c, measure(c, states_per_kind(c), 7), kEps, "stability");
 }
@@ -166,7 +142,7 @@ TEST_P(Stability, ReferenceDoubleAgainstQuad) {
 // docs/stability.md compares the two policies (sweepgen report --stability).
 TEST_P(Stability, DampedReferenceDoubleAgainstQuad) {
   test::TempDir dir;
-  test::StabilityCase c = stability_case(GetParam(), dir);
+  report::StabilityCase c = stability_case(GetParam(), dir);
   if (c.heavy && !test::stability_full()) GTEST_SKIP() << "heavy case: SWEEPGEN_STABILITY_FULL=1";
   c.scene.constraint_factorisation = solver::ConstraintFactorisation::damped;
   check_against_referee(c, measure(c, states_per_kind(c), 7), kEps, "stability-damped");
@@ -179,7 +155,7 @@ TEST_P(Stability, DampedReferenceDoubleAgainstQuad) {
 // eps: kErrorFactor · eps_float · κ (the justification above does not depend on the precision).
 TEST_P(Stability, ReferenceFloatAgainstQuad) {
   test::TempDir dir;
-  const test::StabilityCase c = stability_case(GetParam(), dir);
+  const report::StabilityCase c = stability_case(GetParam(), dir);
   if (c.heavy && !test::stability_full()) GTEST_SKIP() << "heavy case: SWEEPGEN_STABILITY_FULL=1";
   check_against_referee(c, measure(c, states_per_kind(c), 7, true), kEpsFloat, "stability-float");
 }
@@ -192,7 +168,7 @@ TEST_P(Stability, ReferenceFloatAgainstQuad) {
 // 2^-40 .. 2^40 in the inertias, far from under- and overflow.
 TEST_P(Stability, PowerOfTwoScaledCopiesAgree) {
   test::TempDir dir;
-  const test::StabilityCase c = stability_case(GetParam(), dir);
+  const report::StabilityCase c = stability_case(GetParam(), dir);
   if (c.heavy && !test::stability_full()) GTEST_SKIP() << "heavy case: SWEEPGEN_STABILITY_FULL=1";
   const auto states = report::extreme_states(c.scene, c.chain, c.chain.dof() > 10 ? 2 : 5, c.singular_q, 11);
   std::vector<report::Problem> problems;
@@ -218,9 +194,9 @@ TEST_P(Stability, PowerOfTwoScaledCopiesAgree) {
         tau[i] /= k.torque(c.chain.joints[i + 1]);
       }
       for (auto& v : nu) v /= k.M() * k.L() * k.L();
-      const double e = std::max({test::joint_relative_error(qdd, b.qdd, c.chain),
-                                 test::joint_relative_error(tau, b.tau_cmd, c.chain),
-                                 test::vector_relative_error(nu, b.nu)});
+      const double e = std::max({report::joint_relative_error(qdd, b.qdd, c.chain),
+                                 report::joint_relative_error(tau, b.tau_cmd, c.chain),
+                                 report::vector_relative_error(nu, b.nu)});
       if (std::isfinite(e)) worst = std::max(worst, e);
       EXPECT_LE(e, 4 * kEps) << where;
     }
@@ -237,7 +213,7 @@ TEST(StabilityKdl, NotWorseThanKdlOnScaledAndThinRodCases) {
   test::TempDir dir;
   int compared = 0;
   for (const std::string name : {"arm_micro", "arm_giant", "thin_rods"}) {
-    const test::StabilityCase c = test::family_stability_case(name, dir);
+    const report::StabilityCase c = report::family_stability_case(name, dir.path());
     const auto states = report::extreme_states(c.scene, c.chain, 10, c.singular_q, 7);
     std::vector<report::Problem> problems;
     for (const auto& st : states) problems.push_back(st.problem);
@@ -248,26 +224,19 @@ TEST(StabilityKdl, NotWorseThanKdlOnScaledAndThinRodCases) {
       std::printf("[stability-kdl] %s: skipped, KDL cannot take it: %s\n", name.c_str(), kdl.note.c_str());
       continue;
     }
-    const auto truth = report::precise_reference(c.scene, c.chain, problems, with_tolerance_factor(c.scene, 1));
+    const auto truth = report::precise_reference(c.scene, c.chain, problems, report::with_tolerance_factor(c.scene, 1, kEps));
     const report::VariantResult ours = report::measure_reference_double(c.scene, c.chain, problems, untimed);
-    const auto error = [&](const report::Outcome& o, const report::Truth& t, const report::Problem& p) {
-      const std::vector<Precise> tau_ff(p.tau_ff.data(), p.tau_ff.data() + p.tau_ff.size());
-      return std::max({test::joint_relative_error(o.qdd, t.qdd, c.chain, {t.qdd_free}),
-                       test::joint_relative_error(o.tau_cmd, t.tau_cmd, c.chain, {tau_ff}),
-                       test::vector_relative_error(o.nu, t.nu)});
-    };
     double worst_ours = 0, worst_kdl = 0;
     int states_compared = 0, better = 0;
     for (std::size_t k = 0; k < states.size(); ++k) {
       const report::Truth& t = truth[k];
       if (t.status != 0 || ours.outcomes[k].status != 0) continue;  // full rank only (KDL has no rank policy)
-      Record r;
-      r.cond_E = t.cond_scaled;
-      r.rho_D = t.min_relative_D;
-      const double e_ours = error(ours.outcomes[k], t, problems[k]);
-      const double e_kdl = error(kdl.outcomes[k], t, problems[k]);
-      EXPECT_LE(e_ours, std::max(e_kdl, kErrorFactor * kEps * r.kappa()))
-          << name << " " << states[k].kind << " kappa " << r.kappa() << " KDL " << e_kdl;
+      const double largest = std::numeric_limits<double>::max();
+      const report::StateJudgement ours_k = report::judge(ours.outcomes[k], t, problems[k], c.chain, largest);
+      const double e_ours = ours_k.error();
+      const double e_kdl = report::judge(kdl.outcomes[k], t, problems[k], c.chain, largest).error();
+      EXPECT_LE(e_ours, std::max(e_kdl, kErrorFactor * kEps * ours_k.kappa()))
+          << name << " " << states[k].kind << " kappa " << ours_k.kappa() << " KDL " << e_kdl;
       worst_ours = std::max(worst_ours, e_ours);
       worst_kdl = std::max(worst_kdl, std::isfinite(e_kdl) ? e_kdl : INFINITY);
       better += e_ours <= e_kdl;
@@ -401,7 +370,7 @@ TEST(EnergyDrift, Rk4LongChainsConverge) {
   const double h = 1e-3, seconds = 10, converged_until = 2;
   const long steps = std::lround(seconds / h);
   for (const std::string& name : chains) {
-    const test::StabilityCase c = test::family_stability_case(name, dir);
+    const report::StabilityCase c = report::family_stability_case(name, dir.path());
     const report::Problem start = report::random_problems(c.scene, c.chain, 1, 5).front();
     EnergyProbe probe(c.chain, c.scene);
     const Drift coarse = rk4_drift(probe, start.q, start.qd, h, steps);
@@ -430,7 +399,7 @@ TEST(EnergyDrift, Rk4LongChainsConverge) {
 
 std::vector<std::string> cases() {
   std::vector<std::string> names = family::family_case_names();
-  for (const auto& s : test::bundled_stability_scenes()) names.push_back(s);
+  for (const auto& s : report::bundled_stability_scenes()) names.push_back(s);
   return names;
 }
 

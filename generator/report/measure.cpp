@@ -165,6 +165,13 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
   return truth;
 }
 
+solver::SolverOptions with_tolerance_factor(const scene::Scene& s, double factor, double eps) {
+  solver::SolverOptions o = s.solver_options();
+  o.pivot_tolerance = factor * o.pivot_tolerance_for(eps);
+  o.joint_inertia_tolerance = factor * o.joint_inertia_tolerance_for(eps);
+  return o;
+}
+
 namespace {
 // ReferenceSolver<Scalar> on the states (inputs rounded to Scalar outside the timed loop).
 template <class Scalar>

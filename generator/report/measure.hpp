@@ -69,6 +69,11 @@ struct Truth {
   double min_relative_D = 1;
   unsigned status = 0;  // the reference's status bits in Precise, with `options`' tolerances
 };
+// The scene's solver options with both tolerances (pivot, joint inertia) at `factor` times their
+// defaults for a scalar of machine epsilon `eps`: the referee of that scalar's solver (factor 1:
+// "what should this scalar's solver have returned", rank decisions included), or the band
+// around its decisions (0.5, 2).
+solver::SolverOptions with_tolerance_factor(const scene::Scene& s, double factor, double eps);
 // `options`: the solver options the referee runs with (default: the scene's).
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
                                      const std::vector<Problem>& problems);

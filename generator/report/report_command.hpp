@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 namespace sweepgen::report {
 
@@ -14,7 +15,12 @@ struct ReportOptions {
   std::string root;
   std::string tip;
   std::size_t states = 1000;
-  std::string out = "report";
+  std::string out;  // empty: "report", or "stability" with --stability
+  // --stability (report/stability_command.hpp) and its options
+  bool stability = false;
+  std::vector<std::string> cases;
+  std::size_t states_per_kind = 10;
+  bool full = false;
   unsigned long long seed = 1;
   int repetitions = 20;
   std::string cxx = "c++";
@@ -22,7 +28,7 @@ struct ReportOptions {
 
 void add_report_command(CLI::App& app, ReportOptions& options);
 
-// Exit 0 on success. Throws InputError for a bad scene or URDF (exit 1) and cli::IoError when
+// Exit 0 on success (with --stability: run_stability_report). Throws InputError for a bad scene or URDF (exit 1) and cli::IoError when
 // a file cannot be written or the compiler, dlopen() or gnuplot fails (exit 3).
 int run_report(const ReportOptions& options);
 

@@ -8,18 +8,12 @@
 #include <sstream>
 
 #include "cli/output_files.hpp"
-#include "report/native_library.hpp"
+#include "report/gnuplot.hpp"
+#include "report/text_format.hpp"
 
 namespace sweepgen::report {
 namespace {
 
-std::string format(const char* pattern, double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
 std::string ns(double value) { return format("%.1f", value); }
 std::string err(Precise value) { return format("%.3e", static_cast<double>(value)); }
 
@@ -49,20 +43,6 @@ std::vector<std::string> fields(const ReportRow& row) {
           err(s.ill_conditioned_max_rel_err_qdd)};
 }
 
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
-}
-
-// A string in single quotes for gnuplot ('' is a literal quote there).
-std::string gnuplot_string(const std::string& text) {
-  std::string quoted = "'";
-  for (const char c : text) quoted += c == '\'' ? std::string("''") : std::string(1, c);
-  return quoted + "'";
-}
-
 }  // namespace
 
 const std::vector<std::string>& csv_columns() {
@@ -73,13 +53,8 @@ const std::vector<std::string>& csv_columns() {
 }
 
 std::string csv_text(const std::vector<ReportRow>& rows) {
-  std::string text;
-  const auto line = [&text](const std::vector<std::string>& f) {
-    for (std::size_t i = 0; i < f.size(); ++i) text += (i ? "," : "") + csv_field(f[i]);
-    text += "\n";
-  };
-  line(csv_columns());
-  for (const auto& row : rows) line(fields(row));
+  std::string text = csv_line(csv_columns());
+  for (const auto& row : rows) text += csv_line(fields(row));
   return text;
 }
 
@@ -92,37 +67,12 @@ void print_table(const std::vector<ReportRow>& rows, std::ostream& out) {
     if (!row.result->note.empty()) f = {row.result->variant, row.result->scalar, row.result->note};
     table.push_back(f);
   }
-  std::vector<std::size_t> width(header.size(), 0);
-  for (const auto& r : table)
-    if (r.size() == header.size())
-      for (std::size_t i = 0; i < r.size(); ++i) width[i] = std::max(width[i], r[i].size());
-  for (const auto& r : table) {
-    std::string line;
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      const bool last = i + 1 == r.size();
-      std::string cell = r[i];
-      if (!last) cell.resize(std::max(cell.size(), width[i]), ' ');
-      line += cell + (last ? "" : "  ");
-    }
-    out << line << "\n";
-  }
+  print_aligned(table, out);
 }
 
 void plot(const std::vector<ReportRow>& rows, const std::string& title, const std::string& work_dir,
           const std::string& png_path) {
-  // Which PNG terminal this gnuplot has (gnuplot-nox may lack pngcairo).
-  const std::string terminals_log = work_dir + "/gnuplot-terminals.txt";
-  std::remove(terminals_log.c_str());
-  const int listed = run_process({"gnuplot", "-e", "set terminal"}, terminals_log);
-  if (listed < 0) throw cli::IoError("gnuplot: cannot be run (is gnuplot installed and on PATH?)");
-  std::string terminals;
-  {
-    std::ifstream in(terminals_log);
-    std::ostringstream text;
-    text << in.rdbuf();
-    terminals = text.str();
-  }
-  const bool cairo = terminals.find("pngcairo") != std::string::npos;
+  const std::string terminal = png_terminal(work_dir, 1000, 650);
 
   struct Point {
     std::string label;
@@ -200,7 +150,7 @@ void plot(const std::vector<ReportRow>& rows, const std::string& title, const st
   std::ostringstream script;
   script << std::setprecision(6);
   script << "# Written by `sweepgen report`: run `gnuplot " << script_path << "` to redraw.\n"
-         << (cairo ? "set terminal pngcairo size 1000,650 font 'Sans,11'\n" : "set terminal png size 1000,650 font 'Sans,11'\n")
+         << terminal
          << "set output " << gnuplot_string(png_path) << "\n"
          << "set title " << gnuplot_string(title) << " noenhanced\n"
          << "set logscale xy\n"
@@ -214,16 +164,7 @@ void plot(const std::vector<ReportRow>& rows, const std::string& title, const st
          << labels.str()
          << "plot " << gnuplot_string(data_path) << " using 1:2 with points pointtype 7 pointsize 2 linecolor rgb '#1f5fa8'\n";
   cli::write_files_atomically({{data_path, data.str()}, {script_path, script.str()}});
-  const std::string log = work_dir + "/gnuplot.log";
-  std::remove(log.c_str());
-  std::remove(png_path.c_str());
-  const int status = run_process({"gnuplot", script_path}, log);
-  std::ifstream png(png_path, std::ios::binary);
-  char signature[8] = {};
-  png.read(signature, 8);
-  if (status != 0 || !png || std::string(signature, 8) != "\x89PNG\r\n\x1a\n")
-    throw cli::IoError("gnuplot " + script_path + " failed (exit " + std::to_string(status) + ") to write " + png_path +
-                       ":\n" + tail_of_file(log));
+  run_gnuplot(script_path, png_path, work_dir);
 }
 
 }  // namespace sweepgen::report

@@ -1,0 +1,42 @@
+// Steps 1–3 of `sweepgen report` (plain and --stability): a scene's generated solver (policy
+// original, double and float) written with a C wrapper, compiled by the system compiler into a
+// shared library and loaded into this process.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/chain.hpp"
+#include "report/measure.hpp"
+#include "report/native_library.hpp"
+#include "scene/scene.hpp"
+
+namespace sweepgen::report {
+
+// The scene as the report measures it: the original policy, in double and float.
+scene::Scene report_scene(scene::Scene s);
+
+// What each step says as it starts: `step` 1 generate, 2 compile, 3 load; `detail` for results.
+struct CompileProgress {
+  std::function<void(int step, const std::string& what)> step;
+  std::function<void(const std::string& what)> detail;
+};
+
+struct CompiledSolver {
+  std::vector<std::string> command;  // the compile command, for the record
+  std::unique_ptr<SharedLibrary> library;
+  FlatSolve<double> solve_f64 = nullptr;
+  FlatSolve<float> solve_f32 = nullptr;
+};
+
+// Generates `s` (a report_scene) into `build_dir`, compiles it with `cxx` and loads it. Throws
+// cli::IoError when the compiler cannot be run or fails (its output in build_dir/compile.log),
+// dlopen() fails, or the library's flat sizes do not match the scene.
+CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& chain,
+                                    const std::filesystem::path& build_dir, const std::string& cxx,
+                                    const CompileProgress& progress);
+
+}  // namespace sweepgen::report
