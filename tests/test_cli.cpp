@@ -54,19 +54,13 @@ std::vector<std::string> lines_of(const std::string& text) {
   return lines;
 }
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Every regular file under `dir` (recursively) by relative path, with its bytes.
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
   std::map<std::string, std::string> files;
   if (!fs::exists(dir)) return files;
   for (const auto& entry : fs::recursive_directory_iterator(dir))
-    if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = read_bytes(entry.path());
+    if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = test::read_text(entry.path());
   return files;
 }
 
@@ -390,7 +384,7 @@ TEST(CliSolve, RotorInertiaEntriesAreChecked) {
 // ---- usage -----------------------------------------------------------------------------------
 
 std::string project_version() {
-  const std::string cmake = read_bytes(kSource + "/CMakeLists.txt");
+  const std::string cmake = test::read_text(kSource + "/CMakeLists.txt");
   std::smatch match;
   EXPECT_TRUE(std::regex_search(cmake, match, std::regex(R"(project\(sweepgen VERSION ([0-9.]+))")));
   return match.size() > 1 ? match[1].str() : "";
@@ -540,7 +534,7 @@ TEST(CliGenerate, DepfileListsTheSceneAndUrdfAbsolute) {
       {"generate", "--scene", "robots/planar/planar_nc2.yaml", "--out", out.string(), "--depfile", depfile}, nullptr, kSource);
   ASSERT_EQ(r.exit_code, 0) << describe(r);
   EXPECT_EQ(names(snapshot(out)), (std::vector<std::string>{"planar_nc2.cmake", "planar_nc2.cpp", "planar_nc2.hpp"}));
-  const std::string text = read_bytes(depfile);
+  const std::string text = test::read_text(depfile);
   const auto lines = lines_of(text);
   ASSERT_EQ(lines.size(), 1u) << text;
   const auto colon = lines[0].find(": ");
@@ -557,7 +551,7 @@ TEST(CliGenerate, DepfileListsTheSceneAndUrdfAbsolute) {
 
   // Without a scene file only the URDF is listed.
   ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", out.string(), "--depfile", depfile}).exit_code, 0);
-  EXPECT_EQ(read_bytes(depfile), (out / "planar_rpr.hpp").string() + ": " + fs::absolute(kPlanar).string() + "\n");
+  EXPECT_EQ(test::read_text(depfile), (out / "planar_rpr.hpp").string() + ": " + fs::absolute(kPlanar).string() + "\n");
 }
 
 TEST(CliGenerate, FileStemNamesTheFilesAndTheirReferences) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "fuzz_entries.hpp"
+#include "support/temp_dir.hpp"
 
 namespace sweepgen {
 namespace {
@@ -49,12 +50,6 @@ std::vector<fs::path> files_in(const fs::path& dir) {
   return files;
 }
 
-std::string read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
 
 bool must_be_rejected(const fs::path& file) { return file.filename().string().rfind("reject_", 0) == 0; }
 
@@ -66,7 +61,7 @@ std::string type_name(const std::type_info& type) {
 
 // Runs one input through the target's entry and checks the outcome against the file's name.
 void check_file(const Target& target, const fs::path& file) {
-  const std::string bytes = read_bytes(file);
+  const std::string bytes = test::read_text(file);
   try {
     const fuzz::Outcome outcome = target.entry(bytes);
     if (must_be_rejected(file)) {

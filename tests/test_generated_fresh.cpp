@@ -24,12 +24,6 @@ std::vector<fs::path> bundled_scenes() {
   return scenes;
 }
 
-std::string contents(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 const char* kHowToRegenerate = "generated/ is stale: run `cmake --build build --target regenerate` and commit it";
 
@@ -46,7 +40,7 @@ TEST(GeneratedFiles, MatchTheGeneratorByteForByte) {
   for (const auto& fresh : fs::directory_iterator(dir.path())) {
     const fs::path committed = fs::path(SWEEPGEN_SOURCE_DIR) / "generated" / fresh.path().filename();
     ASSERT_TRUE(fs::exists(committed)) << committed << " is missing; " << kHowToRegenerate;
-    EXPECT_EQ(contents(fresh.path()), contents(committed)) << committed << " differs; " << kHowToRegenerate;
+    EXPECT_EQ(test::read_text(fresh.path()), test::read_text(committed)) << committed << " differs; " << kHowToRegenerate;
     ++files;
   }
   std::size_t committed_files = 0;

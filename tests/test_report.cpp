@@ -37,12 +37,6 @@ const std::vector<std::string> kColumns = {"variant",
 
 std::string planar_scene() { return std::string(SWEEPGEN_SOURCE_DIR) + "/robots/planar/planar_nc2.yaml"; }
 
-std::string read(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Splits one CSV line (fields may be double-quoted, "" an embedded quote).
 std::vector<std::string> split_csv(const std::string& line) {
@@ -89,7 +83,7 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_NE(result.out.find("seed 1"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("policy original"), std::string::npos) << result.out;
 
-  std::istringstream csv(read(out / "report.csv"));
+  std::istringstream csv(test::read_text(out / "report.csv"));
   std::string line;
   ASSERT_TRUE(std::getline(csv, line));
   EXPECT_EQ(split_csv(line), kColumns) << line;
@@ -140,7 +134,7 @@ TEST(Report, PlanarSceneEndToEnd) {
     EXPECT_GT(kdl_row[0].size(), std::string("kdl ()").size()) << "the kdl row must say why: " << kdl_row[0];
   }
 
-  const std::string png = read(out / "report.png");
+  const std::string png = test::read_text(out / "report.png");
   ASSERT_GE(png.size(), 8u);
   EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   // Everything compiled and loaded lives under DIR/build.
@@ -157,7 +151,7 @@ TEST(Report, SameSeedSameErrors) {
                                                    "20", "--seed", "7", "--repetitions", "5", "--out", out.string()}));
     ASSERT_EQ(result.exit_code, 0) << result.err;
     EXPECT_NE(result.out.find("seed 7"), std::string::npos);
-    std::istringstream csv(read(out / "report.csv"));
+    std::istringstream csv(test::read_text(out / "report.csv"));
     std::string line, all;
     std::getline(csv, line);
     while (std::getline(csv, line)) {
@@ -224,7 +218,7 @@ TEST(Report, StabilityReportOnTwoCases) {
   ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
   EXPECT_NE(result.out.find("max_err/(eps*kappa)"), std::string::npos) << result.out;
 
-  std::istringstream csv(read(out / "stability.csv"));
+  std::istringstream csv(test::read_text(out / "stability.csv"));
   std::string line;
   ASSERT_TRUE(std::getline(csv, line));
   ASSERT_EQ(split_csv(line), columns) << line;
