@@ -18,15 +18,15 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 809, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1908)
-//   f64::decompose: add 1142, mul 1558, div 6, neg 30, sin/cos 0, compare 238 (total 2974)
+//   f64::decompose: add 1142, mul 1558, div 6, neg 32, sin/cos 0, compare 238 (total 2976)
 //   f64::solve_original: add 247, mul 254, div 0, neg 4, sin/cos 0, compare 50 (total 555)
-//   f64: outward + decompose + solve_original: add 2198, mul 2828, div 12, neg 79, sin/cos 14, compare 306 (total 5437)
+//   f64: outward + decompose + solve_original: add 2198, mul 2828, div 12, neg 81, sin/cos 14, compare 306 (total 5439)
 //   f64::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 50 (total 557)
-//   f64: outward + decompose + solve_prioritize_external: add 2200, mul 2828, div 12, neg 79, sin/cos 14, compare 306 (total 5439)
+//   f64: outward + decompose + solve_prioritize_external: add 2200, mul 2828, div 12, neg 81, sin/cos 14, compare 306 (total 5441)
 //   f64::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 78 (total 746)
-//   f64: outward + decompose + solve_saturate: add 2299, mul 2892, div 12, neg 77, sin/cos 14, compare 334 (total 5628)
-//   f64::solve_saturate_exact: add 287, mul 302, div 0, neg 6, sin/cos 0, compare 78 (total 673)
-//   f64: outward + decompose + solve_saturate_exact: add 2238, mul 2876, div 12, neg 81, sin/cos 14, compare 334 (total 5555)
+//   f64: outward + decompose + solve_saturate: add 2299, mul 2892, div 12, neg 79, sin/cos 14, compare 334 (total 5630)
+//   f64::solve_saturate_exact: add 287, mul 302, div 0, neg 7, sin/cos 0, compare 78 (total 674)
+//   f64: outward + decompose + solve_saturate_exact: add 2238, mul 2876, div 12, neg 84, sin/cos 14, compare 334 (total 5558)
 //   f32::outward: add 809, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1908)
 //   f32::decompose: add 1142, mul 1558, div 6, neg 30, sin/cos 0, compare 238 (total 2974)
 //   f32::solve_original: add 247, mul 254, div 0, neg 4, sin/cos 0, compare 50 (total 555)
@@ -124,19 +124,19 @@ struct State {
   Scalar carried_30;
   Scalar carried_31;
   Scalar carried_32;
-  Scalar original_locked_joints_0;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_0;
-  Scalar original_conf_energy_1;
-  Scalar original_conf_energy_2;
-  Scalar original_conf_energy_3;
-  Scalar original_conf_energy_4;
-  Scalar original_conf_energy_5;
+  Scalar carried_33;
+  Scalar carried_34;
+  Scalar carried_35;
+  Scalar carried_36;
+  Scalar carried_37;
+  Scalar carried_38;
+  Scalar carried_39;
+  Scalar carried_40;
+  Scalar carried_41;
+  Scalar carried_42;
+  Scalar carried_43;
+  Scalar carried_44;
+  Scalar carried_45;
   Scalar carried_46;
   Scalar carried_47;
   Scalar carried_48;
@@ -155,24 +155,24 @@ struct State {
   Scalar carried_61;
   Scalar carried_62;
   Scalar carried_63;
-  Scalar carried_64;
-  Scalar carried_65;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar carried_66;
-  Scalar carried_67;
-  Scalar carried_68;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar carried_69;
-  Scalar carried_70;
-  Scalar carried_71;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar carried_72;
-  Scalar carried_73;
-  Scalar carried_74;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar carried_75;
-  Scalar carried_76;
-  Scalar carried_77;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar carried_78;
   Scalar carried_79;
-  Scalar carried_80;
-  Scalar carried_81;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar carried_82;
   Scalar carried_83;
   Scalar carried_84;
@@ -189,17 +189,17 @@ struct State {
   Scalar carried_95;
   Scalar carried_96;
   Scalar carried_97;
-  Scalar original_dropped_pivots_0;
+  Scalar carried_98;
   Scalar carried_99;
   Scalar carried_100;
-  Scalar carried_101;
-  Scalar carried_102;
-  Scalar original_acceleration_2_3;
   Scalar original_acceleration_2_4;
+  Scalar original_acceleration_2_3;
+  Scalar carried_103;
+  Scalar carried_104;
   Scalar carried_105;
   Scalar carried_106;
-  Scalar carried_107;
-  Scalar carried_108;
+  Scalar original_dropped_pivots_0;
+  Scalar original_locked_joints_0;
   Scalar carried_109;
   Scalar carried_110;
   Scalar carried_111;
@@ -346,19 +346,19 @@ struct State {
   Scalar carried_30;
   Scalar carried_31;
   Scalar carried_32;
-  Scalar original_locked_joints_0;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_0;
-  Scalar original_conf_energy_1;
-  Scalar original_conf_energy_2;
-  Scalar original_conf_energy_3;
-  Scalar original_conf_energy_4;
-  Scalar original_conf_energy_5;
+  Scalar carried_33;
+  Scalar carried_34;
+  Scalar carried_35;
+  Scalar carried_36;
+  Scalar carried_37;
+  Scalar carried_38;
+  Scalar carried_39;
+  Scalar carried_40;
+  Scalar carried_41;
+  Scalar carried_42;
+  Scalar carried_43;
+  Scalar carried_44;
+  Scalar carried_45;
   Scalar carried_46;
   Scalar carried_47;
   Scalar carried_48;
@@ -377,24 +377,24 @@ struct State {
   Scalar carried_61;
   Scalar carried_62;
   Scalar carried_63;
-  Scalar carried_64;
-  Scalar carried_65;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar carried_66;
-  Scalar carried_67;
-  Scalar carried_68;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar carried_69;
-  Scalar carried_70;
-  Scalar carried_71;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar carried_72;
-  Scalar carried_73;
-  Scalar carried_74;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar carried_75;
-  Scalar carried_76;
-  Scalar carried_77;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar carried_78;
   Scalar carried_79;
-  Scalar carried_80;
-  Scalar carried_81;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar carried_82;
   Scalar carried_83;
   Scalar carried_84;
@@ -411,17 +411,17 @@ struct State {
   Scalar carried_95;
   Scalar carried_96;
   Scalar carried_97;
-  Scalar original_dropped_pivots_0;
+  Scalar carried_98;
   Scalar carried_99;
   Scalar carried_100;
-  Scalar carried_101;
-  Scalar carried_102;
-  Scalar original_acceleration_2_3;
   Scalar original_acceleration_2_4;
+  Scalar original_acceleration_2_3;
+  Scalar carried_103;
+  Scalar carried_104;
   Scalar carried_105;
   Scalar carried_106;
-  Scalar carried_107;
-  Scalar carried_108;
+  Scalar original_dropped_pivots_0;
+  Scalar original_locked_joints_0;
   Scalar carried_109;
   Scalar carried_110;
   Scalar carried_111;

@@ -17,9 +17,9 @@
 // (spatial acceleration minus gravity).
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1524, mul 2034, div 12, neg 110, sin/cos 12, compare 256 (total 3948)
+//   f64::outward: add 1524, mul 2034, div 12, neg 109, sin/cos 12, compare 256 (total 3947)
 //   f64::decompose: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
-//   f64::solve_original: add 212, mul 246, div 0, neg 5, sin/cos 0, compare 50 (total 513)
+//   f64::solve_original: add 212, mul 246, div 0, neg 6, sin/cos 0, compare 50 (total 514)
 //   f64: outward + decompose + solve_original: add 1736, mul 2280, div 12, neg 115, sin/cos 12, compare 306 (total 4461)
 #pragma once
 
@@ -54,60 +54,61 @@ struct Drivers {
 
 // Results of outward() and decompose() that later calls read (expose: outputs; carried values only).
 struct State {
-  Scalar carried_0;
   Scalar X_E_2_0;
+  Scalar carried_1;
+  Scalar carried_2;
   Scalar bias_acceleration_2_1;
-  Scalar bias_acceleration_2_0;
-  Scalar X_E_3_2;
   Scalar X_E_3_0;
-  Scalar carried_6;
+  Scalar X_E_3_2;
   Scalar bias_acceleration_3_0;
-  Scalar carried_8;
+  Scalar carried_7;
   Scalar bias_acceleration_3_3;
-  Scalar X_E_4_2;
+  Scalar carried_9;
   Scalar X_E_4_0;
-  Scalar carried_12;
+  Scalar X_E_4_2;
   Scalar bias_acceleration_4_0;
-  Scalar carried_14;
+  Scalar carried_13;
   Scalar bias_acceleration_4_3;
-  Scalar carried_16;
+  Scalar carried_15;
   Scalar X_E_5_0;
-  Scalar carried_18;
+  Scalar carried_17;
   Scalar bias_acceleration_5_0;
-  Scalar carried_20;
+  Scalar carried_19;
   Scalar bias_acceleration_5_3;
-  Scalar X_E_6_2;
+  Scalar carried_21;
   Scalar X_E_6_0;
-  Scalar carried_24;
+  Scalar X_E_6_2;
   Scalar bias_acceleration_6_0;
-  Scalar carried_26;
+  Scalar carried_25;
   Scalar bias_acceleration_6_3;
-  Scalar X_E_7_2;
+  Scalar carried_27;
   Scalar X_E_7_0;
-  Scalar carried_30;
+  Scalar X_E_7_2;
   Scalar bias_acceleration_7_0;
-  Scalar carried_32;
+  Scalar carried_31;
   Scalar bias_acceleration_7_3;
+  Scalar carried_33;
   Scalar bias_force_7_2;
-  Scalar articulated_inertia_6_17;
   Scalar articulated_inertia_6_2;
+  Scalar articulated_inertia_6_17;
   Scalar articulated_inertia_6_5;
   Scalar articulated_inertia_6_8;
   Scalar articulated_inertia_6_15;
   Scalar articulated_inertia_6_16;
+  Scalar inverse_D_6_0;
   Scalar constraint_force_6_0;
   Scalar constraint_force_6_2;
   Scalar constraint_force_6_14;
   Scalar constraint_force_6_18;
   Scalar constraint_force_6_20;
   Scalar articulated_force_bias_6_2;
-  Scalar inverse_D_6_0;
-  Scalar articulated_inertia_5_17;
   Scalar articulated_inertia_5_2;
   Scalar articulated_inertia_5_5;
   Scalar articulated_inertia_5_8;
   Scalar articulated_inertia_5_15;
   Scalar articulated_inertia_5_16;
+  Scalar articulated_inertia_5_17;
+  Scalar inverse_D_5_0;
   Scalar constraint_force_5_2;
   Scalar constraint_force_5_8;
   Scalar constraint_force_5_14;
@@ -115,13 +116,13 @@ struct State {
   Scalar constraint_force_5_26;
   Scalar constraint_force_5_32;
   Scalar articulated_force_bias_5_2;
-  Scalar inverse_D_5_0;
-  Scalar articulated_inertia_4_17;
   Scalar articulated_inertia_4_2;
   Scalar articulated_inertia_4_5;
   Scalar articulated_inertia_4_8;
   Scalar articulated_inertia_4_15;
   Scalar articulated_inertia_4_16;
+  Scalar articulated_inertia_4_17;
+  Scalar inverse_D_4_0;
   Scalar constraint_force_4_2;
   Scalar constraint_force_4_8;
   Scalar constraint_force_4_14;
@@ -129,12 +130,12 @@ struct State {
   Scalar constraint_force_4_26;
   Scalar constraint_force_4_32;
   Scalar articulated_force_bias_4_2;
-  Scalar inverse_D_4_0;
   Scalar articulated_inertia_3_6;
   Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
+  Scalar inverse_D_3_0;
   Scalar constraint_force_3_2;
   Scalar constraint_force_3_8;
   Scalar constraint_force_3_14;
@@ -142,9 +143,9 @@ struct State {
   Scalar constraint_force_3_26;
   Scalar constraint_force_3_32;
   Scalar articulated_force_bias_3_2;
-  Scalar inverse_D_3_0;
   Scalar articulated_inertia_2_2;
   Scalar articulated_inertia_2_5;
+  Scalar inverse_D_2_0;
   Scalar constraint_force_2_2;
   Scalar constraint_force_2_8;
   Scalar constraint_force_2_14;
@@ -152,21 +153,20 @@ struct State {
   Scalar constraint_force_2_26;
   Scalar constraint_force_2_32;
   Scalar articulated_force_bias_2_2;
-  Scalar inverse_D_2_0;
+  Scalar inverse_D_1_0;
   Scalar constraint_force_1_2;
   Scalar constraint_force_1_8;
   Scalar constraint_force_1_14;
   Scalar constraint_force_1_20;
   Scalar constraint_force_1_26;
   Scalar constraint_force_1_32;
-  Scalar inverse_D_1_0;
   Scalar acceleration_energy_bias_0_0;
   Scalar acceleration_energy_bias_0_1;
   Scalar acceleration_energy_bias_0_2;
   Scalar acceleration_energy_bias_0_3;
   Scalar acceleration_energy_bias_0_4;
   Scalar acceleration_energy_bias_0_5;
-  Scalar original_locked_joints_0;
+  Scalar carried_112;
   Scalar carried_113;
   Scalar carried_114;
   Scalar carried_115;
@@ -219,13 +219,13 @@ struct State {
   Scalar carried_162;
   Scalar carried_163;
   Scalar carried_164;
-  Scalar original_dropped_pivots_0;
-  Scalar carried_166;
-  Scalar carried_167;
+  Scalar carried_165;
   Scalar original_acceleration_2_3;
+  Scalar carried_167;
   Scalar original_acceleration_3_5;
-  Scalar carried_170;
-  Scalar carried_171;
+  Scalar carried_169;
+  Scalar original_dropped_pivots_0;
+  Scalar original_locked_joints_0;
 
   unsigned kinematics_input_status;  // status_not_finite when q or qd held NaN/Inf (outward)
   unsigned drivers_input_status;     // status_not_finite when a driver held NaN/Inf (decompose)

@@ -34,18 +34,18 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   // ==== outward sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // X_r: X_i = X_J(q_i) X_T: translation r
   const double q_1 = q[1];
-  const double X_r_2_0 = 0.5 + q_1;
+  const double X_r_2_0 = q_1 + 0.5;
   state.X_r_2_0 = X_r_2_0;
   // velocity: Xd_i = X_i Xd_{i-1} + S_i qd_i
   const double qd_0 = qd[0];
-  const double velocity_2_4 = qd_0 * X_r_2_0;
+  const double velocity_2_4 = X_r_2_0 * qd_0;
   // bias_acceleration: Xddb_i = Xd_i x (S_i qd_i)
   const double qd_1 = qd[1];
   const double bias_acceleration_2_4 = qd_0 * qd_1;
   state.bias_acceleration_2_4 = bias_acceleration_2_4;
-  const double e0 = velocity_2_4 + 0.2 * qd_0;
+  const double e0 = 0.2 * qd_0 + velocity_2_4;
   // bias_force: Fb_i = Xd_i x* (M_i Xd_i)
-  const double bias_force_2_2 = qd_1 * e0 - qd_1 * velocity_2_4;
+  const double bias_force_2_2 = e0 * qd_1 - velocity_2_4 * qd_1;
   state.bias_force_2_2 = bias_force_2_2;
 
   // ==== outward sweep, body 3: link link3, joint planar_joint3 (revolute) ====
@@ -57,42 +57,42 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   state.X_E_3_1 = X_E_3_1;
   // velocity: Xd_i = X_i Xd_{i-1} + S_i qd_i
   const double qd_2 = qd[2];
-  const double velocity_3_2 = qd_0 + qd_2;
+  const double velocity_3_2 = qd_2 + qd_0;
   const double e1 = velocity_2_4 + 0.4 * qd_0;
-  const double velocity_3_3 = X_E_3_1 * e1 + qd_1 * X_E_3_0;
-  const double velocity_3_4 = X_E_3_0 * e1 - qd_1 * X_E_3_1;
+  const double velocity_3_3 = e1 * X_E_3_1 + qd_1 * X_E_3_0;
+  const double velocity_3_4 = e1 * X_E_3_0 - X_E_3_1 * qd_1;
   // bias_acceleration: Xddb_i = Xd_i x (S_i qd_i)
-  const double bias_acceleration_3_3 = qd_2 * velocity_3_4;
+  const double bias_acceleration_3_3 = velocity_3_4 * qd_2;
   state.bias_acceleration_3_3 = bias_acceleration_3_3;
-  const double e2 = 0.125 * velocity_3_2 + 0.7 * velocity_3_4;
+  const double e2 = 0.7 * velocity_3_4 + 0.125 * velocity_3_2;
   const double e3 = 0.7 * velocity_3_3 - 0.004 * velocity_3_2;
   // bias_force: Fb_i = Xd_i x* (M_i Xd_i)
-  const double bias_force_3_2 = velocity_3_3 * e2 - velocity_3_4 * e3;
+  const double bias_force_3_2 = e2 * velocity_3_3 - velocity_3_4 * e3;
   state.bias_force_3_2 = bias_force_3_2;
-  const double bias_force_3_4 = velocity_3_2 * e3;
+  const double bias_force_3_4 = e3 * velocity_3_2;
   state.bias_force_3_4 = bias_force_3_4;
   const double e4 = -0.0009999999999999998 * X_E_3_0;
 
   // ==== inward sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // articulated_inertia: M^A_{i-1} = M_{i-1} + X_i^T P_i^T M^A_i X_i   [A | B | C blocks]
-  const double articulated_inertia_2_0 = 0.0002666666666666667 + (X_E_3_0 * (0.0009999999999999998 * X_E_3_1 + 0.00030000000000000003 * X_E_3_0) - X_E_3_1 * (e4 - 0.027759999999999996 * X_E_3_1));
+  const double articulated_inertia_2_0 = (0.0009999999999999998 * X_E_3_1 + 0.00030000000000000003 * X_E_3_0) * X_E_3_0 - X_E_3_1 * (e4 - 0.027759999999999996 * X_E_3_1) + 0.0002666666666666667;
   const double e5 = 0.004 * X_E_3_1 - 0.125 * X_E_3_0;
-  const double articulated_inertia_2_4 = 0.053466666666666676 + (X_E_3_0 * (0.027759999999999996 * X_E_3_0 - 0.0009999999999999998 * X_E_3_1) + X_E_3_1 * (e4 + 0.00030000000000000003 * X_E_3_1) - 0.4 * e5 - 0.4 * e5 + 0.11199999999999999);
+  const double articulated_inertia_2_4 = X_E_3_1 * (e4 + 0.00030000000000000003 * X_E_3_1) + (0.027759999999999996 * X_E_3_0 - 0.0009999999999999998 * X_E_3_1) * X_E_3_0 - 0.4 * e5 - 0.4 * e5 + 0.11199999999999999 + 0.053466666666666676;
   const double e6 = 0.017938292274575465 * X_E_3_0;
-  const double e7 = X_E_3_0 * (0.017938292274575465 * X_E_3_1 + 0.13942836641951672 * X_E_3_0) + X_E_3_1 * (e6 + 0.6994259746472136 * X_E_3_1);
+  const double e7 = (0.017938292274575465 * X_E_3_1 + 0.13942836641951672 * X_E_3_0) * X_E_3_0 + (e6 + 0.6994259746472136 * X_E_3_1) * X_E_3_1;
   const double e8 = 0.4 * e7;
-  const double articulated_inertia_2_8 = 0.053466666666666676 + 0.4 * e8;
+  const double articulated_inertia_2_8 = 0.4 * e8 + 0.053466666666666676;
   const double articulated_inertia_2_14 = e5 - 0.27999999999999997 - 0.2;
   const double e9 = e6 - 0.13942836641951672 * X_E_3_1;
   const double e10 = 0.6994259746472136 * X_E_3_0 - 0.017938292274575465 * X_E_3_1;
-  const double articulated_inertia_2_19 = X_E_3_0 * e9 + X_E_3_1 * e10;
+  const double articulated_inertia_2_19 = e9 * X_E_3_0 + X_E_3_1 * e10;
   state.articulated_inertia_2_19 = articulated_inertia_2_19;
   const double articulated_inertia_2_15 = 0.4 * articulated_inertia_2_19;
   state.articulated_inertia_2_15 = articulated_inertia_2_15;
-  const double articulated_inertia_2_16 = 0.2 + e8;
-  const double articulated_inertia_2_18 = 1.0 + (X_E_3_0 * e10 - X_E_3_1 * e9);
-  const double articulated_inertia_2_22 = 1.0 + e7;
-  const double e11 = 2.220446049250313e-13 * (1.7 + (articulated_inertia_2_18 + articulated_inertia_2_22));
+  const double articulated_inertia_2_16 = e8 + 0.2;
+  const double articulated_inertia_2_18 = e10 * X_E_3_0 - X_E_3_1 * e9 + 1.0;
+  const double articulated_inertia_2_22 = e7 + 1.0;
+  const double e11 = 2.220446049250313e-13 * (1.7 + (articulated_inertia_2_22 + articulated_inertia_2_18));
   // inverse_D: D_i^-1, 0 where the joint is locked (D_i <= tol (d_i + tr block of M^A_i))
   const double inverse_D_2_0 = (articulated_inertia_2_18 > e11 ? 1.0 : 0.0) / (articulated_inertia_2_18 > e11 ? articulated_inertia_2_18 : 1.0);
   state.inverse_D_2_0 = inverse_D_2_0;
@@ -101,23 +101,23 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   // constraint_force: F^A_cstr,i-1 = X_i^T P_i^T F^A_cstr,i   [column k: 6k..6k+5]
   const double constraint_force_2_4 = 0.043051901458981114 * X_E_3_1 - 0.3453719205931598 * X_E_3_0;
   const double constraint_force_2_2 = 0.4 * constraint_force_2_4 - 5.551115123125783e-17;
-  const double constraint_force_2_3 = 0.3453719205931598 * X_E_3_1 + 0.043051901458981114 * X_E_3_0;
+  const double constraint_force_2_3 = 0.043051901458981114 * X_E_3_0 + 0.3453719205931598 * X_E_3_1;
   state.constraint_force_2_3 = constraint_force_2_3;
   const double constraint_force_2_8 = -0.4 * X_E_3_1;
   const double e12 = qd_2 * velocity_3_3;
-  state.carried_6 = e12;
-  const double e13 = bias_force_3_2 + (-0.125 * e12 - 0.004 * bias_acceleration_3_3);
+  state.carried_7 = e12;
+  const double e13 = -0.004 * bias_acceleration_3_3 - 0.125 * e12 + bias_force_3_2;
   const double e14 = -35.87658454915093 * e13;
   const double e15 = bias_force_3_4 - 0.7 * e12 + 0.125 * e14;
-  const double e16 = velocity_3_2 * e2;
-  state.carried_10 = e16;
+  const double e16 = e2 * velocity_3_2;
+  state.carried_9 = e16;
   const double e17 = 0.7 * bias_acceleration_3_3 - e16 - 0.004 * e14;
-  const double e18 = X_E_3_0 * e15 + X_E_3_1 * e17;
+  const double e18 = X_E_3_0 * e15 + e17 * X_E_3_1;
   // articulated_force_bias: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const double articulated_force_bias_2_2 = bias_force_2_2 + (e13 + 0.02787333333333333 * e14 + 0.4 * e18);
-  const double e19 = qd_0 * e0;
+  const double articulated_force_bias_2_2 = 0.4 * e18 + (0.02787333333333333 * e14 + e13) + bias_force_2_2;
+  const double e19 = e0 * qd_0;
   state.carried_3 = e19;
-  const double articulated_force_bias_2_3 = X_E_3_0 * e17 - X_E_3_1 * e15 - e19;
+  const double articulated_force_bias_2_3 = e17 * X_E_3_0 - X_E_3_1 * e15 - e19;
   state.articulated_force_bias_2_3 = articulated_force_bias_2_3;
   const double articulated_force_bias_2_4 = bias_acceleration_2_4 + e18;
   // acceleration_energy_bias: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
@@ -127,95 +127,95 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   // articulated_inertia: M^A_{i-1} = M_{i-1} + X_i^T P_i^T M^A_i X_i   [A | B | C blocks]
   const double articulated_inertia_1_0 = 0.0008333333333333335 + articulated_inertia_2_0;
   const double e20 = X_r_2_0 * articulated_inertia_2_14;
-  const double articulated_inertia_1_4 = 0.16708333333333333 + (articulated_inertia_2_4 - e20 - e20 - X_r_2_0 * (-1.7 * X_r_2_0));
-  const double e21 = articulated_inertia_2_15 * inverse_D_2_0;
-  const double e22 = articulated_inertia_2_16 - articulated_inertia_2_19 * e21;
+  const double articulated_inertia_1_4 = articulated_inertia_2_4 - e20 - e20 - X_r_2_0 * (-1.7 * X_r_2_0) + 0.16708333333333333;
+  const double e21 = inverse_D_2_0 * articulated_inertia_2_15;
+  const double e22 = articulated_inertia_2_16 - e21 * articulated_inertia_2_19;
   const double e23 = X_r_2_0 * e22;
-  const double e24 = X_r_2_0 * (articulated_inertia_2_22 - articulated_inertia_2_19 * (articulated_inertia_2_19 * inverse_D_2_0));
-  const double articulated_inertia_1_8 = 0.16708333333333333 + (e23 + (articulated_inertia_2_8 - articulated_inertia_2_15 * e21 + e23) + X_r_2_0 * e24);
-  const double articulated_inertia_1_19 = articulated_inertia_2_19 - articulated_inertia_2_19 * (articulated_inertia_2_18 * inverse_D_2_0);
-  const double articulated_inertia_1_15 = articulated_inertia_2_15 - articulated_inertia_2_18 * e21 + X_r_2_0 * articulated_inertia_1_19;
-  const double articulated_inertia_1_16 = 0.5 + (e22 + e24);
+  const double e24 = (articulated_inertia_2_22 - inverse_D_2_0 * articulated_inertia_2_19 * articulated_inertia_2_19) * X_r_2_0;
+  const double articulated_inertia_1_8 = 0.16708333333333333 + (e24 * X_r_2_0 + (articulated_inertia_2_8 - articulated_inertia_2_15 * e21 + e23 + e23));
+  const double articulated_inertia_1_19 = articulated_inertia_2_19 - inverse_D_2_0 * articulated_inertia_2_18 * articulated_inertia_2_19;
+  const double articulated_inertia_1_15 = articulated_inertia_1_19 * X_r_2_0 + (articulated_inertia_2_15 - e21 * articulated_inertia_2_18);
+  const double articulated_inertia_1_16 = e24 + e22 + 0.5;
   // D: D_i = d_i + S_i^T M^A_i S_i
-  const double D_1_0 = 0.01 + articulated_inertia_1_8;
-  const double e25 = 2.220446049250313e-13 * (articulated_inertia_1_8 + (articulated_inertia_1_4 + (0.01 + articulated_inertia_1_0)));
+  const double D_1_0 = articulated_inertia_1_8 + 0.01;
+  const double e25 = 2.220446049250313e-13 * (articulated_inertia_1_8 + (0.01 + articulated_inertia_1_0 + articulated_inertia_1_4));
   // inverse_D: D_i^-1, 0 where the joint is locked (D_i <= tol (d_i + tr block of M^A_i))
   const double inverse_D_1_0 = (D_1_0 > e25 ? 1.0 : 0.0) / (D_1_0 > e25 ? D_1_0 : 1.0);
   state.inverse_D_1_0 = inverse_D_1_0;
   // locked: 1 where D_i <= tol (d_i + tr block of M^A_i): joint locked
   const double locked_1_0 = D_1_0 > e25 ? 0.0 : 1.0;
-  const double e26 = constraint_force_2_3 * inverse_D_2_0;
+  const double e26 = inverse_D_2_0 * constraint_force_2_3;
   // constraint_force: F^A_cstr,i-1 = X_i^T P_i^T F^A_cstr,i   [column k: 6k..6k+5]
   const double constraint_force_1_4 = constraint_force_2_4 - articulated_inertia_2_19 * e26;
-  const double constraint_force_1_2 = constraint_force_2_2 - articulated_inertia_2_15 * e26 + X_r_2_0 * constraint_force_1_4;
+  const double constraint_force_1_2 = constraint_force_1_4 * X_r_2_0 + (constraint_force_2_2 - articulated_inertia_2_15 * e26);
   state.constraint_force_1_2 = constraint_force_1_2;
   const double constraint_force_1_3 = constraint_force_2_3 - articulated_inertia_2_18 * e26;
-  const double e27 = X_E_3_0 * inverse_D_2_0;
+  const double e27 = inverse_D_2_0 * X_E_3_0;
   const double constraint_force_1_10 = articulated_inertia_2_19 * e27 - X_E_3_1;
-  const double constraint_force_1_8 = constraint_force_2_8 + articulated_inertia_2_15 * e27 + X_r_2_0 * constraint_force_1_10;
+  const double constraint_force_1_8 = X_r_2_0 * constraint_force_1_10 + (constraint_force_2_8 + articulated_inertia_2_15 * e27);
   state.constraint_force_1_8 = constraint_force_1_8;
   const double constraint_force_1_9 = articulated_inertia_2_18 * e27 - X_E_3_0;
   // constraint_energy: E^A_cstr,i-1 = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i
   const double constraint_energy_1_0 = 3.2288926094235832 + constraint_force_2_3 * e26;
-  const double constraint_energy_1_3 = X_E_3_0 * e27;
-  const double e28 = inverse_D_2_0 * (articulated_force_bias_2_3 + bias_acceleration_2_4 * articulated_inertia_2_19);
+  const double constraint_energy_1_3 = e27 * X_E_3_0;
+  const double e28 = inverse_D_2_0 * (articulated_inertia_2_19 * bias_acceleration_2_4 + articulated_force_bias_2_3);
   // articulated_force_bias: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const double articulated_force_bias_1_4 = articulated_force_bias_2_4 + bias_acceleration_2_4 * articulated_inertia_2_22 - articulated_inertia_2_19 * e28;
-  const double articulated_force_bias_1_2 = articulated_force_bias_2_2 + bias_acceleration_2_4 * articulated_inertia_2_16 - articulated_inertia_2_15 * e28 + X_r_2_0 * articulated_force_bias_1_4;
+  const double articulated_force_bias_1_4 = articulated_force_bias_2_4 + articulated_inertia_2_22 * bias_acceleration_2_4 - e28 * articulated_inertia_2_19;
+  const double articulated_force_bias_1_2 = articulated_force_bias_1_4 * X_r_2_0 + (articulated_force_bias_2_2 + articulated_inertia_2_16 * bias_acceleration_2_4 - articulated_inertia_2_15 * e28);
   // acceleration_energy_bias: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
-  const double acceleration_energy_bias_1_0 = acceleration_energy_bias_2_0 - constraint_force_2_3 * e28 + bias_acceleration_2_4 * constraint_force_2_4;
-  const double acceleration_energy_bias_1_1 = X_E_3_0 * e28 - bias_acceleration_3_3 - bias_acceleration_2_4 * X_E_3_1;
+  const double acceleration_energy_bias_1_0 = acceleration_energy_bias_2_0 - constraint_force_2_3 * e28 + constraint_force_2_4 * bias_acceleration_2_4;
+  const double acceleration_energy_bias_1_1 = e28 * X_E_3_0 - bias_acceleration_3_3 - X_E_3_1 * bias_acceleration_2_4;
   const double e29 = constraint_force_1_2 * inverse_D_1_0;
 
   // ==== inward sweep, base: link base_link ====
   // constraint_force: F^A_cstr,i-1 = X_i^T P_i^T F^A_cstr,i   [column k: 6k..6k+5]
-  const double constraint_force_0_4 = X_E_1_0 * (constraint_force_1_4 - articulated_inertia_1_16 * e29) + X_E_1_1 * (constraint_force_1_3 - articulated_inertia_1_15 * e29);
+  const double constraint_force_0_4 = X_E_1_1 * (constraint_force_1_3 - e29 * articulated_inertia_1_15) + X_E_1_0 * (constraint_force_1_4 - e29 * articulated_inertia_1_16);
   const double e30 = constraint_force_1_8 * inverse_D_1_0;
-  const double constraint_force_0_10 = X_E_1_0 * (constraint_force_1_10 - articulated_inertia_1_16 * e30) + X_E_1_1 * (constraint_force_1_9 - articulated_inertia_1_15 * e30);
+  const double constraint_force_0_10 = X_E_1_1 * (constraint_force_1_9 - e30 * articulated_inertia_1_15) + X_E_1_0 * (constraint_force_1_10 - e30 * articulated_inertia_1_16);
   // constraint_energy: E^A_cstr,i-1 = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i
-  const double constraint_energy_0_0 = constraint_energy_1_0 + constraint_force_1_2 * e29;
-  const double constraint_energy_0_1 = constraint_force_1_2 * e30 - constraint_force_2_3 * e27;
+  const double constraint_energy_0_0 = e29 * constraint_force_1_2 + constraint_energy_1_0;
+  const double constraint_energy_0_1 = e30 * constraint_force_1_2 - constraint_force_2_3 * e27;
   const double constraint_energy_0_2 = constraint_force_1_8 * e29 - X_E_3_0 * e26;
-  const double constraint_energy_0_3 = constraint_energy_1_3 + constraint_force_1_8 * e30;
+  const double constraint_energy_0_3 = constraint_force_1_8 * e30 + constraint_energy_1_3;
   const double e31 = articulated_force_bias_1_2 * inverse_D_1_0;
   // acceleration_energy_bias: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const double acceleration_energy_bias_0_0 = acceleration_energy_bias_1_0 - constraint_force_1_2 * e31;
   state.acceleration_energy_bias_0_0 = acceleration_energy_bias_0_0;
   const double acceleration_energy_bias_0_1 = acceleration_energy_bias_1_1 - constraint_force_1_8 * e31;
   state.acceleration_energy_bias_0_1 = acceleration_energy_bias_0_1;
-  const double e32 = equilibration_scale(constraint_energy_0_3);
-  state.carried_38 = e32;
-  const double e33 = e32 * (constraint_energy_0_3 * e32);
-  const double e34 = equilibration_scale(constraint_energy_0_0);
-  state.carried_37 = e34;
-  const double e35 = e34 * (constraint_energy_0_0 * e34);
-  const double e36 = 2.220446049250313e-13 * e35;
-  const double e37 = e35 > e36 ? 1.0 : 0.0;
-  const double e38 = e37 / (e35 > e36 ? e35 : 1.0);
-  state.carried_39 = e38;
-  const double e39 = e34 * (constraint_energy_0_2 * e32) * e38;
-  state.carried_40 = e39;
-  const double e40 = e33 - e32 * (constraint_energy_0_1 * e34) * e39;
-  const double e41 = 2.220446049250313e-13 * e33;
+  const double e32 = equilibration_scale(constraint_energy_0_0);
+  state.carried_34 = e32;
+  const double e33 = e32 * (constraint_energy_0_0 * e32);
+  const double e34 = 2.220446049250313e-13 * e33;
+  const double e35 = e33 > e34 ? 1.0 : 0.0;
+  const double e36 = equilibration_scale(constraint_energy_0_3);
+  state.carried_30 = e36;
+  const double e37 = e36 * (e36 * constraint_energy_0_3);
+  const double e38 = e35 / (e33 > e34 ? e33 : 1.0);
+  state.carried_38 = e38;
+  const double e39 = e38 * (e32 * (e36 * constraint_energy_0_2));
+  state.carried_39 = e39;
+  const double e40 = e37 - e36 * (constraint_energy_0_1 * e32) * e39;
+  const double e41 = 2.220446049250313e-13 * e37;
   const double e42 = e40 > e41 ? 1.0 : 0.0;
-  const double e43 = 1.0 - e37 + (1.0 - e42);
+  const double e43 = 1.0 - e35 + (1.0 - e42);
   state.original_dropped_pivots_0 = e43;
-  const double e44 = locked_2_0 + locked_1_0;
+  const double e44 = locked_1_0 + locked_2_0;
   state.original_locked_joints_0 = e44;
   const double e45 = 9.81 * X_E_1_1;
   state.original_acceleration_1_3 = e45;
   const double e46 = 9.81 * X_E_1_0;
   state.original_acceleration_1_4 = e46;
   const double e47 = e42 / (e40 > e41 ? e40 : 1.0);
-  state.carried_42 = e47;
-  const double e48 = articulated_force_bias_1_2 + (articulated_inertia_1_16 * e46 + articulated_inertia_1_15 * e45);
-  state.carried_45 = e48;
+  state.carried_40 = e47;
+  const double e48 = articulated_inertia_1_15 * e45 + e46 * articulated_inertia_1_16 + articulated_force_bias_1_2;
+  state.carried_43 = e48;
   const double e49 = articulated_inertia_2_18 * e45;
-  state.carried_48 = e49;
-  const double e50 = 9.81 * constraint_force_0_4;
-  state.carried_35 = e50;
-  const double e51 = 9.81 * constraint_force_0_10;
-  state.carried_36 = e51;
+  state.carried_46 = e49;
+  const double e50 = 9.81 * constraint_force_0_10;
+  state.carried_31 = e50;
+  const double e51 = 9.81 * constraint_force_0_4;
+  state.carried_35 = e51;
   const double e52 = 0.5 * e46;
   state.carried_49 = e52;
 
@@ -236,87 +236,87 @@ void decompose([[maybe_unused]] const Drivers& drivers, [[maybe_unused]] State& 
 
   // ==== inward sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // articulated_force_tau_ff: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const double X_E_3_1 = state.X_E_3_1;
   const double X_E_3_0 = state.X_E_3_0;
-  const double articulated_force_tau_ff_2_4 = X_E_3_0 * e1 + X_E_3_1 * e2;
-  const double articulated_force_tau_ff_2_2 = 0.02787333333333333 * e0 + 0.4 * articulated_force_tau_ff_2_4;
+  const double X_E_3_1 = state.X_E_3_1;
+  const double articulated_force_tau_ff_2_4 = e1 * X_E_3_0 + X_E_3_1 * e2;
+  const double articulated_force_tau_ff_2_2 = 0.4 * articulated_force_tau_ff_2_4 + 0.02787333333333333 * e0;
   const double articulated_force_tau_ff_2_3 = X_E_3_0 * e2 - X_E_3_1 * e1;
   state.articulated_force_tau_ff_2_3 = articulated_force_tau_ff_2_3;
   // acceleration_energy_tau_ff: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const double acceleration_energy_tau_ff_2_0 = 0.3 * e0;
   const double drivers_tool_load_3 = drivers.tool_load[3];
   const double drivers_tool_load_2 = drivers.tool_load[2];
-  const double e3 = drivers_tool_load_2 + 0.3 * drivers_tool_load_3;
-  state.carried_16 = e3;
+  const double e3 = 0.3 * drivers_tool_load_3 + drivers_tool_load_2;
+  state.carried_12 = e3;
   const double e4 = 35.87658454915093 * e3;
-  const double e5 = 0.125 * e4 - drivers_tool_load_3;
   const double drivers_tool_load_4 = drivers.tool_load[4];
-  const double e6 = drivers_tool_load_4 - 0.004 * e4;
+  const double e5 = drivers_tool_load_4 - 0.004 * e4;
+  const double e6 = 0.125 * e4 - drivers_tool_load_3;
   // articulated_force_tool_load: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const double articulated_force_tool_load_2_4 = X_E_3_0 * e5 + X_E_3_1 * e6;
-  const double articulated_force_tool_load_2_2 = 0.02787333333333333 * e4 - e3 + 0.4 * articulated_force_tool_load_2_4;
-  const double articulated_force_tool_load_2_3 = X_E_3_0 * e6 - X_E_3_1 * e5;
+  const double articulated_force_tool_load_2_4 = X_E_3_1 * e5 + e6 * X_E_3_0;
+  const double articulated_force_tool_load_2_2 = 0.4 * articulated_force_tool_load_2_4 + (0.02787333333333333 * e4 - e3);
+  const double articulated_force_tool_load_2_3 = X_E_3_0 * e5 - X_E_3_1 * e6;
   state.articulated_force_tool_load_2_3 = articulated_force_tool_load_2_3;
   // acceleration_energy_tool_load: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const double acceleration_energy_tool_load_2_0 = 0.3 * e4;
   const double drivers_tau_ff_1 = drivers.tau_ff[1];
   const double inverse_D_2_0 = state.inverse_D_2_0;
-  const double e7 = inverse_D_2_0 * (drivers_tau_ff_1 - articulated_force_tau_ff_2_3);
+  const double e7 = (drivers_tau_ff_1 - articulated_force_tau_ff_2_3) * inverse_D_2_0;
 
   // ==== inward sweep, body 1: link link1, joint planar_joint1 (revolute) ====
   // articulated_force_tau_ff: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
   const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const double articulated_force_tau_ff_1_4 = articulated_force_tau_ff_2_4 + articulated_inertia_2_19 * e7;
+  const double articulated_force_tau_ff_1_4 = e7 * articulated_inertia_2_19 + articulated_force_tau_ff_2_4;
   const double X_r_2_0 = state.X_r_2_0;
   const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
-  const double articulated_force_tau_ff_1_2 = articulated_force_tau_ff_2_2 + articulated_inertia_2_15 * e7 + X_r_2_0 * articulated_force_tau_ff_1_4;
+  const double articulated_force_tau_ff_1_2 = X_r_2_0 * articulated_force_tau_ff_1_4 + (articulated_force_tau_ff_2_2 + articulated_inertia_2_15 * e7);
   // acceleration_energy_tau_ff: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const double constraint_force_2_3 = state.constraint_force_2_3;
-  const double acceleration_energy_tau_ff_1_0 = acceleration_energy_tau_ff_2_0 + constraint_force_2_3 * e7;
-  const double e8 = articulated_force_tool_load_2_3 * inverse_D_2_0;
+  const double acceleration_energy_tau_ff_1_0 = constraint_force_2_3 * e7 + acceleration_energy_tau_ff_2_0;
+  const double e8 = inverse_D_2_0 * articulated_force_tool_load_2_3;
   // articulated_force_tool_load: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const double articulated_force_tool_load_1_4 = articulated_force_tool_load_2_4 - articulated_inertia_2_19 * e8;
-  const double articulated_force_tool_load_1_2 = articulated_force_tool_load_2_2 - articulated_inertia_2_15 * e8 + X_r_2_0 * articulated_force_tool_load_1_4;
+  const double articulated_force_tool_load_1_4 = articulated_force_tool_load_2_4 - e8 * articulated_inertia_2_19;
+  const double articulated_force_tool_load_1_2 = X_r_2_0 * articulated_force_tool_load_1_4 + (articulated_force_tool_load_2_2 - e8 * articulated_inertia_2_15);
   state.articulated_force_tool_load_1_2 = articulated_force_tool_load_1_2;
   // acceleration_energy_tool_load: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
-  const double acceleration_energy_tool_load_1_0 = acceleration_energy_tool_load_2_0 - constraint_force_2_3 * e8;
-  const double acceleration_energy_tool_load_1_1 = X_E_3_0 * e8;
+  const double acceleration_energy_tool_load_1_0 = acceleration_energy_tool_load_2_0 - e8 * constraint_force_2_3;
+  const double acceleration_energy_tool_load_1_1 = e8 * X_E_3_0;
   const double drivers_tau_ff_0 = drivers.tau_ff[0];
   const double inverse_D_1_0 = state.inverse_D_1_0;
-  const double e9 = inverse_D_1_0 * (drivers_tau_ff_0 - articulated_force_tau_ff_1_2);
+  const double e9 = (drivers_tau_ff_0 - articulated_force_tau_ff_1_2) * inverse_D_1_0;
 
   // ==== inward sweep, base: link base_link ====
   // acceleration_energy_tau_ff: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const double constraint_force_1_2 = state.constraint_force_1_2;
-  const double acceleration_energy_tau_ff_0_0 = acceleration_energy_tau_ff_1_0 + constraint_force_1_2 * e9;
+  const double acceleration_energy_tau_ff_0_0 = acceleration_energy_tau_ff_1_0 + e9 * constraint_force_1_2;
   const double constraint_force_1_8 = state.constraint_force_1_8;
-  const double acceleration_energy_tau_ff_0_1 = constraint_force_1_8 * e9 - X_E_3_0 * e7;
+  const double acceleration_energy_tau_ff_0_1 = constraint_force_1_8 * e9 - e7 * X_E_3_0;
   const double e10 = articulated_force_tool_load_1_2 * inverse_D_1_0;
   // acceleration_energy_tool_load: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const double acceleration_energy_tool_load_0_0 = acceleration_energy_tool_load_1_0 - constraint_force_1_2 * e10;
   const double acceleration_energy_tool_load_0_1 = acceleration_energy_tool_load_1_1 - constraint_force_1_8 * e10;
   const double acceleration_energy_bias_0_0 = state.acceleration_energy_bias_0_0;
-  const double e11 = acceleration_energy_bias_0_0 + acceleration_energy_tau_ff_0_0;
+  const double e11 = acceleration_energy_tau_ff_0_0 + acceleration_energy_bias_0_0;
   state.prioritize_external_conf_energy_0 = e11;
   const double e12 = acceleration_energy_tool_load_0_0 + e11;
   state.original_conf_energy_0 = e12;
   const double acceleration_energy_bias_0_1 = state.acceleration_energy_bias_0_1;
-  const double e13 = acceleration_energy_bias_0_1 + acceleration_energy_tau_ff_0_1;
+  const double e13 = acceleration_energy_tau_ff_0_1 + acceleration_energy_bias_0_1;
   state.prioritize_external_conf_energy_1 = e13;
-  const double e14 = acceleration_energy_tool_load_0_1 + e13;
+  const double e14 = e13 + acceleration_energy_tool_load_0_1;
   state.original_conf_energy_1 = e14;
-  const double carried_45 = state.carried_45;
-  const double e15 = articulated_force_tau_ff_1_2 + carried_45;
-  state.carried_46 = e15;
+  const double carried_43 = state.carried_43;
+  const double e15 = carried_43 + articulated_force_tau_ff_1_2;
+  state.carried_44 = e15;
   const double e16 = articulated_force_tool_load_1_2 + e15;
-  state.carried_47 = e16;
+  state.carried_45 = e16;
 
   // Values computed before this function, and constants.
-  state.carried_11 = drivers_tau_ff_0;
-  state.carried_12 = drivers_tau_ff_1;
-  state.carried_13 = drivers_tau_ff_2;
-  state.carried_14 = drivers_tool_load_3;
+  state.carried_11 = drivers_tool_load_3;
   state.articulated_force_tool_load_3_3 = drivers_tool_load_4;
+  state.carried_19 = drivers_tau_ff_2;
+  state.carried_25 = drivers_tau_ff_1;
+  state.carried_29 = drivers_tau_ff_0;
 
   Scalar residue = 0;  // NaN/Inf among the drivers (scene: check_inputs; see outward())
   for (int i = 0; i < dof; ++i) residue += drivers.tau_ff[i] - drivers.tau_ff[i];
@@ -335,37 +335,37 @@ Drivers drivers_from_flat([[maybe_unused]] const Scalar* drivers_in) noexcept {
 
 // Alg. 3, the original composition of every driver.
 void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const double carried_37 = state.carried_37;
-  const double original_conf_energy_0 = state.original_conf_energy_0;
-  const double carried_35 = state.carried_35;
+  const double carried_34 = state.carried_34;
   const double beta_0 = beta[0];
-  const double e0 = (beta_0 - carried_35 - original_conf_energy_0) * carried_37;
-  const double carried_40 = state.carried_40;
-  const double carried_38 = state.carried_38;
-  const double original_conf_energy_1 = state.original_conf_energy_1;
-  const double carried_36 = state.carried_36;
+  const double carried_35 = state.carried_35;
+  const double original_conf_energy_0 = state.original_conf_energy_0;
+  const double e0 = carried_34 * (beta_0 - carried_35 - original_conf_energy_0);
+  const double carried_30 = state.carried_30;
   const double beta_1 = beta[1];
-  const double carried_42 = state.carried_42;
-  const double e1 = carried_42 * ((beta_1 - carried_36 - original_conf_energy_1) * carried_38 - e0 * carried_40);
+  const double carried_31 = state.carried_31;
+  const double original_conf_energy_1 = state.original_conf_energy_1;
   const double carried_39 = state.carried_39;
-  const double e2 = e0 * carried_39 - carried_40 * e1;
+  const double carried_40 = state.carried_40;
+  const double e1 = (carried_30 * (beta_1 - carried_31 - original_conf_energy_1) - e0 * carried_39) * carried_40;
+  const double carried_38 = state.carried_38;
+  const double e2 = carried_38 * e0 - e1 * carried_39;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const double nu_0 = carried_37 * (0.0 > 0.5 ? e1 : e2);
+  const double nu_0 = (0.0 > 0.5 ? e1 : e2) * carried_34;
   out.nu[0] = nu_0;
-  const double nu_1 = carried_38 * (0.0 > 0.5 ? e2 : e1);
+  const double nu_1 = carried_30 * (0.0 > 0.5 ? e2 : e1);
   out.nu[1] = nu_1;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
   const double constraint_force_1_8 = state.constraint_force_1_8;
   const double constraint_force_1_2 = state.constraint_force_1_2;
-  const double tau_ctrl_0 = constraint_force_1_2 * nu_0 + constraint_force_1_8 * nu_1;
+  const double tau_ctrl_0 = constraint_force_1_8 * nu_1 + constraint_force_1_2 * nu_0;
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_47 = state.carried_47;
-  const double carried_11 = state.carried_11;
+  const double carried_29 = state.carried_29;
+  const double carried_45 = state.carried_45;
   const double inverse_D_1_0 = state.inverse_D_1_0;
-  const double qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - carried_47);
+  const double qdd_0 = (carried_29 + tau_ctrl_0 - carried_45) * inverse_D_1_0;
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
@@ -373,7 +373,7 @@ void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const double X_r_2_0 = state.X_r_2_0;
   const double original_acceleration_1_4 = state.original_acceleration_1_4;
   const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const double acceleration_2_4 = qdd_0 * X_r_2_0 + original_acceleration_1_4 + bias_acceleration_2_4;
   const double X_E_3_0 = state.X_E_3_0;
   const double e3 = X_E_3_0 * nu_1;
 
@@ -383,49 +383,49 @@ void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const double tau_ctrl_1 = constraint_force_2_3 * nu_0 - e3;
   out.tau_ctrl[1] = tau_ctrl_1;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_48 = state.carried_48;
-  const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
-  const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
-  const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const double carried_12 = state.carried_12;
   const double inverse_D_2_0 = state.inverse_D_2_0;
-  const double qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (articulated_inertia_2_19 * acceleration_2_4 + carried_48))))));
+  const double carried_25 = state.carried_25;
+  const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
+  const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
+  const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
+  const double carried_46 = state.carried_46;
+  const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
+  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
+  const double qdd_1 = inverse_D_2_0 * (carried_25 + tau_ctrl_1 - (articulated_force_tau_ff_2_3 + (qdd_0 * articulated_inertia_2_15 + (articulated_inertia_2_19 * acceleration_2_4 + carried_46) + articulated_force_bias_2_3) + articulated_force_tool_load_2_3));
   out.qdd[1] = qdd_1;
   const double e4 = acceleration_2_4 + 0.4 * qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const double original_acceleration_1_3 = state.original_acceleration_1_3;
-  const double acceleration_2_3 = original_acceleration_1_3 + qdd_1;
+  const double acceleration_2_3 = qdd_1 + original_acceleration_1_3;
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const double carried_6 = state.carried_6;
   const double X_E_3_1 = state.X_E_3_1;
-  const double acceleration_3_4 = X_E_3_0 * e4 - X_E_3_1 * acceleration_2_3 - carried_6;
+  const double carried_7 = state.carried_7;
+  const double acceleration_3_4 = X_E_3_0 * e4 - X_E_3_1 * acceleration_2_3 - carried_7;
   const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e4 + X_E_3_0 * acceleration_2_3);
+  const double acceleration_3_3 = acceleration_2_3 * X_E_3_0 + X_E_3_1 * e4 + bias_acceleration_3_3;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
   const double tau_ctrl_2 = 0.3 * nu_0;
   out.tau_ctrl[2] = tau_ctrl_2;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const double carried_13 = state.carried_13;
-  const double tau_cmd_2 = carried_13 + tau_ctrl_2;
+  const double carried_19 = state.carried_19;
+  const double tau_cmd_2 = carried_19 + tau_ctrl_2;
   out.tau_cmd[2] = tau_cmd_2;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_16 = state.carried_16;
   const double bias_force_3_2 = state.bias_force_3_2;
-  const double qdd_2 = 35.87658454915093 * (tau_cmd_2 - (bias_force_3_2 + (0.02787333333333333 * qdd_0 + (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3)) - carried_16));
+  const double carried_12 = state.carried_12;
+  const double qdd_2 = 35.87658454915093 * (tau_cmd_2 - (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3 + 0.02787333333333333 * qdd_0 + bias_force_3_2 - carried_12));
   out.qdd[2] = qdd_2;
   const double e5 = X_E_3_0 * nu_0 - X_E_3_1 * nu_1;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const double tau_cmd_0 = carried_11 + (tau_ctrl_2 + 0.4 * e5 + X_r_2_0 * e5);
+  const double tau_cmd_0 = 0.4 * e5 + tau_ctrl_2 + e5 * X_r_2_0 + carried_29;
   out.tau_cmd[0] = tau_cmd_0;
-  const double tau_cmd_1 = carried_12 + (-e3 - X_E_3_1 * nu_0);
+  const double tau_cmd_1 = carried_25 + (-e3 - X_E_3_1 * nu_0);
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
   const double tip_acceleration_2 = qdd_0 + qdd_2;
@@ -479,38 +479,38 @@ void solve_original_flat(const Scalar* in, Scalar* out) noexcept {
 
 // Alg. 4: the constraint does not react to external forces.
 void solve_prioritize_external([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const double prioritize_external_conf_energy_0 = state.prioritize_external_conf_energy_0;
-  const double carried_35 = state.carried_35;
   const double beta_0 = beta[0];
-  const double carried_37 = state.carried_37;
-  const double e0 = carried_37 * (beta_0 - carried_35 - prioritize_external_conf_energy_0);
-  const double carried_40 = state.carried_40;
-  const double prioritize_external_conf_energy_1 = state.prioritize_external_conf_energy_1;
-  const double carried_36 = state.carried_36;
+  const double carried_35 = state.carried_35;
+  const double prioritize_external_conf_energy_0 = state.prioritize_external_conf_energy_0;
+  const double carried_34 = state.carried_34;
+  const double e0 = (beta_0 - carried_35 - prioritize_external_conf_energy_0) * carried_34;
+  const double carried_30 = state.carried_30;
   const double beta_1 = beta[1];
-  const double carried_38 = state.carried_38;
-  const double carried_42 = state.carried_42;
-  const double e1 = carried_42 * (carried_38 * (beta_1 - carried_36 - prioritize_external_conf_energy_1) - carried_40 * e0);
+  const double carried_31 = state.carried_31;
+  const double prioritize_external_conf_energy_1 = state.prioritize_external_conf_energy_1;
   const double carried_39 = state.carried_39;
-  const double e2 = carried_39 * e0 - carried_40 * e1;
+  const double carried_40 = state.carried_40;
+  const double e1 = (carried_30 * (beta_1 - carried_31 - prioritize_external_conf_energy_1) - e0 * carried_39) * carried_40;
+  const double carried_38 = state.carried_38;
+  const double e2 = e0 * carried_38 - e1 * carried_39;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const double nu_0 = carried_37 * (0.0 > 0.5 ? e1 : e2);
+  const double nu_0 = (0.0 > 0.5 ? e1 : e2) * carried_34;
   out.nu[0] = nu_0;
-  const double nu_1 = carried_38 * (0.0 > 0.5 ? e2 : e1);
+  const double nu_1 = carried_30 * (0.0 > 0.5 ? e2 : e1);
   out.nu[1] = nu_1;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double articulated_force_tool_load_1_2 = state.articulated_force_tool_load_1_2;
   const double constraint_force_1_8 = state.constraint_force_1_8;
   const double constraint_force_1_2 = state.constraint_force_1_2;
-  const double tau_ctrl_0 = constraint_force_1_2 * nu_0 + constraint_force_1_8 * nu_1 - articulated_force_tool_load_1_2;
+  const double articulated_force_tool_load_1_2 = state.articulated_force_tool_load_1_2;
+  const double tau_ctrl_0 = constraint_force_1_8 * nu_1 + nu_0 * constraint_force_1_2 - articulated_force_tool_load_1_2;
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_46 = state.carried_46;
-  const double carried_11 = state.carried_11;
+  const double carried_29 = state.carried_29;
+  const double carried_44 = state.carried_44;
   const double inverse_D_1_0 = state.inverse_D_1_0;
-  const double qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - carried_46);
+  const double qdd_0 = (carried_29 + tau_ctrl_0 - carried_44) * inverse_D_1_0;
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
@@ -518,62 +518,62 @@ void solve_prioritize_external([[maybe_unused]] const State& state, [[maybe_unus
   const double X_r_2_0 = state.X_r_2_0;
   const double original_acceleration_1_4 = state.original_acceleration_1_4;
   const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const double acceleration_2_4 = X_r_2_0 * qdd_0 + original_acceleration_1_4 + bias_acceleration_2_4;
   const double X_E_3_0 = state.X_E_3_0;
-  const double e3 = X_E_3_0 * nu_1;
+  const double e3 = nu_1 * X_E_3_0;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
   const double constraint_force_2_3 = state.constraint_force_2_3;
-  const double tau_ctrl_1 = constraint_force_2_3 * nu_0 - e3 - articulated_force_tool_load_2_3;
+  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
+  const double tau_ctrl_1 = nu_0 * constraint_force_2_3 - e3 - articulated_force_tool_load_2_3;
   out.tau_ctrl[1] = tau_ctrl_1;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const double carried_48 = state.carried_48;
+  const double carried_25 = state.carried_25;
   const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
+  const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
+  const double carried_46 = state.carried_46;
   const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const double carried_12 = state.carried_12;
   const double inverse_D_2_0 = state.inverse_D_2_0;
-  const double qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (carried_48 + articulated_inertia_2_19 * acceleration_2_4)))));
+  const double qdd_1 = (carried_25 + tau_ctrl_1 - (articulated_inertia_2_15 * qdd_0 + (acceleration_2_4 * articulated_inertia_2_19 + carried_46) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3)) * inverse_D_2_0;
   out.qdd[1] = qdd_1;
   const double e4 = acceleration_2_4 + 0.4 * qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const double original_acceleration_1_3 = state.original_acceleration_1_3;
-  const double acceleration_2_3 = original_acceleration_1_3 + qdd_1;
+  const double acceleration_2_3 = qdd_1 + original_acceleration_1_3;
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const double carried_6 = state.carried_6;
   const double X_E_3_1 = state.X_E_3_1;
-  const double acceleration_3_4 = X_E_3_0 * e4 - X_E_3_1 * acceleration_2_3 - carried_6;
+  const double carried_7 = state.carried_7;
+  const double acceleration_3_4 = e4 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - carried_7;
   const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e4 + X_E_3_0 * acceleration_2_3);
+  const double acceleration_3_3 = bias_acceleration_3_3 + (e4 * X_E_3_1 + acceleration_2_3 * X_E_3_0);
   const double e5 = 0.3 * nu_0;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double carried_16 = state.carried_16;
-  const double tau_ctrl_2 = carried_16 + e5;
+  const double carried_12 = state.carried_12;
+  const double tau_ctrl_2 = e5 + carried_12;
   out.tau_ctrl[2] = tau_ctrl_2;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
+  const double carried_19 = state.carried_19;
   const double bias_force_3_2 = state.bias_force_3_2;
-  const double carried_13 = state.carried_13;
-  const double qdd_2 = 35.87658454915093 * (carried_13 + tau_ctrl_2 - (bias_force_3_2 + (0.02787333333333333 * qdd_0 + (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3))));
+  const double qdd_2 = 35.87658454915093 * (tau_ctrl_2 + carried_19 - (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3 + 0.02787333333333333 * qdd_0 + bias_force_3_2));
   out.qdd[2] = qdd_2;
-  const double e6 = X_E_3_0 * nu_0 - X_E_3_1 * nu_1;
+  const double e6 = nu_0 * X_E_3_0 - X_E_3_1 * nu_1;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const double tau_cmd_0 = carried_11 + (e5 + 0.4 * e6 + X_r_2_0 * e6);
+  const double tau_cmd_0 = e5 + 0.4 * e6 + e6 * X_r_2_0 + carried_29;
   out.tau_cmd[0] = tau_cmd_0;
-  const double tau_cmd_1 = carried_12 + (-e3 - X_E_3_1 * nu_0);
+  const double tau_cmd_1 = carried_25 + (-e3 - nu_0 * X_E_3_1);
   out.tau_cmd[1] = tau_cmd_1;
-  const double tau_cmd_2 = carried_13 + e5;
+  const double tau_cmd_2 = carried_19 + e5;
   out.tau_cmd[2] = tau_cmd_2;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
-  const double tip_acceleration_2 = qdd_0 + qdd_2;
+  const double tip_acceleration_2 = qdd_2 + qdd_0;
   out.tip_acceleration[2] = tip_acceleration_2;
   const double tip_acceleration_3 = acceleration_3_4 + 0.3 * tip_acceleration_2;
   out.tip_acceleration[3] = tip_acceleration_3;
@@ -624,111 +624,111 @@ void solve_prioritize_external_flat(const Scalar* in, Scalar* out) noexcept {
 
 // Eq. 1: tau_ctrl clamped to the effort limits; tau_cmd = RNEA(qdd).
 void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const double carried_37 = state.carried_37;
-  const double original_conf_energy_0 = state.original_conf_energy_0;
-  const double carried_35 = state.carried_35;
+  const double carried_34 = state.carried_34;
   const double beta_0 = beta[0];
-  const double e0 = (beta_0 - carried_35 - original_conf_energy_0) * carried_37;
-  const double carried_40 = state.carried_40;
-  const double carried_38 = state.carried_38;
-  const double original_conf_energy_1 = state.original_conf_energy_1;
-  const double carried_36 = state.carried_36;
+  const double carried_35 = state.carried_35;
+  const double original_conf_energy_0 = state.original_conf_energy_0;
+  const double e0 = carried_34 * (beta_0 - carried_35 - original_conf_energy_0);
+  const double carried_30 = state.carried_30;
   const double beta_1 = beta[1];
-  const double carried_42 = state.carried_42;
-  const double e1 = carried_42 * ((beta_1 - carried_36 - original_conf_energy_1) * carried_38 - e0 * carried_40);
+  const double carried_31 = state.carried_31;
+  const double original_conf_energy_1 = state.original_conf_energy_1;
   const double carried_39 = state.carried_39;
-  const double e2 = e0 * carried_39 - carried_40 * e1;
+  const double carried_40 = state.carried_40;
+  const double e1 = (carried_30 * (beta_1 - carried_31 - original_conf_energy_1) - e0 * carried_39) * carried_40;
+  const double carried_38 = state.carried_38;
+  const double e2 = carried_38 * e0 - e1 * carried_39;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const double nu_0 = carried_37 * (0.0 > 0.5 ? e1 : e2);
+  const double nu_0 = (0.0 > 0.5 ? e1 : e2) * carried_34;
   out.nu[0] = nu_0;
-  const double nu_1 = carried_38 * (0.0 > 0.5 ? e2 : e1);
+  const double nu_1 = carried_30 * (0.0 > 0.5 ? e2 : e1);
   out.nu[1] = nu_1;
   const double constraint_force_1_8 = state.constraint_force_1_8;
   const double constraint_force_1_2 = state.constraint_force_1_2;
-  const double e3 = constraint_force_1_2 * nu_0 + constraint_force_1_8 * nu_1;
-  const double X_E_3_0 = state.X_E_3_0;
+  const double e3 = constraint_force_1_8 * nu_1 + constraint_force_1_2 * nu_0;
   const double constraint_force_2_3 = state.constraint_force_2_3;
+  const double X_E_3_0 = state.X_E_3_0;
   const double e4 = constraint_force_2_3 * nu_0 - X_E_3_0 * nu_1;
   const double e5 = 0.3 * nu_0;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double tau_ctrl_0 = std::min<double>(50.0, std::max<double>(e3, -50.0));
+  const double tau_ctrl_0 = std::min<double>(std::max<double>(-50.0, e3), 50.0);
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_47 = state.carried_47;
-  const double carried_11 = state.carried_11;
+  const double carried_29 = state.carried_29;
+  const double carried_45 = state.carried_45;
   const double inverse_D_1_0 = state.inverse_D_1_0;
-  const double qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - carried_47);
+  const double qdd_0 = (tau_ctrl_0 + carried_29 - carried_45) * inverse_D_1_0;
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const double X_r_2_0 = state.X_r_2_0;
   const double original_acceleration_1_4 = state.original_acceleration_1_4;
+  const double X_r_2_0 = state.X_r_2_0;
   const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const double acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
   const double tau_ctrl_1 = std::min<double>(100.0, std::max<double>(e4, -100.0));
   out.tau_ctrl[1] = tau_ctrl_1;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const double carried_48 = state.carried_48;
+  const double inverse_D_2_0 = state.inverse_D_2_0;
+  const double carried_25 = state.carried_25;
   const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
+  const double carried_46 = state.carried_46;
+  const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
   const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const double carried_12 = state.carried_12;
-  const double inverse_D_2_0 = state.inverse_D_2_0;
-  const double qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (carried_48 + articulated_inertia_2_19 * acceleration_2_4))))));
+  const double qdd_1 = inverse_D_2_0 * (carried_25 + tau_ctrl_1 - (articulated_inertia_2_15 * qdd_0 + (carried_46 + acceleration_2_4 * articulated_inertia_2_19) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3));
   out.qdd[1] = qdd_1;
   const double e6 = acceleration_2_4 + 0.4 * qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const double original_acceleration_1_3 = state.original_acceleration_1_3;
-  const double acceleration_2_3 = original_acceleration_1_3 + qdd_1;
+  const double acceleration_2_3 = qdd_1 + original_acceleration_1_3;
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const double carried_6 = state.carried_6;
   const double X_E_3_1 = state.X_E_3_1;
-  const double acceleration_3_4 = X_E_3_0 * e6 - X_E_3_1 * acceleration_2_3 - carried_6;
+  const double carried_7 = state.carried_7;
+  const double acceleration_3_4 = e6 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - carried_7;
   const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e6 + X_E_3_0 * acceleration_2_3);
+  const double acceleration_3_3 = X_E_3_1 * e6 + acceleration_2_3 * X_E_3_0 + bias_acceleration_3_3;
   const double e7 = 0.125 * acceleration_3_4 - 0.004 * acceleration_3_3;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double tau_ctrl_2 = std::min<double>(20.0, std::max<double>(e5, -20.0));
+  const double tau_ctrl_2 = std::min<double>(std::max<double>(-20.0, e5), 20.0);
   out.tau_ctrl[2] = tau_ctrl_2;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_16 = state.carried_16;
+  const double carried_19 = state.carried_19;
   const double bias_force_3_2 = state.bias_force_3_2;
-  const double carried_13 = state.carried_13;
-  const double qdd_2 = 35.87658454915093 * (carried_13 + tau_ctrl_2 - (bias_force_3_2 + (0.02787333333333333 * qdd_0 + e7) - carried_16));
+  const double carried_12 = state.carried_12;
+  const double qdd_2 = 35.87658454915093 * (carried_19 + tau_ctrl_2 - (e7 + 0.02787333333333333 * qdd_0 + bias_force_3_2 - carried_12));
   out.qdd[2] = qdd_2;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
   const double tip_acceleration_2 = qdd_0 + qdd_2;
   out.tip_acceleration[2] = tip_acceleration_2;
-  const double carried_14 = state.carried_14;
-  const double bias_force_3_4 = state.bias_force_3_4;
-  const double e8 = bias_force_3_4 + (0.7 * acceleration_3_4 + 0.125 * tip_acceleration_2) - carried_14;
-  const double carried_10 = state.carried_10;
+  const double carried_9 = state.carried_9;
   const double articulated_force_tool_load_3_3 = state.articulated_force_tool_load_3_3;
-  const double e9 = articulated_force_tool_load_3_3 + (0.7 * acceleration_3_3 - 0.004 * tip_acceleration_2 - carried_10);
-  const double e10 = X_E_3_0 * e8 + X_E_3_1 * e9;
+  const double e8 = 0.7 * acceleration_3_3 - 0.004 * tip_acceleration_2 - carried_9 + articulated_force_tool_load_3_3;
+  const double bias_force_3_4 = state.bias_force_3_4;
+  const double carried_11 = state.carried_11;
+  const double e9 = bias_force_3_4 + (0.125 * tip_acceleration_2 + 0.7 * acceleration_3_4) - carried_11;
+  const double e10 = e8 * X_E_3_1 + e9 * X_E_3_0;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const double tau_cmd_2 = bias_force_3_2 + (e7 + 0.02787333333333333 * tip_acceleration_2) - carried_16;
+  const double tau_cmd_2 = bias_force_3_2 + (0.02787333333333333 * tip_acceleration_2 + e7) - carried_12;
   out.tau_cmd[2] = tau_cmd_2;
   const double carried_49 = state.carried_49;
   const double bias_force_2_2 = state.bias_force_2_2;
-  const double tau_cmd_0 = tau_cmd_2 + 0.4 * e10 + (bias_force_2_2 + (0.053466666666666676 * qdd_0 + 0.2 * acceleration_2_4)) + X_r_2_0 * (e10 + (bias_acceleration_2_4 + (acceleration_2_4 + 0.2 * qdd_0))) + (0.16708333333333333 * qdd_0 + carried_49) + 0.01 * qdd_0;
+  const double tau_cmd_0 = 0.01 * qdd_0 + (0.16708333333333333 * qdd_0 + carried_49 + (0.4 * e10 + tau_cmd_2 + (0.2 * acceleration_2_4 + 0.053466666666666676 * qdd_0 + bias_force_2_2) + (acceleration_2_4 + 0.2 * qdd_0 + bias_acceleration_2_4 + e10) * X_r_2_0));
   out.tau_cmd[0] = tau_cmd_0;
   const double carried_3 = state.carried_3;
-  const double tau_cmd_1 = X_E_3_0 * e9 - X_E_3_1 * e8 + (acceleration_2_3 - carried_3);
+  const double tau_cmd_1 = e8 * X_E_3_0 - X_E_3_1 * e9 + (acceleration_2_3 - carried_3);
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
   const double tip_acceleration_3 = acceleration_3_4 + 0.3 * tip_acceleration_2;
@@ -784,43 +784,43 @@ void solve_saturate_flat(const Scalar* in, Scalar* out) noexcept {
 
 // Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.
 void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const double carried_37 = state.carried_37;
-  const double original_conf_energy_0 = state.original_conf_energy_0;
-  const double carried_35 = state.carried_35;
+  const double carried_34 = state.carried_34;
   const double beta_0 = beta[0];
-  const double e0 = (beta_0 - carried_35 - original_conf_energy_0) * carried_37;
-  const double carried_40 = state.carried_40;
-  const double carried_38 = state.carried_38;
-  const double original_conf_energy_1 = state.original_conf_energy_1;
-  const double carried_36 = state.carried_36;
+  const double carried_35 = state.carried_35;
+  const double original_conf_energy_0 = state.original_conf_energy_0;
+  const double e0 = carried_34 * (beta_0 - carried_35 - original_conf_energy_0);
+  const double carried_30 = state.carried_30;
   const double beta_1 = beta[1];
-  const double carried_42 = state.carried_42;
-  const double e1 = carried_42 * ((beta_1 - carried_36 - original_conf_energy_1) * carried_38 - e0 * carried_40);
+  const double carried_31 = state.carried_31;
+  const double original_conf_energy_1 = state.original_conf_energy_1;
   const double carried_39 = state.carried_39;
-  const double e2 = e0 * carried_39 - carried_40 * e1;
+  const double carried_40 = state.carried_40;
+  const double e1 = (carried_30 * (beta_1 - carried_31 - original_conf_energy_1) - e0 * carried_39) * carried_40;
+  const double carried_38 = state.carried_38;
+  const double e2 = carried_38 * e0 - e1 * carried_39;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const double nu_0 = carried_37 * (0.0 > 0.5 ? e1 : e2);
+  const double nu_0 = (0.0 > 0.5 ? e1 : e2) * carried_34;
   out.nu[0] = nu_0;
-  const double nu_1 = carried_38 * (0.0 > 0.5 ? e2 : e1);
+  const double nu_1 = carried_30 * (0.0 > 0.5 ? e2 : e1);
   out.nu[1] = nu_1;
   const double e3 = 0.3 * nu_0;
-  const double X_E_3_1 = state.X_E_3_1;
   const double X_E_3_0 = state.X_E_3_0;
+  const double X_E_3_1 = state.X_E_3_1;
   const double e4 = X_E_3_0 * nu_0 - X_E_3_1 * nu_1;
   const double X_r_2_0 = state.X_r_2_0;
-  const double carried_11 = state.carried_11;
-  const double e5 = carried_11 + (e3 + 0.4 * e4 + X_r_2_0 * e4);
-  const double carried_12 = state.carried_12;
-  const double e6 = carried_12 + (-(X_E_3_0 * nu_1) - X_E_3_1 * nu_0);
-  const double carried_13 = state.carried_13;
-  const double e7 = carried_13 + e3;
+  const double carried_29 = state.carried_29;
+  const double e5 = 0.4 * e4 + e3 + e4 * X_r_2_0 + carried_29;
+  const double carried_25 = state.carried_25;
+  const double e6 = carried_25 + (-(X_E_3_0 * nu_1) - X_E_3_1 * nu_0);
+  const double carried_19 = state.carried_19;
+  const double e7 = carried_19 + e3;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const double tau_cmd_2 = std::min<double>(20.0, std::max<double>(e7, -20.0));
+  const double tau_cmd_2 = std::min<double>(std::max<double>(e7, -20.0), 20.0);
   out.tau_cmd[2] = tau_cmd_2;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double tau_ctrl_2 = tau_cmd_2 - carried_13;
+  const double tau_ctrl_2 = tau_cmd_2 - carried_19;
   out.tau_ctrl[2] = tau_ctrl_2;
   const double e8 = 35.87658454915093 * tau_ctrl_2;
   const double e9 = 0.125 * e8;
@@ -828,16 +828,16 @@ void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] 
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // correction_force: F^A of the clamped extra torque (exact saturation)
-  const double correction_force_2_4 = X_E_3_0 * e9 + X_E_3_1 * e10;
+  const double correction_force_2_4 = e9 * X_E_3_0 + e10 * X_E_3_1;
   const double correction_force_2_2 = 0.02787333333333333 * e8 + 0.4 * correction_force_2_4;
-  const double correction_force_2_3 = X_E_3_0 * e10 - X_E_3_1 * e9;
+  const double correction_force_2_3 = e10 * X_E_3_0 - X_E_3_1 * e9;
 
   // ==== solver sweep ====
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
   const double tau_cmd_1 = std::min<double>(100.0, std::max<double>(e6, -100.0));
   out.tau_cmd[1] = tau_cmd_1;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double tau_ctrl_1 = tau_cmd_1 - carried_12;
+  const double tau_ctrl_1 = tau_cmd_1 - carried_25;
   out.tau_ctrl[1] = tau_ctrl_1;
   const double inverse_D_2_0 = state.inverse_D_2_0;
   const double e11 = inverse_D_2_0 * (tau_ctrl_1 - correction_force_2_3);
@@ -845,36 +845,36 @@ void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] 
   // ==== solver sweep, body 1: link link1, joint planar_joint1 (revolute) ====
   // correction_force: F^A of the clamped extra torque (exact saturation)
   const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const double correction_force_1_4 = correction_force_2_4 + articulated_inertia_2_19 * e11;
+  const double correction_force_1_4 = e11 * articulated_inertia_2_19 + correction_force_2_4;
   const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const double correction_force_1_2 = correction_force_2_2 + articulated_inertia_2_15 * e11 + X_r_2_0 * correction_force_1_4;
 
   // ==== solver sweep ====
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const double tau_cmd_0 = std::min<double>(50.0, std::max<double>(e5, -50.0));
+  const double tau_cmd_0 = std::min<double>(50.0, std::max<double>(-50.0, e5));
   out.tau_cmd[0] = tau_cmd_0;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const double tau_ctrl_0 = tau_cmd_0 - carried_11;
+  const double tau_ctrl_0 = tau_cmd_0 - carried_29;
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_47 = state.carried_47;
+  const double carried_45 = state.carried_45;
   const double inverse_D_1_0 = state.inverse_D_1_0;
-  const double qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - (carried_47 + correction_force_1_2));
+  const double qdd_0 = (carried_29 + tau_ctrl_0 - (carried_45 + correction_force_1_2)) * inverse_D_1_0;
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const double original_acceleration_1_4 = state.original_acceleration_1_4;
   const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const double acceleration_2_4 = qdd_0 * X_r_2_0 + original_acceleration_1_4 + bias_acceleration_2_4;
 
   // ==== solver sweep ====
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_48 = state.carried_48;
+  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
+  const double carried_46 = state.carried_46;
   const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const double qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (correction_force_2_3 + (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (carried_48 + articulated_inertia_2_19 * acceleration_2_4)))))));
+  const double qdd_1 = inverse_D_2_0 * (carried_25 + tau_ctrl_1 - (correction_force_2_3 + (articulated_force_tool_load_2_3 + (qdd_0 * articulated_inertia_2_15 + (acceleration_2_4 * articulated_inertia_2_19 + carried_46) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3))));
   out.qdd[1] = qdd_1;
   const double e12 = acceleration_2_4 + 0.4 * qdd_0;
 
@@ -885,19 +885,19 @@ void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] 
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const double carried_6 = state.carried_6;
-  const double acceleration_3_4 = X_E_3_0 * e12 - X_E_3_1 * acceleration_2_3 - carried_6;
+  const double carried_7 = state.carried_7;
+  const double acceleration_3_4 = e12 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - carried_7;
   const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e12 + X_E_3_0 * acceleration_2_3);
+  const double acceleration_3_3 = bias_acceleration_3_3 + (acceleration_2_3 * X_E_3_0 + X_E_3_1 * e12);
 
   // ==== solver sweep ====
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const double carried_16 = state.carried_16;
   const double bias_force_3_2 = state.bias_force_3_2;
-  const double qdd_2 = 35.87658454915093 * (carried_13 + tau_ctrl_2 - (bias_force_3_2 + (0.02787333333333333 * qdd_0 + (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3)) - carried_16));
+  const double carried_12 = state.carried_12;
+  const double qdd_2 = 35.87658454915093 * (carried_19 + tau_ctrl_2 - (bias_force_3_2 + (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3 + 0.02787333333333333 * qdd_0) - carried_12));
   out.qdd[2] = qdd_2;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
-  const double tip_acceleration_2 = qdd_0 + qdd_2;
+  const double tip_acceleration_2 = qdd_2 + qdd_0;
   out.tip_acceleration[2] = tip_acceleration_2;
   const double tip_acceleration_3 = acceleration_3_4 + 0.3 * tip_acceleration_2;
   out.tip_acceleration[3] = tip_acceleration_3;
@@ -965,18 +965,18 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   // ==== outward sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // X_r: X_i = X_J(q_i) X_T: translation r
   const float q_1 = q[1];
-  const float X_r_2_0 = 0.5f + q_1;
+  const float X_r_2_0 = q_1 + 0.5f;
   state.X_r_2_0 = X_r_2_0;
   // velocity: Xd_i = X_i Xd_{i-1} + S_i qd_i
   const float qd_0 = qd[0];
-  const float velocity_2_4 = qd_0 * X_r_2_0;
+  const float velocity_2_4 = X_r_2_0 * qd_0;
   // bias_acceleration: Xddb_i = Xd_i x (S_i qd_i)
   const float qd_1 = qd[1];
   const float bias_acceleration_2_4 = qd_0 * qd_1;
   state.bias_acceleration_2_4 = bias_acceleration_2_4;
-  const float e0 = velocity_2_4 + 0.2f * qd_0;
+  const float e0 = 0.2f * qd_0 + velocity_2_4;
   // bias_force: Fb_i = Xd_i x* (M_i Xd_i)
-  const float bias_force_2_2 = qd_1 * e0 - qd_1 * velocity_2_4;
+  const float bias_force_2_2 = e0 * qd_1 - velocity_2_4 * qd_1;
   state.bias_force_2_2 = bias_force_2_2;
 
   // ==== outward sweep, body 3: link link3, joint planar_joint3 (revolute) ====
@@ -988,42 +988,42 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   state.X_E_3_1 = X_E_3_1;
   // velocity: Xd_i = X_i Xd_{i-1} + S_i qd_i
   const float qd_2 = qd[2];
-  const float velocity_3_2 = qd_0 + qd_2;
+  const float velocity_3_2 = qd_2 + qd_0;
   const float e1 = velocity_2_4 + 0.4f * qd_0;
-  const float velocity_3_3 = X_E_3_1 * e1 + qd_1 * X_E_3_0;
-  const float velocity_3_4 = X_E_3_0 * e1 - qd_1 * X_E_3_1;
+  const float velocity_3_3 = e1 * X_E_3_1 + qd_1 * X_E_3_0;
+  const float velocity_3_4 = e1 * X_E_3_0 - X_E_3_1 * qd_1;
   // bias_acceleration: Xddb_i = Xd_i x (S_i qd_i)
-  const float bias_acceleration_3_3 = qd_2 * velocity_3_4;
+  const float bias_acceleration_3_3 = velocity_3_4 * qd_2;
   state.bias_acceleration_3_3 = bias_acceleration_3_3;
-  const float e2 = 0.125f * velocity_3_2 + 0.7f * velocity_3_4;
+  const float e2 = 0.7f * velocity_3_4 + 0.125f * velocity_3_2;
   const float e3 = 0.7f * velocity_3_3 - 0.004f * velocity_3_2;
   // bias_force: Fb_i = Xd_i x* (M_i Xd_i)
-  const float bias_force_3_2 = velocity_3_3 * e2 - velocity_3_4 * e3;
+  const float bias_force_3_2 = e2 * velocity_3_3 - velocity_3_4 * e3;
   state.bias_force_3_2 = bias_force_3_2;
-  const float bias_force_3_4 = velocity_3_2 * e3;
+  const float bias_force_3_4 = e3 * velocity_3_2;
   state.bias_force_3_4 = bias_force_3_4;
   const float e4 = -0.001f * X_E_3_0;
 
   // ==== inward sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // articulated_inertia: M^A_{i-1} = M_{i-1} + X_i^T P_i^T M^A_i X_i   [A | B | C blocks]
-  const float articulated_inertia_2_0 = 0.00026666667f + (X_E_3_0 * (0.001f * X_E_3_1 + 3e-04f * X_E_3_0) - X_E_3_1 * (e4 - 0.02776f * X_E_3_1));
+  const float articulated_inertia_2_0 = (0.001f * X_E_3_1 + 3e-04f * X_E_3_0) * X_E_3_0 - X_E_3_1 * (e4 - 0.02776f * X_E_3_1) + 0.00026666667f;
   const float e5 = 0.004f * X_E_3_1 - 0.125f * X_E_3_0;
-  const float articulated_inertia_2_4 = 0.053466666f + (X_E_3_0 * (0.02776f * X_E_3_0 - 0.001f * X_E_3_1) + X_E_3_1 * (e4 + 3e-04f * X_E_3_1) - 0.4f * e5 - 0.4f * e5 + 0.112f);
+  const float articulated_inertia_2_4 = X_E_3_1 * (e4 + 3e-04f * X_E_3_1) + (0.02776f * X_E_3_0 - 0.001f * X_E_3_1) * X_E_3_0 - 0.4f * e5 - 0.4f * e5 + 0.112f + 0.053466666f;
   const float e6 = 0.017938292f * X_E_3_0;
-  const float e7 = X_E_3_0 * (0.017938292f * X_E_3_1 + 0.13942836f * X_E_3_0) + X_E_3_1 * (e6 + 0.699426f * X_E_3_1);
+  const float e7 = (0.017938292f * X_E_3_1 + 0.13942836f * X_E_3_0) * X_E_3_0 + (e6 + 0.699426f * X_E_3_1) * X_E_3_1;
   const float e8 = 0.4f * e7;
-  const float articulated_inertia_2_8 = 0.053466666f + 0.4f * e8;
+  const float articulated_inertia_2_8 = 0.4f * e8 + 0.053466666f;
   const float articulated_inertia_2_14 = e5 - 0.28f - 0.2f;
   const float e9 = e6 - 0.13942836f * X_E_3_1;
   const float e10 = 0.699426f * X_E_3_0 - 0.017938292f * X_E_3_1;
-  const float articulated_inertia_2_19 = X_E_3_0 * e9 + X_E_3_1 * e10;
+  const float articulated_inertia_2_19 = e9 * X_E_3_0 + X_E_3_1 * e10;
   state.articulated_inertia_2_19 = articulated_inertia_2_19;
   const float articulated_inertia_2_15 = 0.4f * articulated_inertia_2_19;
   state.articulated_inertia_2_15 = articulated_inertia_2_15;
-  const float articulated_inertia_2_16 = 0.2f + e8;
-  const float articulated_inertia_2_18 = 1.0f + (X_E_3_0 * e10 - X_E_3_1 * e9);
-  const float articulated_inertia_2_22 = 1.0f + e7;
-  const float e11 = 0.00011920929f * (1.7f + (articulated_inertia_2_18 + articulated_inertia_2_22));
+  const float articulated_inertia_2_16 = e8 + 0.2f;
+  const float articulated_inertia_2_18 = e10 * X_E_3_0 - X_E_3_1 * e9 + 1.0f;
+  const float articulated_inertia_2_22 = e7 + 1.0f;
+  const float e11 = 0.00011920929f * (1.7f + (articulated_inertia_2_22 + articulated_inertia_2_18));
   // inverse_D: D_i^-1, 0 where the joint is locked (D_i <= tol (d_i + tr block of M^A_i))
   const float inverse_D_2_0 = (articulated_inertia_2_18 > e11 ? 1.0f : 0.0f) / (articulated_inertia_2_18 > e11 ? articulated_inertia_2_18 : 1.0f);
   state.inverse_D_2_0 = inverse_D_2_0;
@@ -1032,23 +1032,23 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   // constraint_force: F^A_cstr,i-1 = X_i^T P_i^T F^A_cstr,i   [column k: 6k..6k+5]
   const float constraint_force_2_4 = 0.043051902f * X_E_3_1 - 0.34537193f * X_E_3_0;
   const float constraint_force_2_2 = 0.4f * constraint_force_2_4 - 5.551115e-17f;
-  const float constraint_force_2_3 = 0.34537193f * X_E_3_1 + 0.043051902f * X_E_3_0;
+  const float constraint_force_2_3 = 0.043051902f * X_E_3_0 + 0.34537193f * X_E_3_1;
   state.constraint_force_2_3 = constraint_force_2_3;
   const float constraint_force_2_8 = -0.4f * X_E_3_1;
   const float e12 = qd_2 * velocity_3_3;
-  state.carried_6 = e12;
-  const float e13 = bias_force_3_2 + (-0.125f * e12 - 0.004f * bias_acceleration_3_3);
+  state.carried_7 = e12;
+  const float e13 = -0.004f * bias_acceleration_3_3 - 0.125f * e12 + bias_force_3_2;
   const float e14 = -35.876583f * e13;
   const float e15 = bias_force_3_4 - 0.7f * e12 + 0.125f * e14;
-  const float e16 = velocity_3_2 * e2;
-  state.carried_10 = e16;
+  const float e16 = e2 * velocity_3_2;
+  state.carried_9 = e16;
   const float e17 = 0.7f * bias_acceleration_3_3 - e16 - 0.004f * e14;
-  const float e18 = X_E_3_0 * e15 + X_E_3_1 * e17;
+  const float e18 = X_E_3_0 * e15 + e17 * X_E_3_1;
   // articulated_force_bias: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const float articulated_force_bias_2_2 = bias_force_2_2 + (e13 + 0.027873334f * e14 + 0.4f * e18);
-  const float e19 = qd_0 * e0;
+  const float articulated_force_bias_2_2 = 0.4f * e18 + (0.027873334f * e14 + e13) + bias_force_2_2;
+  const float e19 = e0 * qd_0;
   state.carried_3 = e19;
-  const float articulated_force_bias_2_3 = X_E_3_0 * e17 - X_E_3_1 * e15 - e19;
+  const float articulated_force_bias_2_3 = e17 * X_E_3_0 - X_E_3_1 * e15 - e19;
   state.articulated_force_bias_2_3 = articulated_force_bias_2_3;
   const float articulated_force_bias_2_4 = bias_acceleration_2_4 + e18;
   // acceleration_energy_bias: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
@@ -1058,18 +1058,18 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   // articulated_inertia: M^A_{i-1} = M_{i-1} + X_i^T P_i^T M^A_i X_i   [A | B | C blocks]
   const float articulated_inertia_1_0 = 0.00083333335f + articulated_inertia_2_0;
   const float e20 = X_r_2_0 * articulated_inertia_2_14;
-  const float articulated_inertia_1_4 = 0.16708334f + (articulated_inertia_2_4 - e20 - e20 - X_r_2_0 * (-1.7f * X_r_2_0));
+  const float articulated_inertia_1_4 = articulated_inertia_2_4 - e20 - e20 - X_r_2_0 * (-1.7f * X_r_2_0) + 0.16708334f;
   const float e21 = articulated_inertia_2_15 * inverse_D_2_0;
-  const float e22 = articulated_inertia_2_16 - articulated_inertia_2_19 * e21;
+  const float e22 = articulated_inertia_2_16 - e21 * articulated_inertia_2_19;
   const float e23 = X_r_2_0 * e22;
-  const float e24 = X_r_2_0 * (articulated_inertia_2_22 - articulated_inertia_2_19 * (articulated_inertia_2_19 * inverse_D_2_0));
-  const float articulated_inertia_1_8 = 0.16708334f + (e23 + (articulated_inertia_2_8 - articulated_inertia_2_15 * e21 + e23) + X_r_2_0 * e24);
-  const float articulated_inertia_1_19 = articulated_inertia_2_19 - articulated_inertia_2_19 * (articulated_inertia_2_18 * inverse_D_2_0);
+  const float e24 = (articulated_inertia_2_22 - inverse_D_2_0 * articulated_inertia_2_19 * articulated_inertia_2_19) * X_r_2_0;
+  const float articulated_inertia_1_8 = e23 + (articulated_inertia_2_8 - articulated_inertia_2_15 * e21) + e23 + X_r_2_0 * e24 + 0.16708334f;
+  const float articulated_inertia_1_19 = articulated_inertia_2_19 - articulated_inertia_2_18 * inverse_D_2_0 * articulated_inertia_2_19;
   const float articulated_inertia_1_15 = articulated_inertia_2_15 - articulated_inertia_2_18 * e21 + X_r_2_0 * articulated_inertia_1_19;
-  const float articulated_inertia_1_16 = 0.5f + (e22 + e24);
+  const float articulated_inertia_1_16 = e24 + e22 + 0.5f;
   // D: D_i = d_i + S_i^T M^A_i S_i
   const float D_1_0 = 0.01f + articulated_inertia_1_8;
-  const float e25 = 0.00011920929f * (articulated_inertia_1_8 + (articulated_inertia_1_4 + (0.01f + articulated_inertia_1_0)));
+  const float e25 = 0.00011920929f * (0.01f + articulated_inertia_1_0 + articulated_inertia_1_4 + articulated_inertia_1_8);
   // inverse_D: D_i^-1, 0 where the joint is locked (D_i <= tol (d_i + tr block of M^A_i))
   const float inverse_D_1_0 = (D_1_0 > e25 ? 1.0f : 0.0f) / (D_1_0 > e25 ? D_1_0 : 1.0f);
   state.inverse_D_1_0 = inverse_D_1_0;
@@ -1078,75 +1078,75 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
   const float e26 = constraint_force_2_3 * inverse_D_2_0;
   // constraint_force: F^A_cstr,i-1 = X_i^T P_i^T F^A_cstr,i   [column k: 6k..6k+5]
   const float constraint_force_1_4 = constraint_force_2_4 - articulated_inertia_2_19 * e26;
-  const float constraint_force_1_2 = constraint_force_2_2 - articulated_inertia_2_15 * e26 + X_r_2_0 * constraint_force_1_4;
+  const float constraint_force_1_2 = constraint_force_2_2 - articulated_inertia_2_15 * e26 + constraint_force_1_4 * X_r_2_0;
   state.constraint_force_1_2 = constraint_force_1_2;
   const float constraint_force_1_3 = constraint_force_2_3 - articulated_inertia_2_18 * e26;
-  const float e27 = X_E_3_0 * inverse_D_2_0;
+  const float e27 = inverse_D_2_0 * X_E_3_0;
   const float constraint_force_1_10 = articulated_inertia_2_19 * e27 - X_E_3_1;
-  const float constraint_force_1_8 = constraint_force_2_8 + articulated_inertia_2_15 * e27 + X_r_2_0 * constraint_force_1_10;
+  const float constraint_force_1_8 = constraint_force_1_10 * X_r_2_0 + (constraint_force_2_8 + articulated_inertia_2_15 * e27);
   state.constraint_force_1_8 = constraint_force_1_8;
   const float constraint_force_1_9 = articulated_inertia_2_18 * e27 - X_E_3_0;
   // constraint_energy: E^A_cstr,i-1 = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i
   const float constraint_energy_1_0 = 3.2288926f + constraint_force_2_3 * e26;
-  const float constraint_energy_1_3 = X_E_3_0 * e27;
-  const float e28 = inverse_D_2_0 * (articulated_force_bias_2_3 + bias_acceleration_2_4 * articulated_inertia_2_19);
+  const float constraint_energy_1_3 = e27 * X_E_3_0;
+  const float e28 = (articulated_inertia_2_19 * bias_acceleration_2_4 + articulated_force_bias_2_3) * inverse_D_2_0;
   // articulated_force_bias: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const float articulated_force_bias_1_4 = articulated_force_bias_2_4 + bias_acceleration_2_4 * articulated_inertia_2_22 - articulated_inertia_2_19 * e28;
-  const float articulated_force_bias_1_2 = articulated_force_bias_2_2 + bias_acceleration_2_4 * articulated_inertia_2_16 - articulated_inertia_2_15 * e28 + X_r_2_0 * articulated_force_bias_1_4;
+  const float articulated_force_bias_1_4 = articulated_force_bias_2_4 + articulated_inertia_2_22 * bias_acceleration_2_4 - articulated_inertia_2_19 * e28;
+  const float articulated_force_bias_1_2 = articulated_force_bias_1_4 * X_r_2_0 + (articulated_force_bias_2_2 + articulated_inertia_2_16 * bias_acceleration_2_4 - articulated_inertia_2_15 * e28);
   // acceleration_energy_bias: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
-  const float acceleration_energy_bias_1_0 = acceleration_energy_bias_2_0 - constraint_force_2_3 * e28 + bias_acceleration_2_4 * constraint_force_2_4;
-  const float acceleration_energy_bias_1_1 = X_E_3_0 * e28 - bias_acceleration_3_3 - bias_acceleration_2_4 * X_E_3_1;
+  const float acceleration_energy_bias_1_0 = acceleration_energy_bias_2_0 - constraint_force_2_3 * e28 + constraint_force_2_4 * bias_acceleration_2_4;
+  const float acceleration_energy_bias_1_1 = X_E_3_0 * e28 - bias_acceleration_3_3 - X_E_3_1 * bias_acceleration_2_4;
   const float e29 = constraint_force_1_2 * inverse_D_1_0;
 
   // ==== inward sweep, base: link base_link ====
   // constraint_force: F^A_cstr,i-1 = X_i^T P_i^T F^A_cstr,i   [column k: 6k..6k+5]
-  const float constraint_force_0_4 = X_E_1_0 * (constraint_force_1_4 - articulated_inertia_1_16 * e29) + X_E_1_1 * (constraint_force_1_3 - articulated_inertia_1_15 * e29);
-  const float e30 = constraint_force_1_8 * inverse_D_1_0;
-  const float constraint_force_0_10 = X_E_1_0 * (constraint_force_1_10 - articulated_inertia_1_16 * e30) + X_E_1_1 * (constraint_force_1_9 - articulated_inertia_1_15 * e30);
+  const float constraint_force_0_4 = (constraint_force_1_4 - e29 * articulated_inertia_1_16) * X_E_1_0 + X_E_1_1 * (constraint_force_1_3 - articulated_inertia_1_15 * e29);
+  const float e30 = inverse_D_1_0 * constraint_force_1_8;
+  const float constraint_force_0_10 = X_E_1_0 * (constraint_force_1_10 - e30 * articulated_inertia_1_16) + X_E_1_1 * (constraint_force_1_9 - articulated_inertia_1_15 * e30);
   // constraint_energy: E^A_cstr,i-1 = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i
   const float constraint_energy_0_0 = constraint_energy_1_0 + constraint_force_1_2 * e29;
   const float constraint_energy_0_1 = constraint_force_1_2 * e30 - constraint_force_2_3 * e27;
-  const float constraint_energy_0_2 = constraint_force_1_8 * e29 - X_E_3_0 * e26;
-  const float constraint_energy_0_3 = constraint_energy_1_3 + constraint_force_1_8 * e30;
-  const float e31 = articulated_force_bias_1_2 * inverse_D_1_0;
+  const float constraint_energy_0_2 = e29 * constraint_force_1_8 - X_E_3_0 * e26;
+  const float constraint_energy_0_3 = e30 * constraint_force_1_8 + constraint_energy_1_3;
+  const float e31 = inverse_D_1_0 * articulated_force_bias_1_2;
   // acceleration_energy_bias: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const float acceleration_energy_bias_0_0 = acceleration_energy_bias_1_0 - constraint_force_1_2 * e31;
   state.acceleration_energy_bias_0_0 = acceleration_energy_bias_0_0;
   const float acceleration_energy_bias_0_1 = acceleration_energy_bias_1_1 - constraint_force_1_8 * e31;
   state.acceleration_energy_bias_0_1 = acceleration_energy_bias_0_1;
   const float e32 = equilibration_scale(constraint_energy_0_3);
-  state.carried_38 = e32;
-  const float e33 = e32 * (constraint_energy_0_3 * e32);
+  state.carried_30 = e32;
+  const float e33 = constraint_energy_0_3 * e32 * e32;
   const float e34 = equilibration_scale(constraint_energy_0_0);
-  state.carried_37 = e34;
-  const float e35 = e34 * (constraint_energy_0_0 * e34);
+  state.carried_31 = e34;
+  const float e35 = constraint_energy_0_0 * e34 * e34;
   const float e36 = 0.00011920929f * e35;
   const float e37 = e35 > e36 ? 1.0f : 0.0f;
   const float e38 = e37 / (e35 > e36 ? e35 : 1.0f);
-  state.carried_39 = e38;
-  const float e39 = e34 * (constraint_energy_0_2 * e32) * e38;
-  state.carried_40 = e39;
-  const float e40 = e33 - e32 * (constraint_energy_0_1 * e34) * e39;
+  state.carried_32 = e38;
+  const float e39 = e32 * constraint_energy_0_2 * e34 * e38;
+  state.carried_33 = e39;
+  const float e40 = e33 - constraint_energy_0_1 * e34 * e32 * e39;
   const float e41 = 0.00011920929f * e33;
   const float e42 = e40 > e41 ? 1.0f : 0.0f;
   const float e43 = 1.0f - e37 + (1.0f - e42);
   state.original_dropped_pivots_0 = e43;
-  const float e44 = locked_2_0 + locked_1_0;
+  const float e44 = locked_1_0 + locked_2_0;
   state.original_locked_joints_0 = e44;
   const float e45 = 9.81f * X_E_1_1;
   state.original_acceleration_1_3 = e45;
   const float e46 = 9.81f * X_E_1_0;
   state.original_acceleration_1_4 = e46;
   const float e47 = e42 / (e40 > e41 ? e40 : 1.0f);
-  state.carried_42 = e47;
-  const float e48 = articulated_force_bias_1_2 + (articulated_inertia_1_16 * e46 + articulated_inertia_1_15 * e45);
-  state.carried_45 = e48;
+  state.carried_34 = e47;
+  const float e48 = articulated_inertia_1_15 * e45 + articulated_inertia_1_16 * e46 + articulated_force_bias_1_2;
+  state.carried_43 = e48;
   const float e49 = articulated_inertia_2_18 * e45;
-  state.carried_48 = e49;
-  const float e50 = 9.81f * constraint_force_0_4;
+  state.carried_46 = e49;
+  const float e50 = 9.81f * constraint_force_0_10;
   state.carried_35 = e50;
-  const float e51 = 9.81f * constraint_force_0_10;
-  state.carried_36 = e51;
+  const float e51 = 9.81f * constraint_force_0_4;
+  state.carried_38 = e51;
   const float e52 = 0.5f * e46;
   state.carried_49 = e52;
 
@@ -1167,87 +1167,87 @@ void decompose([[maybe_unused]] const Drivers& drivers, [[maybe_unused]] State& 
 
   // ==== inward sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // articulated_force_tau_ff: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const float X_E_3_1 = state.X_E_3_1;
   const float X_E_3_0 = state.X_E_3_0;
-  const float articulated_force_tau_ff_2_4 = X_E_3_0 * e1 + X_E_3_1 * e2;
-  const float articulated_force_tau_ff_2_2 = 0.027873334f * e0 + 0.4f * articulated_force_tau_ff_2_4;
+  const float X_E_3_1 = state.X_E_3_1;
+  const float articulated_force_tau_ff_2_4 = e1 * X_E_3_0 + X_E_3_1 * e2;
+  const float articulated_force_tau_ff_2_2 = 0.4f * articulated_force_tau_ff_2_4 + 0.027873334f * e0;
   const float articulated_force_tau_ff_2_3 = X_E_3_0 * e2 - X_E_3_1 * e1;
   state.articulated_force_tau_ff_2_3 = articulated_force_tau_ff_2_3;
   // acceleration_energy_tau_ff: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const float acceleration_energy_tau_ff_2_0 = 0.3f * e0;
   const float drivers_tool_load_3 = drivers.tool_load[3];
   const float drivers_tool_load_2 = drivers.tool_load[2];
-  const float e3 = drivers_tool_load_2 + 0.3f * drivers_tool_load_3;
-  state.carried_16 = e3;
+  const float e3 = 0.3f * drivers_tool_load_3 + drivers_tool_load_2;
+  state.carried_12 = e3;
   const float e4 = 35.876583f * e3;
-  const float e5 = 0.125f * e4 - drivers_tool_load_3;
   const float drivers_tool_load_4 = drivers.tool_load[4];
-  const float e6 = drivers_tool_load_4 - 0.004f * e4;
+  const float e5 = drivers_tool_load_4 - 0.004f * e4;
+  const float e6 = 0.125f * e4 - drivers_tool_load_3;
   // articulated_force_tool_load: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const float articulated_force_tool_load_2_4 = X_E_3_0 * e5 + X_E_3_1 * e6;
-  const float articulated_force_tool_load_2_2 = 0.027873334f * e4 - e3 + 0.4f * articulated_force_tool_load_2_4;
-  const float articulated_force_tool_load_2_3 = X_E_3_0 * e6 - X_E_3_1 * e5;
+  const float articulated_force_tool_load_2_4 = X_E_3_1 * e5 + e6 * X_E_3_0;
+  const float articulated_force_tool_load_2_2 = 0.4f * articulated_force_tool_load_2_4 + (0.027873334f * e4 - e3);
+  const float articulated_force_tool_load_2_3 = X_E_3_0 * e5 - X_E_3_1 * e6;
   state.articulated_force_tool_load_2_3 = articulated_force_tool_load_2_3;
   // acceleration_energy_tool_load: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const float acceleration_energy_tool_load_2_0 = 0.3f * e4;
   const float drivers_tau_ff_1 = drivers.tau_ff[1];
   const float inverse_D_2_0 = state.inverse_D_2_0;
-  const float e7 = inverse_D_2_0 * (drivers_tau_ff_1 - articulated_force_tau_ff_2_3);
+  const float e7 = (drivers_tau_ff_1 - articulated_force_tau_ff_2_3) * inverse_D_2_0;
 
   // ==== inward sweep, body 1: link link1, joint planar_joint1 (revolute) ====
   // articulated_force_tau_ff: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
   const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const float articulated_force_tau_ff_1_4 = articulated_force_tau_ff_2_4 + articulated_inertia_2_19 * e7;
-  const float X_r_2_0 = state.X_r_2_0;
+  const float articulated_force_tau_ff_1_4 = articulated_inertia_2_19 * e7 + articulated_force_tau_ff_2_4;
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
+  const float X_r_2_0 = state.X_r_2_0;
   const float articulated_force_tau_ff_1_2 = articulated_force_tau_ff_2_2 + articulated_inertia_2_15 * e7 + X_r_2_0 * articulated_force_tau_ff_1_4;
   // acceleration_energy_tau_ff: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const float constraint_force_2_3 = state.constraint_force_2_3;
-  const float acceleration_energy_tau_ff_1_0 = acceleration_energy_tau_ff_2_0 + constraint_force_2_3 * e7;
+  const float acceleration_energy_tau_ff_1_0 = constraint_force_2_3 * e7 + acceleration_energy_tau_ff_2_0;
   const float e8 = articulated_force_tool_load_2_3 * inverse_D_2_0;
   // articulated_force_tool_load: F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u),  u = tau_t,i - S_i^T Fc
-  const float articulated_force_tool_load_1_4 = articulated_force_tool_load_2_4 - articulated_inertia_2_19 * e8;
-  const float articulated_force_tool_load_1_2 = articulated_force_tool_load_2_2 - articulated_inertia_2_15 * e8 + X_r_2_0 * articulated_force_tool_load_1_4;
+  const float articulated_force_tool_load_1_4 = articulated_force_tool_load_2_4 - e8 * articulated_inertia_2_19;
+  const float articulated_force_tool_load_1_2 = articulated_force_tool_load_1_4 * X_r_2_0 + (articulated_force_tool_load_2_2 - articulated_inertia_2_15 * e8);
   state.articulated_force_tool_load_1_2 = articulated_force_tool_load_1_2;
   // acceleration_energy_tool_load: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
-  const float acceleration_energy_tool_load_1_0 = acceleration_energy_tool_load_2_0 - constraint_force_2_3 * e8;
-  const float acceleration_energy_tool_load_1_1 = X_E_3_0 * e8;
-  const float drivers_tau_ff_0 = drivers.tau_ff[0];
+  const float acceleration_energy_tool_load_1_0 = acceleration_energy_tool_load_2_0 - e8 * constraint_force_2_3;
+  const float acceleration_energy_tool_load_1_1 = e8 * X_E_3_0;
   const float inverse_D_1_0 = state.inverse_D_1_0;
+  const float drivers_tau_ff_0 = drivers.tau_ff[0];
   const float e9 = inverse_D_1_0 * (drivers_tau_ff_0 - articulated_force_tau_ff_1_2);
 
   // ==== inward sweep, base: link base_link ====
   // acceleration_energy_tau_ff: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const float constraint_force_1_2 = state.constraint_force_1_2;
-  const float acceleration_energy_tau_ff_0_0 = acceleration_energy_tau_ff_1_0 + constraint_force_1_2 * e9;
+  const float acceleration_energy_tau_ff_0_0 = constraint_force_1_2 * e9 + acceleration_energy_tau_ff_1_0;
   const float constraint_force_1_8 = state.constraint_force_1_8;
-  const float acceleration_energy_tau_ff_0_1 = constraint_force_1_8 * e9 - X_E_3_0 * e7;
-  const float e10 = articulated_force_tool_load_1_2 * inverse_D_1_0;
+  const float acceleration_energy_tau_ff_0_1 = e9 * constraint_force_1_8 - e7 * X_E_3_0;
+  const float e10 = inverse_D_1_0 * articulated_force_tool_load_1_2;
   // acceleration_energy_tool_load: E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T (Xddb_i [bias] + S_i D_i^-1 u)
   const float acceleration_energy_tool_load_0_0 = acceleration_energy_tool_load_1_0 - constraint_force_1_2 * e10;
   const float acceleration_energy_tool_load_0_1 = acceleration_energy_tool_load_1_1 - constraint_force_1_8 * e10;
   const float acceleration_energy_bias_0_0 = state.acceleration_energy_bias_0_0;
   const float e11 = acceleration_energy_bias_0_0 + acceleration_energy_tau_ff_0_0;
   state.prioritize_external_conf_energy_0 = e11;
-  const float e12 = acceleration_energy_tool_load_0_0 + e11;
+  const float e12 = e11 + acceleration_energy_tool_load_0_0;
   state.original_conf_energy_0 = e12;
   const float acceleration_energy_bias_0_1 = state.acceleration_energy_bias_0_1;
-  const float e13 = acceleration_energy_bias_0_1 + acceleration_energy_tau_ff_0_1;
+  const float e13 = acceleration_energy_tau_ff_0_1 + acceleration_energy_bias_0_1;
   state.prioritize_external_conf_energy_1 = e13;
   const float e14 = acceleration_energy_tool_load_0_1 + e13;
   state.original_conf_energy_1 = e14;
-  const float carried_45 = state.carried_45;
-  const float e15 = articulated_force_tau_ff_1_2 + carried_45;
-  state.carried_46 = e15;
+  const float carried_43 = state.carried_43;
+  const float e15 = carried_43 + articulated_force_tau_ff_1_2;
+  state.carried_44 = e15;
   const float e16 = articulated_force_tool_load_1_2 + e15;
-  state.carried_47 = e16;
+  state.carried_45 = e16;
 
   // Values computed before this function, and constants.
-  state.carried_11 = drivers_tau_ff_0;
-  state.carried_12 = drivers_tau_ff_1;
-  state.carried_13 = drivers_tau_ff_2;
-  state.carried_14 = drivers_tool_load_3;
+  state.carried_11 = drivers_tool_load_3;
   state.articulated_force_tool_load_3_3 = drivers_tool_load_4;
+  state.carried_19 = drivers_tau_ff_2;
+  state.carried_25 = drivers_tau_ff_1;
+  state.carried_29 = drivers_tau_ff_0;
 
   Scalar residue = 0;  // NaN/Inf among the drivers (scene: check_inputs; see outward())
   for (int i = 0; i < dof; ++i) residue += drivers.tau_ff[i] - drivers.tau_ff[i];
@@ -1266,100 +1266,100 @@ Drivers drivers_from_flat([[maybe_unused]] const Scalar* drivers_in) noexcept {
 
 // Alg. 3, the original composition of every driver.
 void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const float carried_37 = state.carried_37;
-  const float original_conf_energy_0 = state.original_conf_energy_0;
-  const float carried_35 = state.carried_35;
   const float beta_0 = beta[0];
-  const float e0 = (beta_0 - carried_35 - original_conf_energy_0) * carried_37;
-  const float carried_40 = state.carried_40;
   const float carried_38 = state.carried_38;
-  const float original_conf_energy_1 = state.original_conf_energy_1;
-  const float carried_36 = state.carried_36;
+  const float original_conf_energy_0 = state.original_conf_energy_0;
+  const float carried_31 = state.carried_31;
+  const float e0 = (beta_0 - carried_38 - original_conf_energy_0) * carried_31;
+  const float carried_34 = state.carried_34;
   const float beta_1 = beta[1];
-  const float carried_42 = state.carried_42;
-  const float e1 = carried_42 * ((beta_1 - carried_36 - original_conf_energy_1) * carried_38 - e0 * carried_40);
-  const float carried_39 = state.carried_39;
-  const float e2 = e0 * carried_39 - carried_40 * e1;
+  const float carried_35 = state.carried_35;
+  const float original_conf_energy_1 = state.original_conf_energy_1;
+  const float carried_30 = state.carried_30;
+  const float carried_33 = state.carried_33;
+  const float e1 = carried_34 * ((beta_1 - carried_35 - original_conf_energy_1) * carried_30 - e0 * carried_33);
+  const float carried_32 = state.carried_32;
+  const float e2 = carried_32 * e0 - e1 * carried_33;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const float nu_0 = carried_37 * (0.0f > 0.5f ? e1 : e2);
+  const float nu_0 = (0.0f > 0.5f ? e1 : e2) * carried_31;
   out.nu[0] = nu_0;
-  const float nu_1 = carried_38 * (0.0f > 0.5f ? e2 : e1);
+  const float nu_1 = (0.0f > 0.5f ? e2 : e1) * carried_30;
   out.nu[1] = nu_1;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
   const float constraint_force_1_8 = state.constraint_force_1_8;
   const float constraint_force_1_2 = state.constraint_force_1_2;
-  const float tau_ctrl_0 = constraint_force_1_2 * nu_0 + constraint_force_1_8 * nu_1;
+  const float tau_ctrl_0 = constraint_force_1_8 * nu_1 + nu_0 * constraint_force_1_2;
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_47 = state.carried_47;
-  const float carried_11 = state.carried_11;
   const float inverse_D_1_0 = state.inverse_D_1_0;
-  const float qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - carried_47);
+  const float carried_29 = state.carried_29;
+  const float carried_45 = state.carried_45;
+  const float qdd_0 = inverse_D_1_0 * (tau_ctrl_0 + carried_29 - carried_45);
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const float X_r_2_0 = state.X_r_2_0;
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
+  const float X_r_2_0 = state.X_r_2_0;
   const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const float acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const float acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
   const float X_E_3_0 = state.X_E_3_0;
-  const float e3 = X_E_3_0 * nu_1;
+  const float e3 = nu_1 * X_E_3_0;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
   const float constraint_force_2_3 = state.constraint_force_2_3;
-  const float tau_ctrl_1 = constraint_force_2_3 * nu_0 - e3;
+  const float tau_ctrl_1 = nu_0 * constraint_force_2_3 - e3;
   out.tau_ctrl[1] = tau_ctrl_1;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_48 = state.carried_48;
+  const float carried_25 = state.carried_25;
   const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
+  const float carried_46 = state.carried_46;
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const float carried_12 = state.carried_12;
   const float inverse_D_2_0 = state.inverse_D_2_0;
-  const float qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (articulated_inertia_2_19 * acceleration_2_4 + carried_48))))));
+  const float qdd_1 = (tau_ctrl_1 + carried_25 - (articulated_inertia_2_19 * acceleration_2_4 + carried_46 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3)) * inverse_D_2_0;
   out.qdd[1] = qdd_1;
   const float e4 = acceleration_2_4 + 0.4f * qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
-  const float acceleration_2_3 = original_acceleration_1_3 + qdd_1;
+  const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const float carried_6 = state.carried_6;
   const float X_E_3_1 = state.X_E_3_1;
-  const float acceleration_3_4 = X_E_3_0 * e4 - X_E_3_1 * acceleration_2_3 - carried_6;
+  const float carried_7 = state.carried_7;
+  const float acceleration_3_4 = e4 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - carried_7;
   const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e4 + X_E_3_0 * acceleration_2_3);
+  const float acceleration_3_3 = X_E_3_1 * e4 + acceleration_2_3 * X_E_3_0 + bias_acceleration_3_3;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
   const float tau_ctrl_2 = 0.3f * nu_0;
   out.tau_ctrl[2] = tau_ctrl_2;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const float carried_13 = state.carried_13;
-  const float tau_cmd_2 = carried_13 + tau_ctrl_2;
+  const float carried_19 = state.carried_19;
+  const float tau_cmd_2 = carried_19 + tau_ctrl_2;
   out.tau_cmd[2] = tau_cmd_2;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_16 = state.carried_16;
   const float bias_force_3_2 = state.bias_force_3_2;
-  const float qdd_2 = 35.876583f * (tau_cmd_2 - (bias_force_3_2 + (0.027873334f * qdd_0 + (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3)) - carried_16));
+  const float carried_12 = state.carried_12;
+  const float qdd_2 = 35.876583f * (tau_cmd_2 - (bias_force_3_2 + (0.027873334f * qdd_0 + (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3)) - carried_12));
   out.qdd[2] = qdd_2;
-  const float e5 = X_E_3_0 * nu_0 - X_E_3_1 * nu_1;
+  const float e5 = nu_0 * X_E_3_0 - X_E_3_1 * nu_1;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const float tau_cmd_0 = carried_11 + (tau_ctrl_2 + 0.4f * e5 + X_r_2_0 * e5);
+  const float tau_cmd_0 = carried_29 + (tau_ctrl_2 + 0.4f * e5 + X_r_2_0 * e5);
   out.tau_cmd[0] = tau_cmd_0;
-  const float tau_cmd_1 = carried_12 + (-e3 - X_E_3_1 * nu_0);
+  const float tau_cmd_1 = -(nu_0 * X_E_3_1) - e3 + carried_25;
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
-  const float tip_acceleration_2 = qdd_0 + qdd_2;
+  const float tip_acceleration_2 = qdd_2 + qdd_0;
   out.tip_acceleration[2] = tip_acceleration_2;
   const float tip_acceleration_3 = acceleration_3_4 + 0.3f * tip_acceleration_2;
   out.tip_acceleration[3] = tip_acceleration_3;
@@ -1410,101 +1410,101 @@ void solve_original_flat(const Scalar* in, Scalar* out) noexcept {
 
 // Alg. 4: the constraint does not react to external forces.
 void solve_prioritize_external([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const float prioritize_external_conf_energy_0 = state.prioritize_external_conf_energy_0;
-  const float carried_35 = state.carried_35;
   const float beta_0 = beta[0];
-  const float carried_37 = state.carried_37;
-  const float e0 = carried_37 * (beta_0 - carried_35 - prioritize_external_conf_energy_0);
-  const float carried_40 = state.carried_40;
-  const float prioritize_external_conf_energy_1 = state.prioritize_external_conf_energy_1;
-  const float carried_36 = state.carried_36;
-  const float beta_1 = beta[1];
   const float carried_38 = state.carried_38;
-  const float carried_42 = state.carried_42;
-  const float e1 = carried_42 * (carried_38 * (beta_1 - carried_36 - prioritize_external_conf_energy_1) - carried_40 * e0);
-  const float carried_39 = state.carried_39;
-  const float e2 = carried_39 * e0 - carried_40 * e1;
+  const float prioritize_external_conf_energy_0 = state.prioritize_external_conf_energy_0;
+  const float carried_31 = state.carried_31;
+  const float e0 = (beta_0 - carried_38 - prioritize_external_conf_energy_0) * carried_31;
+  const float carried_34 = state.carried_34;
+  const float beta_1 = beta[1];
+  const float carried_35 = state.carried_35;
+  const float prioritize_external_conf_energy_1 = state.prioritize_external_conf_energy_1;
+  const float carried_30 = state.carried_30;
+  const float carried_33 = state.carried_33;
+  const float e1 = carried_34 * ((beta_1 - carried_35 - prioritize_external_conf_energy_1) * carried_30 - e0 * carried_33);
+  const float carried_32 = state.carried_32;
+  const float e2 = e0 * carried_32 - e1 * carried_33;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const float nu_0 = carried_37 * (0.0f > 0.5f ? e1 : e2);
+  const float nu_0 = (0.0f > 0.5f ? e1 : e2) * carried_31;
   out.nu[0] = nu_0;
-  const float nu_1 = carried_38 * (0.0f > 0.5f ? e2 : e1);
+  const float nu_1 = (0.0f > 0.5f ? e2 : e1) * carried_30;
   out.nu[1] = nu_1;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float articulated_force_tool_load_1_2 = state.articulated_force_tool_load_1_2;
   const float constraint_force_1_8 = state.constraint_force_1_8;
   const float constraint_force_1_2 = state.constraint_force_1_2;
-  const float tau_ctrl_0 = constraint_force_1_2 * nu_0 + constraint_force_1_8 * nu_1 - articulated_force_tool_load_1_2;
+  const float articulated_force_tool_load_1_2 = state.articulated_force_tool_load_1_2;
+  const float tau_ctrl_0 = constraint_force_1_8 * nu_1 + constraint_force_1_2 * nu_0 - articulated_force_tool_load_1_2;
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_46 = state.carried_46;
-  const float carried_11 = state.carried_11;
   const float inverse_D_1_0 = state.inverse_D_1_0;
-  const float qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - carried_46);
+  const float carried_29 = state.carried_29;
+  const float carried_44 = state.carried_44;
+  const float qdd_0 = inverse_D_1_0 * (tau_ctrl_0 + carried_29 - carried_44);
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const float X_r_2_0 = state.X_r_2_0;
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
+  const float X_r_2_0 = state.X_r_2_0;
   const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const float acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const float acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
   const float X_E_3_0 = state.X_E_3_0;
-  const float e3 = X_E_3_0 * nu_1;
+  const float e3 = nu_1 * X_E_3_0;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
   const float constraint_force_2_3 = state.constraint_force_2_3;
+  const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
   const float tau_ctrl_1 = constraint_force_2_3 * nu_0 - e3 - articulated_force_tool_load_2_3;
   out.tau_ctrl[1] = tau_ctrl_1;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const float carried_48 = state.carried_48;
+  const float inverse_D_2_0 = state.inverse_D_2_0;
+  const float carried_25 = state.carried_25;
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
+  const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
+  const float carried_46 = state.carried_46;
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const float carried_12 = state.carried_12;
-  const float inverse_D_2_0 = state.inverse_D_2_0;
-  const float qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (carried_48 + articulated_inertia_2_19 * acceleration_2_4)))));
+  const float qdd_1 = inverse_D_2_0 * (carried_25 + tau_ctrl_1 - (articulated_inertia_2_15 * qdd_0 + (acceleration_2_4 * articulated_inertia_2_19 + carried_46) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3));
   out.qdd[1] = qdd_1;
   const float e4 = acceleration_2_4 + 0.4f * qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
-  const float acceleration_2_3 = original_acceleration_1_3 + qdd_1;
+  const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const float carried_6 = state.carried_6;
   const float X_E_3_1 = state.X_E_3_1;
-  const float acceleration_3_4 = X_E_3_0 * e4 - X_E_3_1 * acceleration_2_3 - carried_6;
+  const float carried_7 = state.carried_7;
+  const float acceleration_3_4 = e4 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - carried_7;
   const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e4 + X_E_3_0 * acceleration_2_3);
+  const float acceleration_3_3 = e4 * X_E_3_1 + acceleration_2_3 * X_E_3_0 + bias_acceleration_3_3;
   const float e5 = 0.3f * nu_0;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float carried_16 = state.carried_16;
-  const float tau_ctrl_2 = carried_16 + e5;
+  const float carried_12 = state.carried_12;
+  const float tau_ctrl_2 = e5 + carried_12;
   out.tau_ctrl[2] = tau_ctrl_2;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
+  const float carried_19 = state.carried_19;
   const float bias_force_3_2 = state.bias_force_3_2;
-  const float carried_13 = state.carried_13;
-  const float qdd_2 = 35.876583f * (carried_13 + tau_ctrl_2 - (bias_force_3_2 + (0.027873334f * qdd_0 + (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3))));
+  const float qdd_2 = 35.876583f * (tau_ctrl_2 + carried_19 - (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3 + 0.027873334f * qdd_0 + bias_force_3_2));
   out.qdd[2] = qdd_2;
-  const float e6 = X_E_3_0 * nu_0 - X_E_3_1 * nu_1;
+  const float e6 = nu_0 * X_E_3_0 - X_E_3_1 * nu_1;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const float tau_cmd_0 = carried_11 + (e5 + 0.4f * e6 + X_r_2_0 * e6);
+  const float tau_cmd_0 = carried_29 + (e5 + 0.4f * e6 + e6 * X_r_2_0);
   out.tau_cmd[0] = tau_cmd_0;
-  const float tau_cmd_1 = carried_12 + (-e3 - X_E_3_1 * nu_0);
+  const float tau_cmd_1 = carried_25 + (-e3 - X_E_3_1 * nu_0);
   out.tau_cmd[1] = tau_cmd_1;
-  const float tau_cmd_2 = carried_13 + e5;
+  const float tau_cmd_2 = e5 + carried_19;
   out.tau_cmd[2] = tau_cmd_2;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
-  const float tip_acceleration_2 = qdd_0 + qdd_2;
+  const float tip_acceleration_2 = qdd_2 + qdd_0;
   out.tip_acceleration[2] = tip_acceleration_2;
   const float tip_acceleration_3 = acceleration_3_4 + 0.3f * tip_acceleration_2;
   out.tip_acceleration[3] = tip_acceleration_3;
@@ -1555,111 +1555,111 @@ void solve_prioritize_external_flat(const Scalar* in, Scalar* out) noexcept {
 
 // Eq. 1: tau_ctrl clamped to the effort limits; tau_cmd = RNEA(qdd).
 void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const float carried_37 = state.carried_37;
-  const float original_conf_energy_0 = state.original_conf_energy_0;
-  const float carried_35 = state.carried_35;
   const float beta_0 = beta[0];
-  const float e0 = (beta_0 - carried_35 - original_conf_energy_0) * carried_37;
-  const float carried_40 = state.carried_40;
   const float carried_38 = state.carried_38;
-  const float original_conf_energy_1 = state.original_conf_energy_1;
-  const float carried_36 = state.carried_36;
+  const float original_conf_energy_0 = state.original_conf_energy_0;
+  const float carried_31 = state.carried_31;
+  const float e0 = (beta_0 - carried_38 - original_conf_energy_0) * carried_31;
+  const float carried_34 = state.carried_34;
   const float beta_1 = beta[1];
-  const float carried_42 = state.carried_42;
-  const float e1 = carried_42 * ((beta_1 - carried_36 - original_conf_energy_1) * carried_38 - e0 * carried_40);
-  const float carried_39 = state.carried_39;
-  const float e2 = e0 * carried_39 - carried_40 * e1;
+  const float carried_35 = state.carried_35;
+  const float original_conf_energy_1 = state.original_conf_energy_1;
+  const float carried_30 = state.carried_30;
+  const float carried_33 = state.carried_33;
+  const float e1 = carried_34 * ((beta_1 - carried_35 - original_conf_energy_1) * carried_30 - e0 * carried_33);
+  const float carried_32 = state.carried_32;
+  const float e2 = carried_32 * e0 - e1 * carried_33;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const float nu_0 = carried_37 * (0.0f > 0.5f ? e1 : e2);
+  const float nu_0 = (0.0f > 0.5f ? e1 : e2) * carried_31;
   out.nu[0] = nu_0;
-  const float nu_1 = carried_38 * (0.0f > 0.5f ? e2 : e1);
+  const float nu_1 = (0.0f > 0.5f ? e2 : e1) * carried_30;
   out.nu[1] = nu_1;
   const float constraint_force_1_8 = state.constraint_force_1_8;
   const float constraint_force_1_2 = state.constraint_force_1_2;
-  const float e3 = constraint_force_1_2 * nu_0 + constraint_force_1_8 * nu_1;
-  const float X_E_3_0 = state.X_E_3_0;
+  const float e3 = constraint_force_1_8 * nu_1 + nu_0 * constraint_force_1_2;
   const float constraint_force_2_3 = state.constraint_force_2_3;
-  const float e4 = constraint_force_2_3 * nu_0 - X_E_3_0 * nu_1;
+  const float X_E_3_0 = state.X_E_3_0;
+  const float e4 = nu_0 * constraint_force_2_3 - nu_1 * X_E_3_0;
   const float e5 = 0.3f * nu_0;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float tau_ctrl_0 = std::min<float>(50.0f, std::max<float>(e3, -50.0f));
+  const float tau_ctrl_0 = std::min<float>(std::max<float>(e3, -50.0f), 50.0f);
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_47 = state.carried_47;
-  const float carried_11 = state.carried_11;
+  const float carried_29 = state.carried_29;
+  const float carried_45 = state.carried_45;
   const float inverse_D_1_0 = state.inverse_D_1_0;
-  const float qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - carried_47);
+  const float qdd_0 = (carried_29 + tau_ctrl_0 - carried_45) * inverse_D_1_0;
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
+  const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
   const float X_r_2_0 = state.X_r_2_0;
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
-  const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const float acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const float acceleration_2_4 = bias_acceleration_2_4 + (X_r_2_0 * qdd_0 + original_acceleration_1_4);
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
   const float tau_ctrl_1 = std::min<float>(100.0f, std::max<float>(e4, -100.0f));
   out.tau_ctrl[1] = tau_ctrl_1;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
+  const float carried_25 = state.carried_25;
+  const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
+  const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const float carried_48 = state.carried_48;
+  const float carried_46 = state.carried_46;
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
-  const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const float carried_12 = state.carried_12;
   const float inverse_D_2_0 = state.inverse_D_2_0;
-  const float qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (carried_48 + articulated_inertia_2_19 * acceleration_2_4))))));
+  const float qdd_1 = (carried_25 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (acceleration_2_4 * articulated_inertia_2_19 + carried_46 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3)))) * inverse_D_2_0;
   out.qdd[1] = qdd_1;
   const float e6 = acceleration_2_4 + 0.4f * qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
-  const float acceleration_2_3 = original_acceleration_1_3 + qdd_1;
+  const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const float carried_6 = state.carried_6;
-  const float X_E_3_1 = state.X_E_3_1;
-  const float acceleration_3_4 = X_E_3_0 * e6 - X_E_3_1 * acceleration_2_3 - carried_6;
   const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e6 + X_E_3_0 * acceleration_2_3);
+  const float X_E_3_1 = state.X_E_3_1;
+  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e6 + acceleration_2_3 * X_E_3_0);
+  const float carried_7 = state.carried_7;
+  const float acceleration_3_4 = X_E_3_0 * e6 - X_E_3_1 * acceleration_2_3 - carried_7;
   const float e7 = 0.125f * acceleration_3_4 - 0.004f * acceleration_3_3;
 
   // ==== solver sweep ====
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float tau_ctrl_2 = std::min<float>(20.0f, std::max<float>(e5, -20.0f));
+  const float tau_ctrl_2 = std::min<float>(std::max<float>(e5, -20.0f), 20.0f);
   out.tau_ctrl[2] = tau_ctrl_2;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_16 = state.carried_16;
+  const float carried_19 = state.carried_19;
   const float bias_force_3_2 = state.bias_force_3_2;
-  const float carried_13 = state.carried_13;
-  const float qdd_2 = 35.876583f * (carried_13 + tau_ctrl_2 - (bias_force_3_2 + (0.027873334f * qdd_0 + e7) - carried_16));
+  const float carried_12 = state.carried_12;
+  const float qdd_2 = 35.876583f * (tau_ctrl_2 + carried_19 - (e7 + 0.027873334f * qdd_0 + bias_force_3_2 - carried_12));
   out.qdd[2] = qdd_2;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
-  const float tip_acceleration_2 = qdd_0 + qdd_2;
+  const float tip_acceleration_2 = qdd_2 + qdd_0;
   out.tip_acceleration[2] = tip_acceleration_2;
-  const float carried_14 = state.carried_14;
-  const float bias_force_3_4 = state.bias_force_3_4;
-  const float e8 = bias_force_3_4 + (0.7f * acceleration_3_4 + 0.125f * tip_acceleration_2) - carried_14;
-  const float carried_10 = state.carried_10;
+  const float carried_9 = state.carried_9;
   const float articulated_force_tool_load_3_3 = state.articulated_force_tool_load_3_3;
-  const float e9 = articulated_force_tool_load_3_3 + (0.7f * acceleration_3_3 - 0.004f * tip_acceleration_2 - carried_10);
-  const float e10 = X_E_3_0 * e8 + X_E_3_1 * e9;
+  const float e8 = 0.7f * acceleration_3_3 - 0.004f * tip_acceleration_2 - carried_9 + articulated_force_tool_load_3_3;
+  const float bias_force_3_4 = state.bias_force_3_4;
+  const float carried_11 = state.carried_11;
+  const float e9 = bias_force_3_4 + (0.125f * tip_acceleration_2 + 0.7f * acceleration_3_4) - carried_11;
+  const float e10 = X_E_3_1 * e8 + e9 * X_E_3_0;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const float tau_cmd_2 = bias_force_3_2 + (e7 + 0.027873334f * tip_acceleration_2) - carried_16;
+  const float tau_cmd_2 = e7 + 0.027873334f * tip_acceleration_2 + bias_force_3_2 - carried_12;
   out.tau_cmd[2] = tau_cmd_2;
   const float carried_49 = state.carried_49;
   const float bias_force_2_2 = state.bias_force_2_2;
-  const float tau_cmd_0 = tau_cmd_2 + 0.4f * e10 + (bias_force_2_2 + (0.053466666f * qdd_0 + 0.2f * acceleration_2_4)) + X_r_2_0 * (e10 + (bias_acceleration_2_4 + (acceleration_2_4 + 0.2f * qdd_0))) + (0.16708334f * qdd_0 + carried_49) + 0.01f * qdd_0;
+  const float tau_cmd_0 = 0.01f * qdd_0 + (0.16708334f * qdd_0 + carried_49 + (X_r_2_0 * (e10 + (acceleration_2_4 + 0.2f * qdd_0 + bias_acceleration_2_4)) + (0.2f * acceleration_2_4 + 0.053466666f * qdd_0 + bias_force_2_2 + (0.4f * e10 + tau_cmd_2))));
   out.tau_cmd[0] = tau_cmd_0;
   const float carried_3 = state.carried_3;
-  const float tau_cmd_1 = X_E_3_0 * e9 - X_E_3_1 * e8 + (acceleration_2_3 - carried_3);
+  const float tau_cmd_1 = e8 * X_E_3_0 - X_E_3_1 * e9 + (acceleration_2_3 - carried_3);
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
   const float tip_acceleration_3 = acceleration_3_4 + 0.3f * tip_acceleration_2;
@@ -1715,60 +1715,59 @@ void solve_saturate_flat(const Scalar* in, Scalar* out) noexcept {
 
 // Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.
 void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] const Scalar* beta, Solution& out) noexcept {
-  const float carried_37 = state.carried_37;
-  const float original_conf_energy_0 = state.original_conf_energy_0;
-  const float carried_35 = state.carried_35;
   const float beta_0 = beta[0];
-  const float e0 = (beta_0 - carried_35 - original_conf_energy_0) * carried_37;
-  const float carried_40 = state.carried_40;
   const float carried_38 = state.carried_38;
-  const float original_conf_energy_1 = state.original_conf_energy_1;
-  const float carried_36 = state.carried_36;
+  const float original_conf_energy_0 = state.original_conf_energy_0;
+  const float carried_31 = state.carried_31;
+  const float e0 = (beta_0 - carried_38 - original_conf_energy_0) * carried_31;
+  const float carried_34 = state.carried_34;
   const float beta_1 = beta[1];
-  const float carried_42 = state.carried_42;
-  const float e1 = carried_42 * ((beta_1 - carried_36 - original_conf_energy_1) * carried_38 - e0 * carried_40);
-  const float carried_39 = state.carried_39;
-  const float e2 = e0 * carried_39 - carried_40 * e1;
+  const float carried_35 = state.carried_35;
+  const float original_conf_energy_1 = state.original_conf_energy_1;
+  const float carried_30 = state.carried_30;
+  const float carried_33 = state.carried_33;
+  const float e1 = carried_34 * ((beta_1 - carried_35 - original_conf_energy_1) * carried_30 - e0 * carried_33);
+  const float carried_32 = state.carried_32;
+  const float e2 = carried_32 * e0 - e1 * carried_33;
 
   // ==== solver sweep ====
   // nu: nu = S x, (S E^A_cstr,0 S [+ tol I]) x = S (E_cstr - F^A_cstr,0^T Xdd_0 - E_conf): equilibrated LDL^T, pivoted or damped
-  const float nu_0 = carried_37 * (0.0f > 0.5f ? e1 : e2);
+  const float nu_0 = (0.0f > 0.5f ? e1 : e2) * carried_31;
   out.nu[0] = nu_0;
-  const float nu_1 = carried_38 * (0.0f > 0.5f ? e2 : e1);
+  const float nu_1 = (0.0f > 0.5f ? e2 : e1) * carried_30;
   out.nu[1] = nu_1;
   const float e3 = 0.3f * nu_0;
-  const float X_E_3_1 = state.X_E_3_1;
   const float X_E_3_0 = state.X_E_3_0;
-  const float e4 = X_E_3_0 * nu_0 - X_E_3_1 * nu_1;
+  const float X_E_3_1 = state.X_E_3_1;
+  const float e4 = nu_0 * X_E_3_0 - X_E_3_1 * nu_1;
+  const float carried_29 = state.carried_29;
   const float X_r_2_0 = state.X_r_2_0;
-  const float carried_11 = state.carried_11;
-  const float e5 = carried_11 + (e3 + 0.4f * e4 + X_r_2_0 * e4);
-  const float carried_12 = state.carried_12;
-  const float e6 = carried_12 + (-(X_E_3_0 * nu_1) - X_E_3_1 * nu_0);
-  const float carried_13 = state.carried_13;
-  const float e7 = carried_13 + e3;
+  const float e5 = carried_29 + (e3 + 0.4f * e4 + X_r_2_0 * e4);
+  const float carried_25 = state.carried_25;
+  const float e6 = -(nu_0 * X_E_3_1) - nu_1 * X_E_3_0 + carried_25;
+  const float carried_19 = state.carried_19;
+  const float e7 = carried_19 + e3;
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const float tau_cmd_2 = std::min<float>(20.0f, std::max<float>(e7, -20.0f));
+  const float tau_cmd_2 = std::min<float>(std::max<float>(e7, -20.0f), 20.0f);
   out.tau_cmd[2] = tau_cmd_2;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float tau_ctrl_2 = tau_cmd_2 - carried_13;
+  const float tau_ctrl_2 = tau_cmd_2 - carried_19;
   out.tau_ctrl[2] = tau_ctrl_2;
   const float e8 = 35.876583f * tau_ctrl_2;
-  const float e9 = 0.125f * e8;
-  const float e10 = -0.004f * e8;
+  const float e9 = -0.004f * e8;
+  const float e10 = 0.125f * e8;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // correction_force: F^A of the clamped extra torque (exact saturation)
-  const float correction_force_2_4 = X_E_3_0 * e9 + X_E_3_1 * e10;
-  const float correction_force_2_2 = 0.027873334f * e8 + 0.4f * correction_force_2_4;
-  const float correction_force_2_3 = X_E_3_0 * e10 - X_E_3_1 * e9;
+  const float correction_force_2_3 = e9 * X_E_3_0 - e10 * X_E_3_1;
+  const float correction_force_2_4 = X_E_3_1 * e9 + e10 * X_E_3_0;
 
   // ==== solver sweep ====
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const float tau_cmd_1 = std::min<float>(100.0f, std::max<float>(e6, -100.0f));
+  const float tau_cmd_1 = std::min<float>(100.0f, std::max<float>(-100.0f, e6));
   out.tau_cmd[1] = tau_cmd_1;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float tau_ctrl_1 = tau_cmd_1 - carried_12;
+  const float tau_ctrl_1 = tau_cmd_1 - carried_25;
   out.tau_ctrl[1] = tau_ctrl_1;
   const float inverse_D_2_0 = state.inverse_D_2_0;
   const float e11 = inverse_D_2_0 * (tau_ctrl_1 - correction_force_2_3);
@@ -1776,59 +1775,66 @@ void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] 
   // ==== solver sweep, body 1: link link1, joint planar_joint1 (revolute) ====
   // correction_force: F^A of the clamped extra torque (exact saturation)
   const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
-  const float correction_force_1_4 = correction_force_2_4 + articulated_inertia_2_19 * e11;
+  const float correction_force_1_4 = e11 * articulated_inertia_2_19 + correction_force_2_4;
+
+  // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
+  // correction_force: F^A of the clamped extra torque (exact saturation)
+  const float correction_force_2_2 = 0.4f * correction_force_2_4 + 0.027873334f * e8;
+
+  // ==== solver sweep, body 1: link link1, joint planar_joint1 (revolute) ====
+  // correction_force: F^A of the clamped extra torque (exact saturation)
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
-  const float correction_force_1_2 = correction_force_2_2 + articulated_inertia_2_15 * e11 + X_r_2_0 * correction_force_1_4;
+  const float correction_force_1_2 = correction_force_1_4 * X_r_2_0 + (articulated_inertia_2_15 * e11 + correction_force_2_2);
 
   // ==== solver sweep ====
   // tau_cmd: tau_cmd = tau_ff + J^T (F_cstr nu)  (RNEA of qdd for Eq. 1; clamped for exact saturation)
-  const float tau_cmd_0 = std::min<float>(50.0f, std::max<float>(e5, -50.0f));
+  const float tau_cmd_0 = std::min<float>(50.0f, std::max<float>(-50.0f, e5));
   out.tau_cmd[0] = tau_cmd_0;
   // tau_ctrl: tau_ctrl_i = S_i^T F^A_cstr,i nu  (+ external share, Alg. 4; clamped, Eq. 1)
-  const float tau_ctrl_0 = tau_cmd_0 - carried_11;
+  const float tau_ctrl_0 = tau_cmd_0 - carried_29;
   out.tau_ctrl[0] = tau_ctrl_0;
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_47 = state.carried_47;
   const float inverse_D_1_0 = state.inverse_D_1_0;
-  const float qdd_0 = inverse_D_1_0 * (carried_11 + tau_ctrl_0 - (carried_47 + correction_force_1_2));
+  const float carried_45 = state.carried_45;
+  const float qdd_0 = inverse_D_1_0 * (tau_ctrl_0 + carried_29 - (carried_45 + correction_force_1_2));
   out.qdd[0] = qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
   const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const float acceleration_2_4 = bias_acceleration_2_4 + (original_acceleration_1_4 + X_r_2_0 * qdd_0);
+  const float acceleration_2_4 = X_r_2_0 * qdd_0 + original_acceleration_1_4 + bias_acceleration_2_4;
 
   // ==== solver sweep ====
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_48 = state.carried_48;
+  const float carried_46 = state.carried_46;
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const float qdd_1 = inverse_D_2_0 * (carried_12 + tau_ctrl_1 - (correction_force_2_3 + (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (carried_48 + articulated_inertia_2_19 * acceleration_2_4)))))));
+  const float qdd_1 = (carried_25 + tau_ctrl_1 - (acceleration_2_4 * articulated_inertia_2_19 + carried_46 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3 + correction_force_2_3)) * inverse_D_2_0;
   out.qdd[1] = qdd_1;
   const float e12 = acceleration_2_4 + 0.4f * qdd_0;
 
   // ==== solver sweep, body 2: link link2, joint planar_joint2 (prismatic) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
-  const float acceleration_2_3 = original_acceleration_1_3 + qdd_1;
+  const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
 
   // ==== solver sweep, body 3: link link3, joint planar_joint3 (revolute) ====
   // acceleration: Xdd_i = X_i Xdd_{i-1} + Xddb_i + S_i qdd_i
-  const float carried_6 = state.carried_6;
-  const float acceleration_3_4 = X_E_3_0 * e12 - X_E_3_1 * acceleration_2_3 - carried_6;
   const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e12 + X_E_3_0 * acceleration_2_3);
+  const float acceleration_3_3 = e12 * X_E_3_1 + acceleration_2_3 * X_E_3_0 + bias_acceleration_3_3;
+  const float carried_7 = state.carried_7;
+  const float acceleration_3_4 = e12 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - carried_7;
 
   // ==== solver sweep ====
   // qdd: qdd_i = D_i^-1 (tau_ff_i + tau_ctrl_i - S_i^T (F^A_i + M^A_i (X_i Xdd_{i-1} + Xddb_i)))
-  const float carried_16 = state.carried_16;
   const float bias_force_3_2 = state.bias_force_3_2;
-  const float qdd_2 = 35.876583f * (carried_13 + tau_ctrl_2 - (bias_force_3_2 + (0.027873334f * qdd_0 + (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3)) - carried_16));
+  const float carried_12 = state.carried_12;
+  const float qdd_2 = 35.876583f * (carried_19 + tau_ctrl_2 - (0.027873334f * qdd_0 + (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3) + bias_force_3_2 - carried_12));
   out.qdd[2] = qdd_2;
   // tip_acceleration: Xdd_tip = X_tip Xdd_N
-  const float tip_acceleration_2 = qdd_0 + qdd_2;
+  const float tip_acceleration_2 = qdd_2 + qdd_0;
   out.tip_acceleration[2] = tip_acceleration_2;
   const float tip_acceleration_3 = acceleration_3_4 + 0.3f * tip_acceleration_2;
   out.tip_acceleration[3] = tip_acceleration_3;

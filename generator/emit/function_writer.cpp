@@ -1,5 +1,6 @@
 #include "emit/function_writer.hpp"
 
+#include <functional>
 #include <map>
 #include <set>
 #include <vector>
@@ -206,6 +207,19 @@ class Writer {
     return literal(-graph_.node(n.args[first ? 0 : 1]).value, scalar_) + " * " + operand(n.args[first ? 1 : 0], kProduct);
   }
 
+  // Text of `first`, then of `second`, joined by `separator`. operand() registers the loads of
+  // the leaves it reaches, and C++ leaves the evaluation order of the operands of + open (g++ and
+  // clang differ): two statements fix the order, so the emitted code does not depend on the
+  // compiler that built sweepgen.
+  std::string in_order(const std::function<std::string()>& first, const std::string& separator,
+                       const std::function<std::string()>& second) {
+    const std::string left = first();
+    return left + separator + second();
+  }
+  std::string binary(NodeId x, int x_context, const std::string& separator, NodeId y, int y_context) {
+    return in_order([&] { return operand(x, x_context); }, separator, [&] { return operand(y, y_context); });
+  }
+
   std::string expression(NodeId id, int) {
     const Node& n = graph_.node(id);
     const NodeId a = n.args[0], b = n.args[1];
@@ -214,27 +228,31 @@ class Writer {
       case Op::add:
         if (is_negative_constant(b)) return operand(a, kSum) + " - " + literal(-graph_.node(b).value, T);
         if (is_negative_constant(a)) return operand(b, kSum) + " - " + literal(-graph_.node(a).value, T);
-        if (is_negative_scaled(b)) return operand(a, kSum) + " - " + negated_scaled(b);
-        if (is_negative_scaled(a)) return operand(b, kSum) + " - " + negated_scaled(a);
-        return operand(a, kSum) + " + " + operand(b, kSum + 1);
+        if (is_negative_scaled(b))
+          return in_order([&] { return operand(a, kSum); }, " - ", [&] { return negated_scaled(b); });
+        if (is_negative_scaled(a))
+          return in_order([&] { return operand(b, kSum); }, " - ", [&] { return negated_scaled(a); });
+        return binary(a, kSum, " + ", b, kSum + 1);
       case Op::sub:
         if (is_negative_constant(b)) return operand(a, kSum) + " + " + literal(-graph_.node(b).value, T);
-        if (is_negative_scaled(b)) return operand(a, kSum) + " + " + negated_scaled(b);
-        return operand(a, kSum) + " - " + operand(b, kSum + 1);
+        if (is_negative_scaled(b))
+          return in_order([&] { return operand(a, kSum); }, " + ", [&] { return negated_scaled(b); });
+        return binary(a, kSum, " - ", b, kSum + 1);
       case Op::mul:
-        if (graph_.node(b).op == Op::constant) return operand(b, kProduct) + " * " + operand(a, kProduct + 1);
-        return operand(a, kProduct) + " * " + operand(b, kProduct + 1);
-      case Op::div: return operand(a, kProduct) + " / " + operand(b, kProduct + 1);
+        if (graph_.node(b).op == Op::constant) return binary(b, kProduct, " * ", a, kProduct + 1);
+        return binary(a, kProduct, " * ", b, kProduct + 1);
+      case Op::div: return binary(a, kProduct, " / ", b, kProduct + 1);
       case Op::neg: return "-" + operand(a, kUnary + 1);
       case Op::sin: return "std::sin(" + operand(a, kTernary) + ")";
       case Op::cos: return "std::cos(" + operand(a, kTernary) + ")";
       case Op::abs: return "std::abs(" + operand(a, kTernary) + ")";
       case Op::equilibration_scale: return "equilibration_scale(" + operand(a, kTernary) + ")";
-      case Op::min: return "std::min<" + T + ">(" + operand(a, kTernary) + ", " + operand(b, kTernary) + ")";
-      case Op::max: return "std::max<" + T + ">(" + operand(a, kTernary) + ", " + operand(b, kTernary) + ")";
-      case Op::select_greater:
-        return operand(a, kSum) + " > " + operand(b, kSum) + " ? " + operand(n.args[2], kSum) + " : " +
-               operand(n.args[3], kSum);
+      case Op::min: return "std::min<" + T + ">(" + binary(a, kTernary, ", ", b, kTernary) + ")";
+      case Op::max: return "std::max<" + T + ">(" + binary(a, kTernary, ", ", b, kTernary) + ")";
+      case Op::select_greater: {
+        const std::string condition = binary(a, kSum, " > ", b, kSum);
+        return condition + " ? " + binary(n.args[2], kSum, " : ", n.args[3], kSum);
+      }
       case Op::constant: return literal(n.value, T);
       case Op::input: return local_.at(id);
     }

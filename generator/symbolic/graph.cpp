@@ -17,6 +17,14 @@ std::uint64_t bits(double value) {
   return b;
 }
 
+// splitmix64's finaliser: mixes one word into a well-spread hash.
+std::uint64_t mix(std::uint64_t h, std::uint64_t word) {
+  std::uint64_t z = h + word + 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
 }  // namespace
 
 const char* op_name(Op op) {
@@ -72,7 +80,43 @@ NodeId Graph::intern(const Node& node) {
   const NodeId id = static_cast<NodeId>(nodes_.size());
   nodes_.push_back(node);
   index_.emplace(node, id);
+  std::uint64_t shape = mix(mix(static_cast<std::uint64_t>(node.op), bits(node.value)), node.input);
+  for (int k = 0; k < arity(node.op); ++k) shape = mix(shape, shapes_[node.args[k]]);
+  shapes_.push_back(shape);
   return id;
+}
+
+bool Graph::ordered_before(NodeId a, NodeId b) const {
+  return shapes_[a] != shapes_[b] ? shapes_[a] < shapes_[b] : a < b;
+}
+
+Graph Graph::canonical(std::vector<NodeId>& roots) const {
+  constexpr NodeId unset = ~NodeId(0);
+  Graph out;
+  out.inputs_ = inputs_;
+  std::vector<NodeId> renamed(nodes_.size(), unset);
+  renamed[0] = 0;  // the constant 0, node 0 of every graph
+  std::vector<std::pair<NodeId, int>> stack;  // node, next operand to visit
+  for (NodeId& root : roots) {
+    stack.push_back({root, 0});
+    while (!stack.empty()) {
+      const NodeId id = stack.back().first;
+      const Node& n = nodes_[id];
+      if (renamed[id] != unset) {
+        stack.pop_back();
+      } else if (stack.back().second < arity(n.op)) {
+        const NodeId operand = n.args[stack.back().second++];
+        if (renamed[operand] == unset) stack.push_back({operand, 0});
+      } else {
+        Node copy = n;
+        for (int k = 0; k < arity(n.op); ++k) copy.args[k] = renamed[n.args[k]];
+        renamed[id] = out.intern(copy);
+        stack.pop_back();
+      }
+    }
+    root = renamed[root];
+  }
+  return out;
 }
 
 NodeId Graph::constant(double value) {
@@ -93,7 +137,7 @@ NodeId Graph::input(const std::string& name, int stage) {
 NodeId Graph::make(Op op, NodeId a, NodeId b, NodeId c, NodeId d) {
   std::array<NodeId, 4> args{a, b, c, d};
   for (int k = arity(op); k < 4; ++k) args[k] = 0;
-  if (commutative(op) && args[0] > args[1]) std::swap(args[0], args[1]);
+  if (commutative(op) && ordered_before(args[1], args[0])) std::swap(args[0], args[1]);
   return fold(op, args);
 }
 

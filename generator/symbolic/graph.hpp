@@ -65,6 +65,15 @@ class Graph {
     return nodes_[id].op == Op::constant && nodes_[id].value == value;
   }
 
+  // The nodes that `roots` reach, renumbered depth-first from the roots in their order (operands
+  // in their stored order); `roots` are rewritten to the new ids. Why: ids follow the order the
+  // tracer created nodes in, and C++ leaves the order in which operands are evaluated open (g++
+  // and clang trace `a*b + c*d` in opposite orders). Operands of commutative operations are kept
+  // in the order of their shape (a hash of the expression, not of ids), so the graph's structure
+  // does not depend on that order; renumbering makes the ids, and so the emitted code, not depend
+  // on it either.
+  Graph canonical(std::vector<NodeId>& roots) const;
+
   // Values of every node for the given input values (for testing the trace itself).
   template <class Scalar>
   std::vector<Scalar> evaluate(const std::vector<Scalar>& input_values) const;
@@ -72,6 +81,9 @@ class Graph {
  private:
   NodeId intern(const Node& node);
   NodeId fold(Op op, const std::array<NodeId, 4>& args);
+  // The order of operands of commutative operations: by shape, then (for distinct expressions of
+  // one shape, a hash collision) by id.
+  bool ordered_before(NodeId a, NodeId b) const;
 
   struct KeyHash {
     std::size_t operator()(const Node& n) const;
@@ -80,6 +92,7 @@ class Graph {
     bool operator()(const Node& a, const Node& b) const;
   };
   std::vector<Node> nodes_;
+  std::vector<std::uint64_t> shapes_;  // per node: hash of op, value, input and operands' shapes
   std::vector<Input> inputs_;
   std::unordered_map<Node, NodeId, KeyHash, KeyEqual> index_;
 };

@@ -76,6 +76,11 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
     solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
     solver::visit_fields(solution, policy, record(solver::name(policy), true));
   }
+  // Ids independent of the compiler that built sweepgen (Graph::canonical).
+  std::vector<NodeId> roots;
+  for (const Field& field : trace.fields) roots.push_back(field.node);
+  trace.graph = trace.graph.canonical(roots);
+  for (std::size_t i = 0; i < roots.size(); ++i) trace.fields[i].node = roots[i];
   return trace;
 }
 
