@@ -91,9 +91,17 @@ void plot_stability(const std::vector<StabilityRow>& rows, const std::string& wo
   std::vector<std::string> names;
   std::vector<std::ostringstream> blocks;
   double kappa_max = 10, error_min = 1e-7, error_max = 1e-15;
+  // A state can be full rank for its policy and still have kappa = inf: the damped policy meets a
+  // redundant direction that asks for a compatible motion without raising a status, while
+  // cond_s(E) is infinite. No log axis holds it: counted in the title instead.
+  std::size_t infinite_kappa = 0;
   for (const StabilityRow& r : rows) {
     const StateJudgement& j = r.judgement;
     if (!j.full_rank() || !std::isfinite(j.error())) continue;
+    if (!std::isfinite(j.kappa())) {
+      ++infinite_kappa;
+      continue;
+    }
     const std::string name = series(r);
     auto at = std::find(names.begin(), names.end(), name);
     if (at == names.end()) {
@@ -119,7 +127,9 @@ void plot_stability(const std::vector<StabilityRow>& rows, const std::string& wo
   // Colour by variant, filled marks for pivoted_ldlt and open ones for damped.
   script << "# Written by `sweepgen report --stability`: run `gnuplot " << script_path << "` to redraw.\n"
          << terminal << "set output " << gnuplot_string(png_path) << "\n"
-         << "set title 'sweepgen report --stability: error against the binary128 referee, full-rank states' noenhanced\n"
+         << "set title 'sweepgen report --stability: error against the binary128 referee, full-rank states"
+         << (infinite_kappa > 0 ? " (" + std::to_string(infinite_kappa) + " with kappa = inf not drawn)" : std::string())
+         << "' noenhanced\n"
          << "set logscale xy\n"
          << "set format x '10^{%L}'\nset format y '10^{%L}'\n"
          << "set xlabel 'kappa = max(1, cond_s(E^A_{cstr,0}), 1/min rho_D)'\n"
