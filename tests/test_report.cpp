@@ -207,16 +207,18 @@ TEST(Report, DlopenFailureIsAToolError) {
 // stability suite's bound (100 eps kappa, tests/test_stability.cpp) on the full-rank states.
 TEST(Report, StabilityReportOnTwoCases) {
   const std::vector<std::string> columns = {
-      "case",       "policy",  "variant", "scalar",          "state",          "kind",   "cond_s_E",
-      "min_rho_D",  "kappa",   "rel_err_qdd", "rel_err_tau_cmd", "rel_err_nu", "status", "referee_status",
-      "finite",     "representable", "bias_vs_pivoted"};
+      "case",        "policy",          "variant",    "scalar",              "state",
+      "kind",        "cond_s_E",        "min_rho_D",  "cond_M",              "kappa",
+      "rel_err_qdd", "rel_err_tau_cmd", "rel_err_nu", "constraint_residual", "status",
+      "referee_status", "finite",       "representable", "bias_vs_pivoted"};
   TempDir dir;
   const auto out = dir.path() / "stability";
   const auto result = run_command(shell_command({SWEEPGEN_EXECUTABLE, "report", "--stability", "--cases",
                                                  "planar_nc2,arm_micro", "--states-per-kind", "2", "--out",
                                                  out.string()}));
   ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
-  EXPECT_NE(result.out.find("max_err/(eps*kappa)"), std::string::npos) << result.out;
+  for (const char* heading : {"max_err/(eps*kappa)", "max_cond_M", "max_residual_full_rank"})
+    EXPECT_NE(result.out.find(heading), std::string::npos) << heading << "\n" << result.out;
 
   std::istringstream csv(test::read_text(out / "stability.csv"));
   std::string line;
@@ -226,12 +228,23 @@ TEST(Report, StabilityReportOnTwoCases) {
     return static_cast<std::size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin());
   };
   std::map<std::string, int> rows;  // "case policy variant scalar" -> states
-  int checked = 0;
+  int checked = 0, planar_checked = 0;
   while (std::getline(csv, line)) {
     const auto f = split_csv(line);
     ASSERT_EQ(f.size(), columns.size()) << line;
     ++rows[f[column("case")] + " " + f[column("policy")] + " " + f[column("variant")] + " " + f[column("scalar")]];
     EXPECT_EQ(f[column("bias_vs_pivoted")].empty(), f[column("policy")] == "pivoted_ldlt") << line;
+    // planar_nc2 where nothing was dropped or locked: M(q) is positive definite, and generated
+    // double meets its two constraints to rounding.
+    if (f[column("case")] == "planar_nc2" && f[column("status")] == "0") {
+      const double cond_M = number(f[column("cond_M")]);
+      EXPECT_TRUE(std::isfinite(cond_M)) << line;
+      EXPECT_GE(cond_M, 1) << line;
+      if (f[column("variant")] == "generated" && f[column("scalar")] == "double") {
+        EXPECT_LE(number(f[column("constraint_residual")]), 1e-9) << line;
+        ++planar_checked;
+      }
+    }
     const bool full_rank = f[column("representable")] == "1" && f[column("status")] == "0" &&
                            f[column("referee_status")] == "0";
     if (f[column("variant")] != "generated" || f[column("scalar")] != "double" || !full_rank) continue;
@@ -241,6 +254,7 @@ TEST(Report, StabilityReportOnTwoCases) {
     ++checked;
   }
   EXPECT_GT(checked, 0) << "no full-rank generated double state";
+  EXPECT_GT(planar_checked, 0) << "no planar_nc2 generated double state with status 0";
   for (const char* c : {"planar_nc2", "arm_micro"})
     for (const char* policy : {"pivoted_ldlt", "damped"})
       for (const char* variant : {"reference double", "generated double", "generated float"})

@@ -51,6 +51,37 @@ double scaled_condition_number(const solver::ConstraintMatrix<Precise>& E) {
   return condition_number(S);
 }
 
+// cond_2 of the joint-space inertia M(q) without new dynamics code: with q̇ = 0, no gravity, no
+// constraint and no external force the solver's q̈ is linear in τ, so column j of M^-1 is
+// q̈(τ = e_j) − q̈(τ = 0); cond(M) = cond(M^-1). `options`: the referee's (its joint-inertia
+// tolerance decides which joints are locked). Infinite when a joint is locked: M^-1 is then
+// singular (that joint's q̈ is 0 for every τ).
+double inertia_condition_number(const model::Chain& chain, const solver::JointVector<Precise>& q,
+                                solver::SolverOptions options) {
+  options.gravity.setZero();
+  solver::DriverLayout layout;
+  layout.torques = {"tau"};
+  layout.compose_all();
+  solver::ReferenceSolver<Precise> solver(chain, layout, options);
+  const Eigen::Index n = q.size();
+  solver.outward(q, solver::JointVector<Precise>::Zero(n));
+  const solver::ConstraintVector<Precise> no_setpoints;
+  const auto qdd = [&](const solver::JointVector<Precise>& tau) {
+    solver.drivers().torques[0] = tau;
+    solver.decompose();
+    const solver::JointVector<Precise> a = solver.solve(solver::Policy::original, no_setpoints).qdd;
+    return std::make_pair(a, solver.status());
+  };
+  const auto [qdd_unforced, status] = qdd(solver::JointVector<Precise>::Zero(n));
+  if (status & solver::status_joint_inertia_singular) return std::numeric_limits<double>::infinity();
+  Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic> M_inv(n, n);
+  for (Eigen::Index j = 0; j < n; ++j)
+    M_inv.col(j) = (qdd(solver::JointVector<Precise>::Unit(n, j)).first - qdd_unforced).cast<long double>();
+  const Eigen::Matrix<long double, Eigen::Dynamic, 1> sv =
+      Eigen::JacobiSVD<Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>>(M_inv).singularValues();
+  return sv(n - 1) > 0 ? static_cast<double>(sv(0) / sv(n - 1)) : std::numeric_limits<double>::infinity();
+}
+
 template <class Vector>
 std::vector<Precise> widen(const Vector& v) {
   std::vector<Precise> w(static_cast<std::size_t>(v.size()));
@@ -147,7 +178,14 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
     reference.decompose();
     const auto& r = reference.solve(solver::Policy::original, p.beta.cast<Precise>());
     const auto& E = reference.articulated().body[0].constraint_energy;
-    Truth t{widen(r.qdd), widen(r.tau_cmd), widen(r.nu), {}, condition_number(E), scaled_condition_number(E), 1,
+    Truth t{widen(r.qdd),
+            widen(r.tau_cmd),
+            widen(r.nu),
+            {},
+            condition_number(E),
+            scaled_condition_number(E),
+            1,
+            inertia_condition_number(chain, p.q.cast<Precise>(), options),
             reference.status()};
     for (std::size_t i = 1; i <= chain.dof(); ++i)
       t.min_relative_D = std::min(t.min_relative_D, static_cast<double>(solver::relative_joint_inertia(
@@ -294,6 +332,22 @@ Precise relative_error(const std::vector<Precise>& a, const std::vector<Precise>
   return diff / scale;
 }
 
+Precise constraint_residual(const Outcome& o, const Problem& p) {
+  for (const Precise v : o.tip_acceleration)
+    if (!isfinite(v)) return std::numeric_limits<Precise>::infinity();
+  Precise scale = 1, worst = 0;
+  for (const Precise v : o.tip_acceleration) scale = std::max(scale, abs(v));
+  for (Eigen::Index k = 0; k < p.beta.size(); ++k) scale = std::max(scale, static_cast<Precise>(std::abs(p.beta[k])));
+  for (std::size_t k = 0; k < p.alpha.size(); ++k) {
+    Precise projection = 0;
+    for (int c = 0; c < 3; ++c)
+      projection += static_cast<Precise>(p.alpha[k].moment[c]) * o.tip_acceleration[static_cast<std::size_t>(c)] +
+                    static_cast<Precise>(p.alpha[k].force[c]) * o.tip_acceleration[static_cast<std::size_t>(3 + c)];
+    worst = std::max(worst, abs(projection - static_cast<Precise>(p.beta[static_cast<Eigen::Index>(k)])));
+  }
+  return worst / scale;
+}
+
 Summary summarize(const VariantResult& result, const std::vector<Problem>& problems, const std::vector<Truth>& truth) {
   Summary summary;
   summary.states = problems.size();
@@ -317,20 +371,7 @@ Summary summarize(const VariantResult& result, const std::vector<Problem>& probl
     qdd_errors.push_back(e_qdd);
     summary.max_rel_err_qdd = std::max(summary.max_rel_err_qdd, e_qdd);
     summary.max_rel_err_tau = std::max(summary.max_rel_err_tau, relative_error(o.tau_cmd, t.tau_cmd));
-    // |alpha_k^T Xdd_tip - beta_k| / max(1, |beta|_inf, |Xdd_tip|_inf), worst k.
-    Precise scale = 1, worst = 0;
-    for (const Precise v : o.tip_acceleration) scale = std::max(scale, abs(v));
-    for (Eigen::Index k = 0; k < p.beta.size(); ++k) scale = std::max(scale, static_cast<Precise>(std::abs(p.beta[k])));
-    for (std::size_t k = 0; k < p.alpha.size(); ++k) {
-      Precise projection = 0;
-      for (int c = 0; c < 3; ++c)
-        projection += static_cast<Precise>(p.alpha[k].moment[c]) * o.tip_acceleration[static_cast<std::size_t>(c)] +
-                      static_cast<Precise>(p.alpha[k].force[c]) * o.tip_acceleration[static_cast<std::size_t>(3 + c)];
-      worst = std::max(worst, abs(projection - static_cast<Precise>(p.beta[static_cast<Eigen::Index>(k)])));
-    }
-    for (const Precise v : o.tip_acceleration)
-      if (!isfinite(v)) worst = std::numeric_limits<Precise>::infinity();
-    summary.max_constraint_residual = std::max(summary.max_constraint_residual, worst / scale);
+    summary.max_constraint_residual = std::max(summary.max_constraint_residual, constraint_residual(o, p));
   }
   summary.median_rel_err_qdd = quantile(qdd_errors, 0.5);
   if (qdd_errors.empty()) {

@@ -67,6 +67,8 @@ struct Truth {
   // min_i D_i / (d_i + trace of M^A_i's block of the joint's kind): how close a joint's
   // articulated inertia comes to 0 relative to its own scale (docs/stability.md).
   double min_relative_D = 1;
+  // cond_2 of the joint-space inertia M(q); infinite when the joint-inertia policy locks a joint.
+  double cond_M = 1;
   unsigned status = 0;  // the reference's status bits in Precise, with `options`' tolerances
 };
 // The scene's solver options with both tolerances (pivot, joint inertia) at `factor` times their
@@ -146,6 +148,10 @@ struct Summary {
 };
 Summary summarize(const VariantResult& result, const std::vector<Problem>& problems, const std::vector<Truth>& truth);
 
+// How far a variant's tip acceleration misses the constraint it was asked to meet:
+// max_k |α_kᵀ Ẍ_tip − β_k| / max(1, ‖β‖∞, ‖Ẍ_tip‖∞) (0 when Nc = 0; infinite when Ẍ_tip is not
+// finite). Needs no referee: it checks the answer against the problem itself.
+Precise constraint_residual(const Outcome& outcome, const Problem& problem);
 // ‖a − b‖∞ / max(1, ‖b‖∞).
 Precise relative_error(const std::vector<Precise>& a, const std::vector<Precise>& b);
 // The q-th quantile (0..1) of `values`, linear between order statistics; NaN when empty.

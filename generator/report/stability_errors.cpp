@@ -38,6 +38,8 @@ StateJudgement judge(const Outcome& outcome, const Truth& truth, const Problem& 
   j.nu = vector_relative_error(outcome.nu, truth.nu);
   j.cond_E = truth.cond_scaled;
   j.rho_D = truth.min_relative_D;
+  j.cond_M = truth.cond_M;
+  j.constraint_residual = static_cast<double>(constraint_residual(outcome, problem));
   j.status = outcome.status;
   j.exact_status = truth.status;
   for (const auto* v : {&outcome.qdd, &outcome.tau_cmd, &outcome.nu})

@@ -34,6 +34,10 @@ struct StateJudgement {
   double qdd = 0, tau = 0, nu = 0;  // relative errors: q̈ against max(|q̈|, |q̈_free|), τcmd
                                     // against max(|τcmd|, |τff|), ν against |ν|
   double cond_E = 1, rho_D = 1;     // cond_s(E^A_cstr,0), min_i ρ_i (solver/joint_inertia.hpp)
+  double cond_M = 1;                // cond_2 of the referee's M(q) (inf where it locks a joint)
+  // The variant's own constraint residual (measure.hpp, constraint_residual): whether its Ẍ_tip
+  // meets α, β, whatever the referee says.
+  double constraint_residual = 0;
   unsigned status = 0, exact_status = 0;  // the variant's and the referee's status bits
   bool finite = true;                     // every output of the variant is finite
   // Every output of the referee fits the scalar under test (|x| <= its max). Where one does not

@@ -24,9 +24,10 @@ constexpr double kZeroFloor = 1e-20;
 
 const std::vector<std::string>& stability_csv_columns() {
   static const std::vector<std::string> columns = {
-      "case",       "policy",  "variant", "scalar",          "state",          "kind",   "cond_s_E",
-      "min_rho_D",  "kappa",   "rel_err_qdd", "rel_err_tau_cmd", "rel_err_nu", "status", "referee_status",
-      "finite",     "representable", "bias_vs_pivoted"};
+      "case",          "policy",        "variant",         "scalar",     "state",
+      "kind",          "cond_s_E",      "min_rho_D",       "cond_M",     "kappa",
+      "rel_err_qdd",   "rel_err_tau_cmd", "rel_err_nu",    "constraint_residual", "status",
+      "referee_status", "finite",       "representable",   "bias_vs_pivoted"};
   return columns;
 }
 
@@ -35,7 +36,8 @@ std::string stability_csv_text(const std::vector<StabilityRow>& rows) {
   for (const StabilityRow& r : rows) {
     const StateJudgement& j = r.judgement;
     text += csv_line({r.case_name, r.policy, r.variant, r.scalar, std::to_string(r.state), r.kind, err(j.cond_E),
-                      err(j.rho_D), err(j.kappa()), err(j.qdd), err(j.tau), err(j.nu), std::to_string(j.status),
+                      err(j.rho_D), err(j.cond_M), err(j.kappa()), err(j.qdd), err(j.tau), err(j.nu),
+                      err(j.constraint_residual), std::to_string(j.status),
                       std::to_string(j.exact_status), yes_no(j.finite), yes_no(j.representable),
                       std::isnan(r.bias_vs_pivoted) ? "" : err(r.bias_vs_pivoted)});
   }
@@ -45,7 +47,8 @@ std::string stability_csv_text(const std::vector<StabilityRow>& rows) {
 void print_stability_table(const std::vector<StabilityRow>& rows, std::ostream& out) {
   std::vector<std::vector<std::string>> table = {{"case", "policy", "variant", "states", "rank_def", "non_finite",
                                                   "beyond_range", "max_err_full_rank", "max_err/(eps*kappa)",
-                                                  "max_kappa_full_rank", "max_bias_vs_pivoted"}};
+                                                  "max_kappa_full_rank", "max_cond_M", "max_residual_full_rank",
+                                                  "max_bias_vs_pivoted"}};
   // Rows arrive grouped by case, policy and variant (measure_stability_case's order).
   for (std::size_t first = 0; first < rows.size();) {
     std::size_t last = first;
@@ -53,18 +56,20 @@ void print_stability_table(const std::vector<StabilityRow>& rows, std::ostream& 
            rows[last].policy == rows[first].policy && series(rows[last]) == series(rows[first]))
       ++last;
     std::size_t deficient = 0, non_finite = 0, beyond = 0, full_rank = 0;
-    double max_err = 0, max_ratio = 0, max_kappa = 1, max_bias = 0;
+    double max_err = 0, max_ratio = 0, max_kappa = 1, max_cond_M = 1, max_residual = 0, max_bias = 0;
     const double eps = epsilon_of(rows[first].scalar);
     for (std::size_t k = first; k < last; ++k) {
       const StateJudgement& j = rows[k].judgement;
       non_finite += !j.finite;
       beyond += !j.representable;
       deficient += j.representable && !j.full_rank();
+      max_cond_M = std::max(max_cond_M, j.cond_M);
       if (j.full_rank()) {
         ++full_rank;
         max_kappa = std::max(max_kappa, j.kappa());
         max_err = std::max(max_err, j.error());
         max_ratio = std::max(max_ratio, j.error() / (eps * j.kappa()));
+        max_residual = std::max(max_residual, j.constraint_residual);
       }
       if (j.representable) max_bias = std::max(max_bias, rows[k].bias_vs_pivoted);
     }
@@ -73,7 +78,7 @@ void print_stability_table(const std::vector<StabilityRow>& rows, std::ostream& 
     table.push_back({r.case_name, r.policy, r.variant + " " + r.scalar, std::to_string(last - first),
                      std::to_string(deficient), std::to_string(non_finite), std::to_string(beyond),
                      full_rank ? err(max_err) : "-", full_rank ? format("%.2f", max_ratio) : "-",
-                     full_rank ? err(max_kappa) : "-",
+                     full_rank ? err(max_kappa) : "-", err(max_cond_M), full_rank ? err(max_residual) : "-",
                      std::isnan(r.bias_vs_pivoted) ? "-" : err(max_bias)});
     first = last;
   }
@@ -86,9 +91,17 @@ void plot_stability(const std::vector<StabilityRow>& rows, const std::string& wo
   std::vector<std::string> names;
   std::vector<std::ostringstream> blocks;
   double kappa_max = 10, error_min = 1e-7, error_max = 1e-15;
+  // A state can be full rank for its policy and still have kappa = inf: the damped policy meets a
+  // redundant direction that asks for a compatible motion without raising a status, while
+  // cond_s(E) is infinite. No log axis holds it: counted in the title instead.
+  std::size_t infinite_kappa = 0;
   for (const StabilityRow& r : rows) {
     const StateJudgement& j = r.judgement;
     if (!j.full_rank() || !std::isfinite(j.error())) continue;
+    if (!std::isfinite(j.kappa())) {
+      ++infinite_kappa;
+      continue;
+    }
     const std::string name = series(r);
     auto at = std::find(names.begin(), names.end(), name);
     if (at == names.end()) {
@@ -114,7 +127,9 @@ void plot_stability(const std::vector<StabilityRow>& rows, const std::string& wo
   // Colour by variant, filled marks for pivoted_ldlt and open ones for damped.
   script << "# Written by `sweepgen report --stability`: run `gnuplot " << script_path << "` to redraw.\n"
          << terminal << "set output " << gnuplot_string(png_path) << "\n"
-         << "set title 'sweepgen report --stability: error against the binary128 referee, full-rank states' noenhanced\n"
+         << "set title 'sweepgen report --stability: error against the binary128 referee, full-rank states"
+         << (infinite_kappa > 0 ? " (" + std::to_string(infinite_kappa) + " with kappa = inf not drawn)" : std::string())
+         << "' noenhanced\n"
          << "set logscale xy\n"
          << "set format x '10^{%L}'\nset format y '10^{%L}'\n"
          << "set xlabel 'kappa = max(1, cond_s(E^A_{cstr,0}), 1/min rho_D)'\n"
