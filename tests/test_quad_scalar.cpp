@@ -8,6 +8,7 @@
 
 #include "report/extreme_states.hpp"
 #include "report/stability_cases.hpp"
+#include "report/stability_errors.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/temp_dir.hpp"
@@ -65,12 +66,7 @@ std::vector<Scalar> solve(const report::StabilityCase& c, const report::Problem&
 
 template <class Scalar>
 double error(const std::vector<Scalar>& a, const std::vector<Quad>& b) {
-  Quad diff = 0, scale = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    diff = std::max(diff, abs(Quad(a[i]) - b[i]));
-    scale = std::max(scale, abs(b[i]));
-  }
-  return static_cast<double>(diff / scale);
+  return report::vector_relative_error(std::vector<Quad>(a.begin(), a.end()), b);
 }
 
 TEST(QuadScalar, AgreesWhereEasyAndIsWiderWhereNot) {
