@@ -133,7 +133,18 @@ void check_chain(const model::Chain& chain, const model::ChainSpec& spec) {
     check_finite(body.inertia.A, "inertia of body " + std::to_string(i));
     check_finite(body.inertia.B, "inertia of body " + std::to_string(i));
     check_finite(body.inertia.C, "inertia of body " + std::to_string(i));
+    for (const auto& lumped : body.lumped_links) {
+      const auto frame = chain.frames.find(lumped.link);
+      if (frame == chain.frames.end() || frame->second.body != i)
+        violation("lumped link '" + lumped.link + "' has no frame on body " + std::to_string(i));
+      if (!(std::isfinite(lumped.mass) && lumped.mass >= 0)) violation("mass of lumped link '" + lumped.link + "'");
+    }
   }
+  for (const auto& locked : chain.locked_joints)
+    if (locked.body == 0 || locked.body >= chain.bodies.size() || !std::isfinite(locked.position))
+      violation("locked joint '" + locked.name + "'");
+  for (const auto& link : chain.left_out)
+    if (chain.frames.count(link.link) != 0) violation("link '" + link.link + "' both on the chain and left out");
 }
 
 // A parsed scene holds what scene.hpp promises before the chain is known.

@@ -2,6 +2,8 @@
 // reason (issue 2, item 4).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "model/error.hpp"
 #include "model/urdf_loader.hpp"
 #include "support/temp_dir.hpp"
@@ -32,7 +34,7 @@ std::string load_error(const std::string& urdf, const std::string& root = "", co
   test::TempDir dir;
   const std::string path = dir.write("robot.urdf", urdf);
   try {
-    model::load_chain({path, root, tip, rotor, "--rotor-inertia"});
+    model::load_chain({path, root, tip, rotor, "--rotor-inertia", {}, {}});
   } catch (const InputError& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find(source.empty() ? path : source), std::string::npos) << "message does not name the source: " << message;
@@ -48,7 +50,7 @@ void expect_contains(const std::string& text, const std::string& part) {
 
 TEST(ModelErrors, ValidArmLoads) {
   test::TempDir dir;
-  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm()), "", "", {}, ""});
+  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm()), "", "", {}, "", {}, {}});
   EXPECT_EQ(chain.dof(), 2u);
   EXPECT_EQ(chain.tip_link, "l2");
 }
@@ -61,7 +63,7 @@ TEST(ModelErrors, MalformedXml) {
 
 TEST(ModelErrors, MissingFile) {
   try {
-    model::load_chain({"/nonexistent/robot.urdf", "", "", {}, ""});
+    model::load_chain({"/nonexistent/robot.urdf", "", "", {}, "", {}, {}});
     FAIL();
   } catch (const InputError& e) {
     expect_contains(e.what(), "/nonexistent/robot.urdf");
@@ -97,11 +99,73 @@ TEST(ModelErrors, DisconnectedRootAndTip) {
   expect_contains(message, "not connected");
 }
 
-TEST(ModelErrors, BranchingTreeNeedsATip) {
-  const std::string message = load_error(arm("revolute", R"(<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>)",
-                                             R"(<joint name="j3" type="fixed"><parent link="l1"/><child link="side"/></joint><link name="side"/>)"));
+const std::string kUnitInertial =
+    R"(<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>)";
+
+TEST(ModelErrors, TwoMovingBranchesNeedATip) {
+  const std::string message = load_error(arm("revolute", kUnitInertial,
+                                             R"(<joint name="j3" type="revolute"><parent link="l1"/><child link="side"/>
+    <axis xyz="1 0 0"/><limit effort="1" velocity="1" lower="-1" upper="1"/></joint><link name="side"/>)"));
   expect_contains(message, "link 'l1'");
   expect_contains(message, "branches");
+  expect_contains(message, "2 of them with moving joints below");
+}
+
+// A fixed side link (a sensor) does not end the default chain: it is lumped into l1.
+TEST(ModelErrors, FixedSideBranchIsLumpedNotAnError) {
+  test::TempDir dir;
+  model::ChainSpec spec;
+  spec.urdf = dir.write("robot.urdf", arm("revolute", kUnitInertial,
+                                          R"(<joint name="j3" type="fixed"><parent link="l1"/><child link="side"/></joint>
+    <link name="side">)" + kUnitInertial + "</link>"));
+  const model::Chain chain = model::load_chain(spec);
+  EXPECT_EQ(chain.tip_link, "l2");
+  ASSERT_EQ(chain.bodies[1].lumped_links.size(), 1u);
+  EXPECT_EQ(chain.bodies[1].lumped_links[0].link, "side");
+  EXPECT_EQ(chain.bodies[1].mass, 2.0);
+}
+
+// Locked positions (ChainSpec::locked_joints) that cannot be applied: each names the entry's
+// location, the joint and the reason.
+std::string lock_error(const std::string& extra, const std::string& joint, double position) {
+  test::TempDir dir;
+  model::ChainSpec spec;
+  spec.urdf = dir.write("robot.urdf", arm("revolute", kUnitInertial, extra));
+  spec.tip_link = "l2";
+  spec.locked_joints[joint] = position;
+  spec.locked_joint_locations[joint] = "scene.yaml:4:3";
+  try {
+    model::load_chain(spec);
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    expect_contains(message, "scene.yaml:4:3: locked_joints." + joint + ": ");
+    return message;
+  }
+  ADD_FAILURE() << "no error for locking " << joint;
+  return "";
+}
+
+TEST(ModelErrors, LockedJointsThatCannotBeLocked) {
+  const std::string finger = R"(<joint name="finger" type="prismatic"><parent link="l2"/><child link="tip_finger"/>
+    <axis xyz="0 1 0"/><limit effort="1" velocity="1" lower="0" upper="0.04"/></joint><link name="tip_finger">)" +
+                             kUnitInertial + "</link>";
+  expect_contains(lock_error(finger, "fingr", 0.01), "no joint of that name");
+  expect_contains(lock_error(finger, "fingr", 0.01), "did you mean 'finger'");
+  expect_contains(lock_error(finger, "j2", 0.1), "is a moving joint of the chain");
+  expect_contains(lock_error(finger, "finger", 0.05), "outside the joint's limits [0, 0.04]");
+  expect_contains(lock_error(finger, "finger", std::nan("")), "not finite");
+  const std::string on_base = R"(<joint name="turntable" type="continuous"><parent link="base"/><child link="table"/>
+    <axis xyz="0 0 1"/></joint><link name="table"/>)";
+  expect_contains(lock_error(finger + on_base, "turntable", 1.0), "not carried by a moving body");
+}
+
+TEST(ModelErrors, OffChainJointsThatCannotBeHeld) {
+  const std::string floating = R"(<joint name="loose" type="floating"><parent link="l2"/><child link="cup"/></joint><link name="cup"/>)";
+  expect_contains(load_error(arm("revolute", kUnitInertial, floating), "", "l2"), "joint 'loose'");
+  expect_contains(load_error(arm("revolute", kUnitInertial, floating), "", "l2"), "cannot be locked at one position");
+  const std::string mimic = R"(<joint name="copy" type="revolute"><parent link="l2"/><child link="twin"/><axis xyz="0 0 1"/>
+    <limit effort="1" velocity="1" lower="-1" upper="1"/><mimic joint="j2"/></joint><link name="twin"/>)";
+  expect_contains(load_error(arm("revolute", kUnitInertial, mimic), "", "l2"), "a mimic of chain joint 'j2'");
 }
 
 TEST(ModelErrors, NonPhysicalInertia) {
@@ -123,7 +187,7 @@ TEST(ModelErrors, MasslessLastBodyWithoutRotorInertia) {
                   "D_N = 0");
   // A rotor inertia makes the same chain valid.
   test::TempDir dir;
-  EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", arm("revolute", "")), "", "", {{"j2", 0.01}}, ""}));
+  EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", arm("revolute", "")), "", "", {{"j2", 0.01}}, "", {}, {}}));
 }
 
 TEST(ModelErrors, NonFiniteNumbers) {

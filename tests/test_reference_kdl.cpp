@@ -36,7 +36,7 @@
 //    f_ext is only rotated (not shifted), −alfa ν_KDL is the physical constraint wrench and
 //    the root acceleration +9.81 matches RNE's grav −9.81. Negative controls: the same
 //    residual with f_ext fed unrotated, or with +alfa ν_KDL, is O(1).
-//  - alfa^T Ẍ_tip,KDL = beta (KDL's Ẍ is minus gravity, base orientation, about the tip).
+//  - alfa^T Ẍ_tip,KDL = beta to tol(c) (KDL's Ẍ is minus gravity, base orientation, about the tip).
 //  - Tiny cases against sweepgen: Nc = 0 without external forces is plain ABA (1e-12), then
 //    with external forces, then Nc = 1 (q̈, ν = −ν_KDL, Ẍ_tip) to 1e-9.
 //
@@ -78,12 +78,12 @@
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/tree.hpp>
-#include <kdl_parser/kdl_parser.hpp>
 #include <limits>
 #include <memory>
 #include <numeric>
 #include <sstream>
 
+#include "report/kdl_chain.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
@@ -102,13 +102,13 @@ using test::RandomProblem;
 
 constexpr double kGravity = 9.81;
 
+// KDL's chain root -> last moving link, with what sweepgen lumps into it (the links fixed behind
+// it, side branches) lumped by KDL's own loader and frames (report/kdl_chain.hpp).
 KDL::Chain kdl_chain(const BundledRobot& robot) {
-  KDL::Tree tree;
-  if (!kdl_parser::treeFromFile(test::source_path(robot.urdf), tree))
-    throw std::runtime_error("kdl_parser cannot read " + robot.urdf);
   KDL::Chain chain;
-  if (!tree.getChain(robot.root, robot.last_moving_link, chain))
-    throw std::runtime_error("KDL has no chain " + robot.root + " -> " + robot.last_moving_link);
+  std::string why;
+  if (!report::kdl_chain(test::source_path(robot.urdf), test::load_bundled(robot, true), chain, why))
+    throw std::runtime_error(why);
   return chain;
 }
 
@@ -373,16 +373,18 @@ TEST_P(ReferenceVsKdl, TranslationChecks) {
       const KDL::Twist& a = theirs.acceleration[n];
       Eigen::Matrix<double, 6, 1> a_stacked;
       a_stacked << from_kdl(a.vel), from_kdl(a.rot);
-      beta_residual = std::max(beta_residual, relative_error(theirs.alfa.data.transpose() * a_stacked, p.beta));
+      // KDL's own rounding grows with cond(E^A_cstr,0) like its q̈ (tol(c) above).
+      const double cond = condition_number(ours->articulated().body[0].constraint_energy);
+      beta_residual = std::max(beta_residual, relative_error(theirs.alfa.data.transpose() * a_stacked, p.beta) / tolerance(cond));
     }
   }
   std::cout << std::setprecision(2) << std::scientific << "[kdl translation] " << robot().name
             << ": RNE residual " << rne_residual << " (untranslated f_ext " << rne_residual_untranslated
-            << ", wrong constraint sign " << rne_residual_wrong_sign << "), beta residual " << beta_residual;
+            << ", wrong constraint sign " << rne_residual_wrong_sign << "), beta residual / tol(c) " << beta_residual;
   EXPECT_LT(rne_residual, 1e-9);
   EXPECT_GT(rne_residual_untranslated, 1e-3) << "the check cannot tell a wrong f_ext translation";
   EXPECT_GT(rne_residual_wrong_sign, 1e-3) << "the check cannot tell the sign of the constraint wrench";
-  EXPECT_LT(beta_residual, 1e-9);
+  EXPECT_LT(beta_residual, 1.0);
 
   // Tiny cases against sweepgen: plain ABA, then external forces, then one constraint.
   for (int s = 0; s < 20; ++s) {

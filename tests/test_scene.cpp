@@ -528,10 +528,17 @@ TEST(SceneErrors, ExternalForceLinkNotOnChain) {
   const std::string text = with_urdf(replace(kFullScene, "link: panda_link5", "link: panda_lnk5"));
   expect_error(text, position(text, 11, "panda_lnk5"), "drivers.external_forces[0].link",
                "link 'panda_lnk5' of external force 'contact' is not on the chain", "panda_link5");
-  // On the URDF but beyond the tip.
+  // Beyond the tip but fixed to it: lumped into the last body, so a force on it is valid.
   const std::string text2 = with_urdf(replace(kFullScene, "tip: panda_hand", "tip: panda_link7"));
-  expect_error(text2, position(text2, 12, "panda_hand"), "drivers.external_forces[1].link",
-               "link 'panda_hand' of external force 'push' is not on the chain");
+  test::TempDir dir;
+  EXPECT_EQ(load(dir, text2).message, "");
+  EXPECT_EQ(scene::load_scene_chain(scene::load_scene(dir.write("scene.yaml", text2))).frames.at("panda_hand").body, 7u);
+  // Beyond the root: not carried by the chain.
+  const std::string text3 = with_urdf(replace(replace(replace(kFullScene, "root: panda_link0", "root: panda_link1"),
+                                                      "link: panda_link5", "link: panda_link0"),
+                                              "panda_joint1: 0.1, ", ""));
+  expect_error(text3, position(text3, 11, "panda_link0"), "drivers.external_forces[0].link",
+               "link 'panda_link0' of external force 'contact' is not on the chain");
 }
 
 TEST(SceneErrors, ExternalForceLinkFixedToBase) {
@@ -546,6 +553,42 @@ TEST(SceneErrors, RotorInertiaUnknownJoint) {
   // A fixed joint is not a moving joint.
   const std::string text2 = with_urdf(replace(kFullScene, "panda_joint7: 0.02", "panda_joint8: 0.02"));
   expect_error(text2, position(text2, 7, "panda_joint8"), "rotor_inertia.panda_joint8", "no moving joint");
+}
+
+// locked_joints: positions of off-chain joints, each checked against the URDF at its own entry.
+const std::string kSideBranchScene = R"(sweepgen_scene: 1
+solver: side_branches
+urdf: @URDF@
+root: base
+tip: wrist
+locked_joints: {side_joint: 0.7, finger_left_joint: 0.02}
+drivers: {external_forces: [{name: pinch, link: finger_left}]}
+)";
+
+TEST(Scene, LockedJointsHoldOffChainBranches) {
+  const std::string text = with_urdf(kSideBranchScene, test::source_path("tests/data/side_branches.urdf"));
+  test::TempDir dir;
+  const Scene s = scene::load_scene(dir.write("scene.yaml", text));
+  EXPECT_EQ(s.chain.locked_joints.at("side_joint"), 0.7);
+  EXPECT_EQ(s.chain.locked_joint_locations.at("finger_left_joint"), s.path + ":" + position(text, 6, "finger_left_joint"));
+  const model::Chain chain = scene::load_scene_chain(s);
+  ASSERT_EQ(chain.locked_joints.size(), 3u);
+  EXPECT_EQ(chain.locked_joints[1].name, "finger_left_joint");
+  EXPECT_EQ(chain.locked_joints[1].position, 0.02);
+  EXPECT_EQ(chain.locked_joints[2].position, 0.005);  // finger_right_joint: 0 clamped into [0.005, 0.04]
+  EXPECT_EQ(chain.frames.at("finger_left").body, 4u);  // the external force's link, lumped into the wrist
+}
+
+TEST(SceneErrors, LockedJointsCheckedAtTheirEntry) {
+  const std::string urdf = test::source_path("tests/data/side_branches.urdf");
+  const std::string on_chain = with_urdf(replace(kSideBranchScene, "side_joint: 0.7", "j2: 0.7"), urdf);
+  expect_error(on_chain, position(on_chain, 6, "j2"), "locked_joints.j2", "is a moving joint of the chain");
+  const std::string misspelt = with_urdf(replace(kSideBranchScene, "side_joint: 0.7", "side_jiont: 0.7"), urdf);
+  expect_error(misspelt, position(misspelt, 6, "side_jiont"), "locked_joints.side_jiont", "no joint of that name", "side_joint");
+  const std::string beyond = with_urdf(replace(kSideBranchScene, "side_joint: 0.7", "side_joint: 1.5"), urdf);
+  expect_error(beyond, position(beyond, 6, "side_joint"), "locked_joints.side_joint", "outside the joint's limits [-1, 1]");
+  const std::string twice = with_urdf(replace(kSideBranchScene, "finger_left_joint: 0.02", "side_joint: 0.02"), urdf);
+  expect_error(twice, position(twice, 6, "side_joint", 2), "locked_joints.side_joint", "duplicate joint");
 }
 
 TEST(SceneErrors, UrdfProblemsPointAtTheSceneEntry) {

@@ -144,12 +144,10 @@ int run_info(const SceneOptions& options) {
     std::cout << "  " << i << ". " << j.name << " (" << (j.type == model::JointType::revolute ? (j.continuous ? "continuous" : "revolute") : "prismatic")
               << ", axis " << j.axis.transpose() << (axis_aligned ? ", axis-aligned: folds to one column" : "")
               << ") moves " << b.link << ", mass " << b.mass << " kg";
-    if (!b.lumped_links.empty()) {
-      std::cout << ", lumped:";
-      for (const auto& l : b.lumped_links) std::cout << " " << l;
-    }
     std::cout << ", effort limit " << j.effort_limit << ", rotor inertia " << j.rotor_inertia << "\n";
   }
+  std::cout << "links carried by the chain (lumped: fixed, or behind a locked joint off the chain), locked joints, links left out:\n";
+  for (const std::string& line : model::lumping_summary(chain)) std::cout << "  " << line << "\n";
   const emit::EmittedSolver emitted = emit_scene(s, chain);
   std::cout << "scene " << (s.path.empty() ? "(default)" : s.path) << ", solver " << s.solver << ", Nc = " << s.layout.constraints
             << ", operation counts:\n";

@@ -65,7 +65,11 @@ void add_solve_command(CLI::App& app, SolveOptions& options) {
 }
 
 int run_solve(const SolveOptions& options) {
-  model::ChainSpec spec{options.urdf, options.root, options.tip, parse_rotor_inertia(options.rotor_inertia)};
+  model::ChainSpec spec;
+  spec.urdf = options.urdf;
+  spec.root_link = options.root;
+  spec.tip_link = options.tip;
+  spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
   const model::Chain chain = model::load_chain(spec);
 
   std::ifstream file;

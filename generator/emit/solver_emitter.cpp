@@ -241,6 +241,9 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("root", chain.root_link);
   values.set("tip", chain.tip_link);
   values.set("dof", std::to_string(n));
+  data lumping{data::type::list};
+  for (const std::string& line : model::lumping_summary(chain)) lumping.push_back(data("line", line));
+  values.set("lumping", lumping);
   values.set("constraints", std::to_string(nc));
   values.set("directions_note", request.trace.fixed_directions.empty() ? "" : ", fixed");
   values.set("alpha_note", request.trace.fixed_directions.empty() && nc > 0 ? ", alpha" : "");

@@ -1,7 +1,11 @@
 // The kinematic chain that every sweep runs on: bodies 0..N, body 0 the fixed base (the root
-// link's frame), joint i moving body i relative to body i-1. Fixed joints are lumped: their
-// child links' inertias are added to the moving body before them, and their frames stay
-// addressable through `frames` (external forces, the tip/constraint frame).
+// link's frame), joint i moving body i relative to body i-1. Every link of the URDF that a
+// moving body carries rigidly is lumped into it: links behind fixed joints, on the chain or in
+// a side branch (a gripper, a sensor), and links behind moving joints off the chain, which are
+// locked at a position (ChainSpec::locked_joints, else 0 clamped into the joint's limits).
+// Their frames stay addressable through `frames` (external forces, the tip/constraint frame).
+// Links the chain does not carry (fixed to the base, or not below the root) are listed in
+// `left_out`: nothing of the URDF vanishes unsaid.
 #pragma once
 
 #include <limits>
@@ -33,9 +37,31 @@ struct Joint {
   double upper = std::numeric_limits<double>::infinity();
 };
 
+// A link merged into a body's inertia.
+struct LumpedLink {
+  std::string link;
+  double mass = 0;          // [kg]
+  std::string locked_joint; // the off-chain moving joint that was locked to carry it, or "" (fixed joints only)
+};
+
+// A moving joint off the chain, held at `position` so that the links behind it are rigid.
+struct LockedJoint {
+  std::string name;
+  std::size_t body = 0;   // the body that carries it (0: the base; then it changes nothing)
+  double position = 0;    // [rad or m]
+  bool from_scene = false;  // given in ChainSpec::locked_joints; else the default
+};
+
+// A link the chain does not carry, with why.
+struct LeftOutLink {
+  std::string link;
+  double mass = 0;  // [kg]
+  std::string reason;
+};
+
 struct Body {
   std::string link;                      // URDF link whose frame is the body frame
-  std::vector<std::string> lumped_links; // links behind fixed joints merged into this body
+  std::vector<LumpedLink> lumped_links;  // links merged into this body, in the order added
   Inertia inertia;                       // M_i about the body frame origin, in the body frame
   double mass = 0;
 };
@@ -54,11 +80,19 @@ struct Chain {
   std::vector<Body> bodies;    // 0..N, bodies[0] is the base
   std::vector<Joint> joints;   // 0..N, joints[0] is unused (the base does not move)
   std::map<std::string, Frame> frames;  // every link on the chain, lumped ones included
+  std::vector<LockedJoint> locked_joints;  // moving joints off the chain, URDF tree order
+  std::vector<LeftOutLink> left_out;       // links not carried by the chain, by name
 
   std::size_t dof() const { return bodies.size() - 1; }
   const Frame& tip() const { return frames.at(tip_link); }
   // Index (1..N) of the joint named `name`, or 0 if there is none.
   std::size_t joint_index(const std::string& name) const;
 };
+
+// What the chain made of the URDF, a line each, for `sweepgen info` and the generated header:
+// per moving body its own link and mass and every link lumped into it (with its mass, and the
+// locked joint it hangs behind), then each locked joint with its position, then each link left
+// out with its mass and why. Masses in kg, positions in rad or m.
+std::vector<std::string> lumping_summary(const Chain& chain);
 
 }  // namespace sweepgen::model

@@ -4,9 +4,13 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "model/error.hpp"
@@ -49,6 +53,12 @@ void snapped_sin_cos(double angle, double& s, double& c) {
     s = std::sin(angle);
     c = std::cos(angle);
   }
+}
+
+// The shortest text that reads back as `value`.
+std::string shortest(double value) {
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
 }
 
 std::string quoted(const std::string& kind, const std::string& name) { return kind + " '" + name + "'"; }
@@ -119,22 +129,45 @@ urdf::LinkConstSharedPtr find_link(const urdf::ModelInterface& model, const std:
   return link;
 }
 
-// The deepest link below `root`, provided nothing branches on the way. urdfdom accepts a link that
-// is the child of two joints, which can close a cycle below the root: more steps down than there
-// are links means one.
+// Whether a moving joint lies below `link`; `budget` counts the links visited, so that a cycle
+// (urdfdom accepts a link that is the child of two joints) ends the search as an error.
+bool moves_below(const urdf::Link& link, std::size_t& budget, const std::string& file) {
+  for (const auto& joint : link.child_joints) {
+    if (budget-- == 0)
+      throw InputError(file, quoted("link", link.name), "the joints form a cycle through this link; a URDF must be a tree");
+    if (joint->type != urdf::Joint::FIXED) return true;
+  }
+  for (const auto& child : link.child_links)
+    if (moves_below(*child, budget, file)) return true;
+  return false;
+}
+
+// The deepest link below `root` along the one branch that moves: at a link with several
+// children, the branch is the only child with a moving joint below it (side branches of fixed
+// links, a sensor or a tool flange, are lumped and do not end the chain); two moving branches,
+// or several children none of which moves, are ambiguous. More steps down than there are links
+// means a cycle.
 std::string deepest_link(const urdf::Link& root, std::size_t link_count, const std::string& file) {
   const urdf::Link* link = &root;
   for (std::size_t steps = 0; !link->child_links.empty(); ++steps) {
     if (steps == link_count)
       throw InputError(file, quoted("link", link->name),
                        "the joints form a cycle through this link; a URDF must be a tree");
-    if (link->child_links.size() > 1) {
+    std::vector<const urdf::Link*> moving;
+    for (std::size_t c = 0; c < link->child_links.size(); ++c) {
+      std::size_t budget = link_count;
+      const auto& joint = link->child_joints.at(c);
+      if (joint->type != urdf::Joint::FIXED || moves_below(*link->child_links[c], budget, file))
+        moving.push_back(link->child_links[c].get());
+    }
+    if (link->child_links.size() > 1 && moving.size() != 1) {
       std::string children;
       for (const auto& child : link->child_links) children += (children.empty() ? "'" : ", '") + child->name + "'";
       throw InputError(file, quoted("link", link->name),
-                       "the tree branches here (children " + children + "); name the tip link explicitly");
+                       "the tree branches here (children " + children + ", " + std::to_string(moving.size()) +
+                           " of them with moving joints below); name the tip link explicitly");
     }
-    link = link->child_links.front().get();
+    link = moving.empty() ? link->child_links.front().get() : moving.front();
   }
   return link->name;
 }
@@ -157,6 +190,146 @@ std::vector<urdf::JointConstSharedPtr> path_joints(const urdf::ModelInterface& m
   }
   return {joints.rbegin(), joints.rend()};
 }
+
+// The unit axis of a moving joint, validated.
+Vec3 unit_axis(const urdf::Joint& joint, const std::string& file) {
+  const std::string element = quoted("joint", joint.name) + " <axis>";
+  const auto& a = joint.axis;
+  require_finite(file, element, {a.x, a.y, a.z});
+  const Vec3 axis(a.x, a.y, a.z);
+  if (!(axis.norm() > 1e-12)) throw InputError(file, element, "axis has zero length");
+  return axis / axis.norm();
+}
+
+bool is_moving(const urdf::Joint& joint) {
+  return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS ||
+         joint.type == urdf::Joint::PRISMATIC;
+}
+
+// Moving joints off the chain (chain.hpp): the links behind them are lumped with the joint held
+// at its locked position, so that every link a moving body carries counts.
+class OffChainLumper {
+ public:
+  OffChainLumper(const urdf::ModelInterface& model, const ChainSpec& spec, Chain& chain)
+      : model_(model), spec_(spec), chain_(chain) {}
+
+  // Lumps the branches that leave the chain at each of `chain_links` (root to tip) into the body
+  // carrying that link, then lists what no moving body carries.
+  void run(const std::vector<std::string>& chain_links) {
+    const std::set<std::string> on_chain(chain_links.begin(), chain_links.end());
+    for (const std::string& name : chain_links) {
+      const Frame frame = chain_.frames.at(name);
+      if (frame.body == 0) continue;  // carried by the fixed base: moves nothing (left_out)
+      for (const auto& joint : model_.getLink(name)->child_joints)
+        if (on_chain.count(joint->child_link_name) == 0) carry(*joint, frame.body, frame.X, "");
+    }
+    check_unused_locks();
+    list_left_out();
+  }
+
+ private:
+  // Lumps `joint`'s child link and everything below it into `body`; `body_to_parent` is the
+  // transform from the body's frame to the joint's parent link frame.
+  void carry(const urdf::Joint& joint, std::size_t body, const Transform& body_to_parent, std::string locked_by) {
+    const std::string& file = spec_.urdf;
+    const std::string element = quoted("joint", joint.name);
+    const auto child = model_.getLink(joint.child_link_name);
+    if (chain_.frames.count(child->name) != 0)
+      throw InputError(file, quoted("link", child->name), "the joints form a cycle through this link; a URDF must be a tree");
+    Transform parent_to_child = transform_from_pose(joint.parent_to_joint_origin_transform, file, element);
+    if (is_moving(joint)) {
+      const double position = lock(joint, body);
+      const Vec3 axis = unit_axis(joint, file);
+      Transform motion;  // the joint's own motion, child frame in the joint frame (URDF)
+      if (joint.type == urdf::Joint::PRISMATIC) motion.r = axis * position;
+      else motion.E = Eigen::AngleAxisd(position, axis).toRotationMatrix().transpose();
+      parent_to_child = motion * parent_to_child;
+      locked_by = joint.name;
+    } else if (joint.type != urdf::Joint::FIXED) {
+      throw InputError(file, element,
+                       "a floating or planar joint off the chain (below '" + chain_.bodies[body].link +
+                           "') cannot be locked at one position; make it fixed, or choose a chain that avoids it");
+    }
+    const Transform body_to_child = parent_to_child * body_to_parent;
+    double mass = 0;
+    const Inertia inertia = link_inertia(*child, file, mass);
+    Body& b = chain_.bodies[body];
+    b.inertia = b.inertia + inertia.transformed_to_parent(body_to_child);
+    b.mass += mass;
+    b.lumped_links.push_back({child->name, mass, locked_by});
+    chain_.frames[child->name] = Frame{body, body_to_child};
+    for (const auto& grandchild : child->child_joints) carry(*grandchild, body, body_to_child, locked_by);
+  }
+
+  // The position at which `joint` is held: the spec's, else 0 clamped into its limits.
+  double lock(const urdf::Joint& joint, std::size_t body) {
+    const std::string& file = spec_.urdf;
+    if (joint.mimic && chain_.joint_index(joint.mimic->joint_name) != 0)
+      throw InputError(file, quoted("joint", joint.name),
+                       "a mimic of chain joint '" + joint.mimic->joint_name +
+                           "' off the chain cannot be locked (its position follows that joint)");
+    const bool limited = joint.type != urdf::Joint::CONTINUOUS && joint.limits;
+    const double lower = limited ? joint.limits->lower : -std::numeric_limits<double>::infinity();
+    const double upper = limited ? joint.limits->upper : std::numeric_limits<double>::infinity();
+    LockedJoint locked{joint.name, body, std::clamp(0.0, lower, upper), false};
+    if (const auto given = spec_.locked_joints.find(joint.name); given != spec_.locked_joints.end()) {
+      const std::string element = "locked_joints." + joint.name;
+      if (!std::isfinite(given->second)) throw InputError(location(joint.name), element, "position is not finite");
+      if (given->second < lower || given->second > upper)
+        throw InputError(location(joint.name), element,
+                         "position " + shortest(given->second) + " is outside the joint's limits [" + shortest(lower) +
+                             ", " + shortest(upper) + "] in " + file);
+      locked.position = given->second;
+      locked.from_scene = true;
+    }
+    chain_.locked_joints.push_back(locked);
+    return locked.position;
+  }
+
+  std::string location(const std::string& joint) const {
+    const auto at = spec_.locked_joint_locations.find(joint);
+    return at == spec_.locked_joint_locations.end() ? "command line" : at->second;
+  }
+
+  // A locked position for a joint that was not locked is a mistake: say why.
+  void check_unused_locks() const {
+    std::vector<std::string> lockable;
+    for (const auto& locked : chain_.locked_joints) lockable.push_back(locked.name);
+    for (const auto& [name, position] : spec_.locked_joints) {
+      if (std::find(lockable.begin(), lockable.end(), name) != lockable.end()) continue;
+      const std::string element = "locked_joints." + name;
+      const auto joint = model_.getJoint(name);
+      std::string reason;
+      if (!joint) reason = "no joint of that name in " + spec_.urdf + nearest_name_hint(name, lockable);
+      else if (chain_.joint_index(name) != 0) reason = "is a moving joint of the chain; only joints off the chain are locked";
+      else if (!is_moving(*joint)) reason = "is not a revolute, continuous or prismatic joint; there is nothing to lock";
+      else reason = "is not carried by a moving body of the chain (it hangs off the fixed base or lies outside the chain's tree); locking it changes nothing";
+      throw InputError(location(name), element, "joint '" + name + "' " + reason);
+    }
+  }
+
+  void list_left_out() {
+    for (const auto& [name, link] : model_.links_) {
+      if (chain_.frames.count(name) != 0) continue;
+      // Up the tree to the first link the chain knows (only the base's links can be met: every
+      // moving body's branches are lumped); the link count bounds the walk against cycles.
+      std::string reason = "not below the root link '" + chain_.root_link + "'";
+      urdf::LinkConstSharedPtr above = link;
+      for (std::size_t steps = 0; above->parent_joint && steps < model_.links_.size(); ++steps) {
+        above = model_.getLink(above->parent_joint->parent_link_name);
+        if (chain_.frames.count(above->name) != 0) {
+          reason = "carried by the fixed base (below '" + above->name + "'): it moves nothing";
+          break;
+        }
+      }
+      chain_.left_out.push_back({name, link->inertial ? link->inertial->mass : 0.0, reason});
+    }
+  }
+
+  const urdf::ModelInterface& model_;
+  const ChainSpec& spec_;
+  Chain& chain_;
+};
 
 void check_last_joint_can_accelerate(const Chain& chain) {
   const std::size_t n = chain.dof();
@@ -233,6 +406,7 @@ Chain load_chain(const ChainSpec& spec) {
   chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, 0});
   chain.joints.push_back(Joint{});
   chain.frames[chain.root_link] = Frame{0, Transform::identity()};
+  std::vector<std::string> chain_links{chain.root_link};  // root to tip
 
   // Transform from the current body's frame to the frame of the link reached last.
   Transform body_to_link = Transform::identity();
@@ -244,6 +418,7 @@ Chain load_chain(const ChainSpec& spec) {
     const Transform origin = transform_from_pose(urdf_joint->parent_to_joint_origin_transform, urdf_path, element);
     double mass = 0;
     const Inertia child_inertia = link_inertia(*child, urdf_path, mass);
+    chain_links.push_back(child->name);
 
     switch (urdf_joint->type) {
       case urdf::Joint::FIXED: {
@@ -254,7 +429,7 @@ Chain load_chain(const ChainSpec& spec) {
           Body& b = chain.bodies[body];
           b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
           b.mass += mass;
-          b.lumped_links.push_back(child->name);
+          b.lumped_links.push_back({child->name, mass, ""});
         }
         break;
       }
@@ -265,11 +440,7 @@ Chain load_chain(const ChainSpec& spec) {
         joint.name = urdf_joint->name;
         joint.type = urdf_joint->type == urdf::Joint::PRISMATIC ? JointType::prismatic : JointType::revolute;
         joint.continuous = urdf_joint->type == urdf::Joint::CONTINUOUS;
-        const auto& a = urdf_joint->axis;
-        require_finite(urdf_path, element + " <axis>", {a.x, a.y, a.z});
-        const Vec3 axis(a.x, a.y, a.z);
-        if (!(axis.norm() > 1e-12)) throw InputError(urdf_path, element + " <axis>", "axis has zero length");
-        joint.axis = axis / axis.norm();
+        joint.axis = unit_axis(*urdf_joint, urdf_path);
         joint.tree_transform = origin * body_to_link;
         if (const auto& limits = urdf_joint->limits) {
           require_finite(urdf_path, element + " <limit>", {limits->effort, limits->velocity});
@@ -302,6 +473,7 @@ Chain load_chain(const ChainSpec& spec) {
   if (chain.dof() == 0)
     throw InputError(urdf_path, "links '" + chain.root_link + "' and '" + chain.tip_link + "'",
                      "no moving joint between them");
+  OffChainLumper(*model, spec, chain).run(chain_links);
   apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);
   check_last_joint_can_accelerate(chain);
   return chain;

@@ -12,18 +12,13 @@ VariantResult measure_kdl(const scene::Scene&, const model::Chain&, const std::v
 
 #else
 
-#include <unistd.h>
-
-#include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <iostream>
 #include <kdl/chain.hpp>
 #include <kdl/chainhdsolver_vereshchagin.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/tree.hpp>
-#include <kdl_parser/kdl_parser.hpp>
 
+#include "report/kdl_chain.hpp"
 #include "solver/reference_solver.hpp"
 
 namespace sweepgen::report {
@@ -40,89 +35,6 @@ KDL::JntArray kdl_joints(const Eigen::VectorXd& v) {
 
 VariantResult unavailable(const std::string& why) { return {"kdl", "double", why, {}, {}}; }
 
-// kdl_parser::treeFromFile with its console messages (e.g. "the root link has an inertia",
-// irrelevant for a fixed base) held back, and shown only when it fails.
-bool read_tree(const std::string& urdf, KDL::Tree& tree) {
-  std::fflush(stderr);
-  char path[] = "/tmp/sweepgen-kdl-parser-XXXXXX";
-  const int capture = ::mkstemp(path);
-  const int saved = capture >= 0 ? ::dup(2) : -1;
-  if (saved >= 0) ::dup2(capture, 2);
-  const bool ok = kdl_parser::treeFromFile(urdf, tree);
-  if (saved >= 0) {
-    std::fflush(stderr);
-    ::dup2(saved, 2);
-    ::close(saved);
-  }
-  if (capture >= 0) {
-    if (!ok) {
-      std::ifstream in(path);
-      std::cerr << in.rdbuf();
-    }
-    ::close(capture);
-    ::unlink(path);
-  }
-  return ok;
-}
-
-// The KDL chain root -> last moving link, with the links behind fixed joints after it lumped
-// into its segment's inertia (as sweepgen lumps them); false and the reason in `why` when the
-// scene cannot be expressed.
-bool kdl_chain(const scene::Scene& s, const model::Chain& chain, KDL::Chain& out, std::string& why) {
-  const std::size_t n = chain.dof();
-  KDL::Tree tree;
-  if (!read_tree(s.chain.urdf, tree)) {
-    why = "kdl_parser cannot read " + s.chain.urdf;
-    return false;
-  }
-  KDL::Chain parsed;
-  if (!tree.getChain(chain.root_link, chain.tip_link, parsed)) {
-    why = "KDL has no chain " + chain.root_link + " -> " + chain.tip_link;
-    return false;
-  }
-  // Fixed joints are allowed only after the last moving one.
-  unsigned moving = 0;
-  for (unsigned i = 0; i < parsed.getNrOfSegments(); ++i) {
-    const bool fixed = parsed.getSegment(i).getJoint().getType() == KDL::Joint::None;
-    if (fixed && moving < n) {
-      why = "not expressible: KDL's Vereshchagin solver cannot take fixed joints, and " +
-            parsed.getSegment(i).getJoint().getName() + " is fixed before the last moving joint";
-      return false;
-    }
-    if (!fixed) {
-      if (parsed.getSegment(i).getName() != chain.bodies[moving + 1].link) {
-        why = "not expressible: KDL segment " + parsed.getSegment(i).getName() + " is not body " +
-              std::to_string(moving + 1) + " (" + chain.bodies[moving + 1].link + ")";
-        return false;
-      }
-      ++moving;
-    }
-  }
-  if (moving != n || chain.tip().body != n) {
-    why = "not expressible: KDL's chain has " + std::to_string(moving) + " moving joints, sweepgen's " + std::to_string(n);
-    return false;
-  }
-  // The links behind the fixed joints after body N, in body N's frame.
-  KDL::RigidBodyInertia lumped = KDL::RigidBodyInertia::Zero();
-  KDL::Frame behind = KDL::Frame::Identity();
-  for (unsigned i = static_cast<unsigned>(n); i < parsed.getNrOfSegments(); ++i) {
-    behind = behind * parsed.getSegment(i).getFrameToTip();
-    lumped = lumped + behind * parsed.getSegment(i).getInertia();
-  }
-  for (unsigned i = 0; i < n; ++i) {
-    const KDL::Segment& segment = parsed.getSegment(i);
-    const KDL::Joint& joint = segment.getJoint();
-    // Rotor inertia d_i as KDL joint inertia (added to D_i the same way).
-    const double d = chain.joints[i + 1].rotor_inertia;
-    const KDL::Joint with_rotor = d == 0 ? joint
-                                         : KDL::Joint(joint.getName(), joint.JointOrigin(), joint.JointAxis(),
-                                                      joint.getType(), 1, 0, d);
-    const KDL::RigidBodyInertia inertia = i + 1 == n ? segment.getInertia() + lumped : segment.getInertia();
-    out.addSegment(KDL::Segment(segment.getName(), with_rotor, segment.getFrameToTip(), inertia));
-  }
-  return true;
-}
-
 // One state in KDL's terms.
 struct KdlInput {
   KDL::JntArray q, qd, ff, beta;
@@ -137,7 +49,7 @@ VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, cons
                           const TimingOptions& timing) {
   KDL::Chain kdl;
   std::string why;
-  if (!kdl_chain(s, chain, kdl, why)) return unavailable(why);
+  if (!kdl_chain(s.chain.urdf, chain, kdl, why)) return unavailable(why);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   const unsigned segments = kdl.getNrOfSegments();
 

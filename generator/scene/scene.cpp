@@ -367,7 +367,7 @@ Scene load_scene(const std::string& path) {
   Scene scene;
   scene.path = path;
   const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip",
-                                         "gravity",        "rotor_inertia", "drivers", "decomposition", "policies",
+                                         "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
                                          "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation"};
   std::map<std::string, Item> values;
   for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
@@ -418,24 +418,33 @@ Scene load_scene(const std::string& path) {
     for (int i = 0; i < 3; ++i) scene.gravity[i] = reader.number(components[i]);
   }
 
-  if (const auto item = get("rotor_inertia")) {
-    scene.locations["rotor_inertia"] = reader.where(*item);
-    scene.chain.rotor_inertia_source = reader.where(*item);
-    if (!item->node.IsMap()) reader.fail(*item, "expected a mapping (joint name: rotor inertia)");
+  // rotor_inertia and locked_joints: mappings from joint name to a number.
+  const auto read_joint_numbers = [&](const Item& item, const std::string& key, const std::string& what,
+                                      std::map<std::string, double>& values) {
+    scene.locations[key] = reader.where(item);
+    if (!item.node.IsMap()) reader.fail(item, "expected a mapping (joint name: " + what + ")");
     std::map<std::string, YAML::Mark> seen;
-    for (auto it = item->node.begin(); it != item->node.end(); ++it) {
-      Item key{it->first, item->element, it->first.Mark()};
-      const std::string joint = reader.string(key);
-      key.element = "rotor_inertia." + joint;
+    for (auto it = item.node.begin(); it != item.node.end(); ++it) {
+      Item name{it->first, item.element, it->first.Mark()};
+      const std::string joint = reader.string(name);
+      name.element = key + "." + joint;
       if (const auto previous = seen.find(joint); previous != seen.end())
-        reader.fail(key, "duplicate joint (first given at " + format_mark(path, previous->second) + ")");
-      seen.emplace(joint, key.mark);
-      const Item value{it->second, key.element, it->second.IsNull() ? key.mark : it->second.Mark()};
-      const double d = reader.number(value);
-      if (d < 0) reader.fail(value, "rotor inertia must be >= 0");
-      scene.chain.rotor_inertia[joint] = d;
-      scene.locations[key.element] = reader.where(key);
+        reader.fail(name, "duplicate joint (first given at " + format_mark(path, previous->second) + ")");
+      seen.emplace(joint, name.mark);
+      const Item value{it->second, name.element, it->second.IsNull() ? name.mark : it->second.Mark()};
+      values[joint] = reader.number(value);
+      scene.locations[name.element] = reader.where(name);
+      if (key == "rotor_inertia" && values[joint] < 0) reader.fail(value, "rotor inertia must be >= 0");
     }
+  };
+  if (const auto item = get("rotor_inertia")) {
+    scene.chain.rotor_inertia_source = reader.where(*item);
+    read_joint_numbers(*item, "rotor_inertia", "rotor inertia", scene.chain.rotor_inertia);
+  }
+  if (const auto item = get("locked_joints")) {
+    read_joint_numbers(*item, "locked_joints", "position", scene.chain.locked_joints);
+    for (const auto& [joint, position] : scene.chain.locked_joints)
+      scene.chain.locked_joint_locations[joint] = scene.locations.at("locked_joints." + joint);
   }
 
   std::map<std::string, Item> instances;

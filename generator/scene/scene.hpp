@@ -17,6 +17,14 @@
 //                                   #   default [0, 0, -9.81]
 //   rotor_inertia:                  # optional: armature d_i (>= 0) by moving-joint name;
 //     panda_joint1: 0.1             #   joints not listed get 0
+//   locked_joints:                  # optional: position [rad or m] by name of a moving joint
+//     panda_finger_joint1: 0.04     #   off the chain (a gripper's fingers, a second arm): the
+//                                   #   links behind it are lumped into the body that carries
+//                                   #   them, with the joint held there; within the joint's
+//                                   #   limits. Off-chain joints not listed are locked at 0
+//                                   #   clamped into their limits. `sweepgen info` and the
+//                                   #   generated header list every lumped, locked and left-out
+//                                   #   link with its mass
 //   drivers:                        # optional: no drivers (bias only, Nc = 0) when absent
 //     torques: [tau_ff]             # optional: feed-forward torque instances (identifiers)
 //     external_forces:              # optional: external wrench instances, each acting on a
@@ -94,6 +102,7 @@ struct Scene {
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
   // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",
+// "locked_joints", "locked_joints.<joint>",
   // "drivers.external_forces[i].link". A CLI flag overriding a field should set its entry to
   // the flag's name (e.g. locations["tip"] = "--tip").
   std::map<std::string, std::string> locations;

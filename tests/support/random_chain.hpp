@@ -92,7 +92,7 @@ class RandomChainGenerator {
       // A massless link behind a fixed joint, addressable as a frame.
       if (chance(0.3)) {
         const std::string name = "frame" + std::to_string(i);
-        body.lumped_links.push_back(name);
+        body.lumped_links.push_back({name, 0.0, ""});
         c.frames[name] = model::Frame{i, transform(0.3)};
       }
       c.bodies.push_back(body);
@@ -100,7 +100,7 @@ class RandomChainGenerator {
     c.tip_link = "link" + std::to_string(n);
     if (chance(0.5)) {
       c.tip_link = "tip";
-      c.bodies[n].lumped_links.push_back("tip");
+      c.bodies[n].lumped_links.push_back({"tip", 0.0, ""});
       c.frames["tip"] = model::Frame{n, transform(0.3)};
     }
     return c;
