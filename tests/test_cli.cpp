@@ -454,6 +454,30 @@ TEST(CliGenerate, DefaultSceneFilesAreNamedAfterTheUrdfAndByteStable) {
   EXPECT_FALSE(has_temporaries(dir.path()));
 }
 
+// A URDF with side branches (tests/data/side_branches.urdf): `info` and the generated header
+// list every lumped, locked and left-out link with its mass; `generate` says which joints it
+// locked at a default position.
+TEST(CliGenerate, LumpedLockedAndLeftOutLinksAreListed) {
+  const std::string urdf = kSource + "/tests/data/side_branches.urdf";
+  test::TempDir dir;
+  const std::string scene = dir.write("side.yaml", "sweepgen_scene: 1\nsolver: side\nurdf: " + urdf +
+                                                       "\nroot: base\ntip: wrist\nlocked_joints: {side_joint: 0.7}\n");
+  const CommandResult info = sweepgen({"info", "--scene", scene});
+  ASSERT_EQ(info.exit_code, 0) << describe(info);
+  const CommandResult generate = sweepgen({"generate", "--scene", scene, "--out", (dir.path() / "out").string()});
+  ASSERT_EQ(generate.exit_code, 0) << describe(generate);
+  const std::string header = snapshot(dir.path() / "out").at("side.hpp");
+  for (const std::string& text : {info.out, header}) {
+    expect_contains(text, "body 2 (joint j2): 4.1 kg = link2 2.5 kg + lumped side_arm 1.2 kg behind locked joint side_joint, "
+                          "side_tool 0.4 kg behind locked joint side_joint");
+    expect_contains(text, "locked joint side_joint at 0.7 (scene), carried by link2");
+    expect_contains(text, "locked joint finger_left_joint at 0.005 (default), carried by wrist");
+    expect_contains(text, "left out pedestal 2 kg: carried by the fixed base");
+  }
+  expect_contains(generate.out, "note: joint 'finger_right_joint' off the chain is locked at 0.005");
+  EXPECT_EQ(generate.out.find("note: joint 'side_joint'"), std::string::npos) << generate.out;
+}
+
 TEST(CliGenerate, AFailedRunLeavesTheOutputUntouched) {
   test::TempDir dir;
   const fs::path out = dir.path() / "out";

@@ -128,6 +128,12 @@ int run_generate(const GenerateOptions& options) {
             << "): wrote";
   for (const auto& f : files) std::cout << " " << f.path;
   std::cout << "\n";
+  // Default lock positions are a modelling choice the scene did not make: say so where it is made.
+  for (const auto& locked : chain.locked_joints)
+    if (!locked.from_scene)
+      std::cout << "sweepgen: note: joint '" << locked.name << "' off the chain is locked at " << locked.position
+                << " (0 clamped into its limits; set locked_joints in the scene to choose), carrying its links on "
+                << chain.bodies[locked.body].link << "\n";
   print_costs(emitted, std::cout);
   return 0;
 }
