@@ -5,11 +5,21 @@
 if(NOT TARGET sweepgen_fuzz_entries)
   # The solve-line reader (cli/json_problem.cpp) is part of the sweepgen executable, not of
   # sweepgen_core, so it is compiled in here.
+  # The bundled URDFs are compiled in (fuzz_entries.hpp: bundled_urdfs), so that a fuzzer runs
+  # wherever its build is moved or mounted.
+  file(GLOB bundled_urdfs CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.urdf)
+  add_custom_command(
+    OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/embedded_robots.cpp
+    COMMAND ${CMAKE_COMMAND} -DDIR=${PROJECT_SOURCE_DIR}/robots -DGLOB=*/*.urdf -DHEADER=fuzz_entries.hpp
+            -DNAMESPACE=sweepgen::fuzz -DFUNCTION=bundled_urdfs
+            -DOUTPUT=${CMAKE_CURRENT_BINARY_DIR}/embedded_robots.cpp -P ${PROJECT_SOURCE_DIR}/cmake/embed_files.cmake
+    DEPENDS ${bundled_urdfs} ${PROJECT_SOURCE_DIR}/cmake/embed_files.cmake
+    COMMENT "Embedding robots/*/*.urdf for the fuzzers")
   add_library(sweepgen_fuzz_entries STATIC
     ${PROJECT_SOURCE_DIR}/fuzz/fuzz_entries.cpp
+    ${CMAKE_CURRENT_BINARY_DIR}/embedded_robots.cpp
     ${PROJECT_SOURCE_DIR}/generator/cli/json_problem.cpp)
   target_include_directories(sweepgen_fuzz_entries PUBLIC ${PROJECT_SOURCE_DIR}/fuzz)
-  target_compile_definitions(sweepgen_fuzz_entries PRIVATE SWEEPGEN_FUZZ_ROBOTS_DIR="${PROJECT_SOURCE_DIR}/robots")
   target_link_libraries(sweepgen_fuzz_entries PUBLIC sweepgen_core nlohmann_json::nlohmann_json)
   target_compile_options(sweepgen_fuzz_entries PRIVATE -Wall -Wextra -Wpedantic)
 endif()

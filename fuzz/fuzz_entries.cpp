@@ -16,10 +16,6 @@
 #include "model/urdf_loader.hpp"
 #include "scene/scene.hpp"
 
-#ifndef SWEEPGEN_FUZZ_ROBOTS_DIR
-#error "SWEEPGEN_FUZZ_ROBOTS_DIR (the robots/ directory) must be defined"
-#endif
-
 namespace sweepgen::fuzz {
 namespace {
 
@@ -28,19 +24,17 @@ namespace fs = std::filesystem;
 [[noreturn]] void violation(const std::string& what) { throw ContractViolation(what); }
 
 // Where inputs are written: the readers take file paths. One directory per process, holding
-// copies of the bundled URDFs so that fuzzed scenes can name them as the bundled scenes do.
+// copies of the bundled URDFs (built in, so no source path is needed at run time) so that fuzzed
+// scenes can name them as the bundled scenes do.
 class Sandbox {
  public:
   Sandbox() {
     std::string pattern = (fs::temp_directory_path() / "sweepgen-fuzz-XXXXXX").string();
     if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("fuzz harness: cannot create " + pattern);
     dir_ = pattern;
-    for (const auto& robot : fs::directory_iterator(SWEEPGEN_FUZZ_ROBOTS_DIR)) {
-      if (!robot.is_directory()) continue;
-      for (const auto& file : fs::directory_iterator(robot.path()))
-        if (file.path().extension() == ".urdf")  // a name in two robots/ folders: the first one found
-          fs::copy_file(file.path(), dir_ / file.path().filename(), fs::copy_options::skip_existing);
-    }
+    // A name in two robots/ folders: the first one in path order.
+    for (const auto& [path, text] : bundled_urdfs())
+      if (!fs::exists(dir_ / fs::path(path).filename())) write(fs::path(path).filename().string(), text);
   }
   ~Sandbox() {
     std::error_code ignored;
@@ -71,8 +65,33 @@ const Sandbox& sandbox() {
 
 // ---- Error messages -------------------------------------------------------------------------
 
+// The index just past the quoted name (model/error.hpp: quote_name) that opens at `open`, or npos when
+// it is not closed: inside, a backslash escapes the next byte.
+std::size_t past_quoted(const std::string& text, std::size_t open) {
+  for (std::size_t at = open + 1; at < text.size(); ++at) {
+    if (text[at] == '\\') ++at;
+    else if (text[at] == '\'') return at + 1;
+  }
+  return std::string::npos;
+}
+
+// Where ": " first occurs in `text` from `from` on outside quoted names, or npos.
+std::size_t unquoted_separator(const std::string& text, std::size_t from) {
+  for (std::size_t at = from; at < text.size(); ++at) {
+    if (text[at] == '\'') {
+      at = past_quoted(text, at);
+      if (at == std::string::npos) return std::string::npos;
+      --at;
+    } else if (text.compare(at, 2, ": ") == 0) {
+      return at;
+    }
+  }
+  return std::string::npos;
+}
+
 // InputError's "FILE: ELEMENT: REASON", where FILE is `file` itself or, for scene positions,
-// "file:LINE:COLUMN". ELEMENT and REASON must not be empty.
+// "file:LINE:COLUMN". ELEMENT and REASON must not be empty, and ELEMENT ends at the first ": "
+// outside quoted names: a name from the input must be quoted wherever it could hold ": ".
 void check_input_error(const std::string& message, const std::string& file) {
   if (message.rfind(file, 0) != 0) violation("error message does not start with the file '" + file + "': " + message);
   std::size_t at = file.size();
@@ -83,16 +102,21 @@ void check_input_error(const std::string& message, const std::string& file) {
     while (at < message.size() && std::isdigit(static_cast<unsigned char>(message[at]))) ++at;
   }
   if (message.compare(at, 2, ": ") != 0) violation("no ': ' after the file (and position): " + message);
-  const std::string rest = message.substr(at + 2);
-  const std::size_t separator = rest.find(": ");
-  if (separator == 0 || separator == std::string::npos || separator + 2 == rest.size())
+  const std::size_t element = at + 2;
+  const std::size_t separator = unquoted_separator(message, element);
+  if (separator == element || separator == std::string::npos || separator + 2 == message.size())
     violation("error message names no element or gives no reason: " + message);
+  // An element is names and words: a ':' in it outside quotes would blur where it ends.
+  for (std::size_t i = element; i < separator; ++i) {
+    if (message[i] == '\'') i = past_quoted(message, i) - 1;
+    else if (message[i] == ':') violation("unquoted ':' in the element of: " + message);
+  }
 }
 
-// KeyError's "key 'KEY': REASON" with a non-empty reason.
+// KeyError's "key 'KEY': REASON" with a quoted KEY and a non-empty reason.
 void check_key_error(const std::string& message) {
-  const std::size_t separator = message.find("': ");
-  if (message.rfind("key '", 0) != 0 || separator == std::string::npos || separator + 3 == message.size())
+  const std::size_t closed = message.rfind("key '", 0) == 0 ? past_quoted(message, 4) : std::string::npos;
+  if (closed == std::string::npos || message.compare(closed, 2, ": ") != 0 || closed + 2 == message.size())
     violation("error message does not name the key and a reason: " + message);
 }
 
@@ -238,7 +262,7 @@ bool in_sandbox(const std::string& path) {
 const model::Chain& panda() {
   static const model::Chain chain = [] {
     model::ChainSpec spec;
-    spec.urdf = std::string(SWEEPGEN_FUZZ_ROBOTS_DIR) + "/panda/panda.urdf";
+    spec.urdf = (sandbox().dir() / "panda.urdf").string();
     try {
       return model::load_chain(spec);
     } catch (const InputError& e) {

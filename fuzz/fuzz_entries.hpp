@@ -9,6 +9,7 @@
 // libFuzzer an escaping exception aborts the run, which records the input as a finding.
 #pragma once
 
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -24,6 +25,9 @@ struct Outcome {
   bool accepted = false;
   std::string error;  // what() of the documented error when rejected
 };
+
+// robots/*/*.urdf as built in (cmake/embed_files.cmake), keyed by the path under robots/.
+const std::map<std::string, std::string>& bundled_urdfs();
 
 // The URDF loader (model::load_chain) on `input` written to a file. The input may start with
 // "<!-- chain root=LINK tip=LINK -->" (an XML comment, so still a URDF; either part optional)

@@ -209,6 +209,15 @@ TEST(ModelErrors, RotorInertiaForUnknownJoint) {
   expect_contains(load_error(arm(), "", "", {{"j2", -1}}, "--rotor-inertia"), "finite number >= 0");
 }
 
+// Names from the input are quoted and escaped (model/error.hpp: quote_name), so that one holding
+// ": ", a quote or a line break cannot blur where the element ends and the reason begins.
+TEST(ModelErrors, NamesAreQuotedAndEscaped) {
+  expect_contains(load_error(arm(), "", "a: b'c\nd"), ": tip link 'a: b\\'c\\nd': no such link");
+  EXPECT_EQ(quote_name(std::string("x\0\x01\\y", 5)), "'x\\0\\x01\\\\y'");
+  EXPECT_EQ(element_path("locked_joints", "j2"), "locked_joints.j2");
+  EXPECT_EQ(element_path("locked_joints", "j 2: x"), "locked_joints.'j 2: x'");
+}
+
 TEST(ModelErrors, ChainWithoutMovingJoint) {
   expect_contains(load_error(arm(), "l1", "l1"), "no moving joint");
 }

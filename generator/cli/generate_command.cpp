@@ -47,7 +47,7 @@ scene::Scene resolve_scene(const SceneOptions& options) {
   }
   if (!options.solver.empty()) {
     if (!scene::is_identifier(options.solver))
-      throw InputError("--solver", "'" + options.solver + "'", "not a usable C++ identifier");
+      throw InputError("--solver", quote_name(options.solver), "not a usable C++ identifier");
     s.solver = options.solver;
   }
   if (!options.expose.empty()) s.expose_all = options.expose == "all";
@@ -131,7 +131,7 @@ int run_generate(const GenerateOptions& options) {
   // Default lock positions are a modelling choice the scene did not make: say so where it is made.
   for (const auto& locked : chain.locked_joints)
     if (!locked.from_scene)
-      std::cout << "sweepgen: note: joint '" << locked.name << "' off the chain is locked at " << locked.position
+      std::cout << "sweepgen: note: joint " << quote_name(locked.name) << " off the chain is locked at " << locked.position
                 << " (0 clamped into its limits; set locked_joints in the scene to choose), carrying its links on "
                 << chain.bodies[locked.body].link << "\n";
   print_costs(emitted, std::cout);

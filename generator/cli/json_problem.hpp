@@ -18,7 +18,7 @@ namespace sweepgen::cli {
 class KeyError : public std::runtime_error {
  public:
   KeyError(const std::string& key, const std::string& reason)
-      : std::runtime_error(message_text("key '" + key + "': " + reason)) {}
+      : std::runtime_error(message_text("key " + quote_name(key) + ": " + reason)) {}
 };
 
 struct Problem {

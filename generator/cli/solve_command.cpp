@@ -24,7 +24,7 @@ std::map<std::string, double> parse_rotor_inertia(const std::vector<std::string>
       used = 0;
     }
     if (eq == std::string::npos || eq == 0 || used == 0 || used != entry.size() - eq - 1)
-      throw InputError("--rotor-inertia", "'" + entry + "'", "expected JOINT=VALUE with a number VALUE");
+      throw InputError("--rotor-inertia", quote_name(entry), "expected JOINT=VALUE with a number VALUE");
     values[entry.substr(0, eq)] = value;
   }
   return values;

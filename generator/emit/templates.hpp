@@ -1,4 +1,4 @@
-// The file skeletons of templates/, embedded at build time (cmake/embed_templates.cmake),
+// The file skeletons of templates/, embedded at build time (cmake/embed_files.cmake),
 // rendered with kainjow's logic-less mustache.
 #pragma once
 

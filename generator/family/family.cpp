@@ -297,7 +297,7 @@ const std::vector<std::string>& family_case_names() {
 FamilyCase family_case(const std::string& name) {
   for (const auto& [case_name, make] : makers())
     if (case_name == name) return make();
-  throw InputError("sweepgen family", "case '" + name + "'",
+  throw InputError("sweepgen family", "case " + quote_name(name),
                    "no such case (see --list)" + nearest_name_hint(name, family_case_names()));
 }
 

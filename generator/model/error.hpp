@@ -18,6 +18,16 @@ inline std::string message_text(const std::string& text) {
   return out;
 }
 
+// A name taken from the input, as messages print it: in single quotes, with \\, \', NUL (\0),
+// newline (\n), tab (\t) and other control bytes (\xNN) escaped, so that a name holding ": ", a
+// quote or a line break cannot blur where the element ends and the reason begins.
+std::string quote_name(const std::string& name);
+
+// The element path `parent.key` of a scene entry named by the input (a joint name under
+// rotor_inertia, an unknown key): `key` as it is when it is a plain name (letters, digits, '_',
+// '-'), quoted otherwise.
+std::string element_path(const std::string& parent, const std::string& key);
+
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, const std::string& element, const std::string& reason)

@@ -61,7 +61,7 @@ std::string shortest(double value) {
   return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
 }
 
-std::string quoted(const std::string& kind, const std::string& name) { return kind + " '" + name + "'"; }
+std::string named(const std::string& kind, const std::string& name) { return kind + " " + quote_name(name); }
 
 void require_finite(const std::string& file, const std::string& element, std::initializer_list<double> values) {
   for (double v : values)
@@ -88,7 +88,7 @@ Inertia link_inertia(const urdf::Link& link, const std::string& file, double& ma
   mass = 0;
   if (!link.inertial) return Inertia{};
   const urdf::Inertial& in = *link.inertial;
-  const std::string element = quoted("link", link.name) + " <inertial>";
+  const std::string element = named("link", link.name) + " <inertial>";
   require_finite(file, element, {in.mass, in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz});
   if (in.mass < 0) throw InputError(file, element, "negative mass " + std::to_string(in.mass));
   Mat3 inertia_com;
@@ -124,7 +124,7 @@ urdf::LinkConstSharedPtr find_link(const urdf::ModelInterface& model, const std:
                                    const std::string& file, const std::string& role) {
   auto link = model.getLink(name);
   if (!link)
-    throw InputError(file, role + " link '" + name + "'",
+    throw InputError(file, role + " link " + quote_name(name),
                      "no such link in the URDF" + nearest_name_hint(name, link_names(model)));
   return link;
 }
@@ -134,7 +134,7 @@ urdf::LinkConstSharedPtr find_link(const urdf::ModelInterface& model, const std:
 bool moves_below(const urdf::Link& link, std::size_t& budget, const std::string& file) {
   for (const auto& joint : link.child_joints) {
     if (budget-- == 0)
-      throw InputError(file, quoted("link", link.name), "the joints form a cycle through this link; a URDF must be a tree");
+      throw InputError(file, named("link", link.name), "the joints form a cycle through this link; a URDF must be a tree");
     if (joint->type != urdf::Joint::FIXED) return true;
   }
   for (const auto& child : link.child_links)
@@ -151,7 +151,7 @@ std::string deepest_link(const urdf::Link& root, std::size_t link_count, const s
   const urdf::Link* link = &root;
   for (std::size_t steps = 0; !link->child_links.empty(); ++steps) {
     if (steps == link_count)
-      throw InputError(file, quoted("link", link->name),
+      throw InputError(file, named("link", link->name),
                        "the joints form a cycle through this link; a URDF must be a tree");
     std::vector<const urdf::Link*> moving;
     for (std::size_t c = 0; c < link->child_links.size(); ++c) {
@@ -162,8 +162,8 @@ std::string deepest_link(const urdf::Link& root, std::size_t link_count, const s
     }
     if (link->child_links.size() > 1 && moving.size() != 1) {
       std::string children;
-      for (const auto& child : link->child_links) children += (children.empty() ? "'" : ", '") + child->name + "'";
-      throw InputError(file, quoted("link", link->name),
+      for (const auto& child : link->child_links) children += (children.empty() ? "" : ", ") + quote_name(child->name);
+      throw InputError(file, named("link", link->name),
                        "the tree branches here (children " + children + ", " + std::to_string(moving.size()) +
                            " of them with moving joints below); name the tip link explicitly");
     }
@@ -178,13 +178,13 @@ std::vector<urdf::JointConstSharedPtr> path_joints(const urdf::ModelInterface& m
   std::vector<urdf::JointConstSharedPtr> joints;
   for (auto link = model.getLink(tip); link->name != root;) {
     if (!link->parent_joint)
-      throw InputError(file, "links '" + root + "' and '" + tip + "'",
-                       "not connected: '" + tip + "' is not below '" + root + "' in the URDF tree");
+      throw InputError(file, "links " + quote_name(root) + " and " + quote_name(tip),
+                       "not connected: " + quote_name(tip) + " is not below " + quote_name(root) + " in the URDF tree");
     // urdfdom accepts a cycle of links that each have a parent (apart from the root's tree):
     // walking up from a link on it never ends.
     if (joints.size() == model.links_.size())
-      throw InputError(file, "links '" + root + "' and '" + tip + "'",
-                       "not connected: the joints above '" + tip + "' form a cycle; a URDF must be a tree");
+      throw InputError(file, "links " + quote_name(root) + " and " + quote_name(tip),
+                       "not connected: the joints above " + quote_name(tip) + " form a cycle; a URDF must be a tree");
     joints.push_back(link->parent_joint);
     link = model.getLink(link->parent_joint->parent_link_name);
   }
@@ -193,7 +193,7 @@ std::vector<urdf::JointConstSharedPtr> path_joints(const urdf::ModelInterface& m
 
 // The unit axis of a moving joint, validated.
 Vec3 unit_axis(const urdf::Joint& joint, const std::string& file) {
-  const std::string element = quoted("joint", joint.name) + " <axis>";
+  const std::string element = named("joint", joint.name) + " <axis>";
   const auto& a = joint.axis;
   require_finite(file, element, {a.x, a.y, a.z});
   const Vec3 axis(a.x, a.y, a.z);
@@ -232,10 +232,10 @@ class OffChainLumper {
   // transform from the body's frame to the joint's parent link frame.
   void carry(const urdf::Joint& joint, std::size_t body, const Transform& body_to_parent, std::string locked_by) {
     const std::string& file = spec_.urdf;
-    const std::string element = quoted("joint", joint.name);
+    const std::string element = named("joint", joint.name);
     const auto child = model_.getLink(joint.child_link_name);
     if (chain_.frames.count(child->name) != 0)
-      throw InputError(file, quoted("link", child->name), "the joints form a cycle through this link; a URDF must be a tree");
+      throw InputError(file, named("link", child->name), "the joints form a cycle through this link; a URDF must be a tree");
     Transform parent_to_child = transform_from_pose(joint.parent_to_joint_origin_transform, file, element);
     if (is_moving(joint)) {
       const double position = lock(joint, body);
@@ -247,8 +247,8 @@ class OffChainLumper {
       locked_by = joint.name;
     } else if (joint.type != urdf::Joint::FIXED) {
       throw InputError(file, element,
-                       "a floating or planar joint off the chain (below '" + chain_.bodies[body].link +
-                           "') cannot be locked at one position; make it fixed, or choose a chain that avoids it");
+                       "a floating or planar joint off the chain (below " + quote_name(chain_.bodies[body].link) +
+                           ") cannot be locked at one position; make it fixed, or choose a chain that avoids it");
     }
     const Transform body_to_child = parent_to_child * body_to_parent;
     double mass = 0;
@@ -265,15 +265,15 @@ class OffChainLumper {
   double lock(const urdf::Joint& joint, std::size_t body) {
     const std::string& file = spec_.urdf;
     if (joint.mimic && chain_.joint_index(joint.mimic->joint_name) != 0)
-      throw InputError(file, quoted("joint", joint.name),
-                       "a mimic of chain joint '" + joint.mimic->joint_name +
-                           "' off the chain cannot be locked (its position follows that joint)");
+      throw InputError(file, named("joint", joint.name),
+                       "a mimic of chain joint " + quote_name(joint.mimic->joint_name) +
+                           " off the chain cannot be locked (its position follows that joint)");
     const bool limited = joint.type != urdf::Joint::CONTINUOUS && joint.limits;
     const double lower = limited ? joint.limits->lower : -std::numeric_limits<double>::infinity();
     const double upper = limited ? joint.limits->upper : std::numeric_limits<double>::infinity();
     LockedJoint locked{joint.name, body, std::clamp(0.0, lower, upper), false};
     if (const auto given = spec_.locked_joints.find(joint.name); given != spec_.locked_joints.end()) {
-      const std::string element = "locked_joints." + joint.name;
+      const std::string element = element_path("locked_joints", joint.name);
       if (!std::isfinite(given->second)) throw InputError(location(joint.name), element, "position is not finite");
       if (given->second < lower || given->second > upper)
         throw InputError(location(joint.name), element,
@@ -297,14 +297,14 @@ class OffChainLumper {
     for (const auto& locked : chain_.locked_joints) lockable.push_back(locked.name);
     for (const auto& [name, position] : spec_.locked_joints) {
       if (std::find(lockable.begin(), lockable.end(), name) != lockable.end()) continue;
-      const std::string element = "locked_joints." + name;
+      const std::string element = element_path("locked_joints", name);
       const auto joint = model_.getJoint(name);
       std::string reason;
       if (!joint) reason = "no joint of that name in " + spec_.urdf + nearest_name_hint(name, lockable);
       else if (chain_.joint_index(name) != 0) reason = "is a moving joint of the chain; only joints off the chain are locked";
       else if (!is_moving(*joint)) reason = "is not a revolute, continuous or prismatic joint; there is nothing to lock";
       else reason = "is not carried by a moving body of the chain (it hangs off the fixed base or lies outside the chain's tree); locking it changes nothing";
-      throw InputError(location(name), element, "joint '" + name + "' " + reason);
+      throw InputError(location(name), element, "joint " + quote_name(name) + " " + reason);
     }
   }
 
@@ -313,12 +313,12 @@ class OffChainLumper {
       if (chain_.frames.count(name) != 0) continue;
       // Up the tree to the first link the chain knows (only the base's links can be met: every
       // moving body's branches are lumped); the link count bounds the walk against cycles.
-      std::string reason = "not below the root link '" + chain_.root_link + "'";
+      std::string reason = "not below the root link " + quote_name(chain_.root_link);
       urdf::LinkConstSharedPtr above = link;
       for (std::size_t steps = 0; above->parent_joint && steps < model_.links_.size(); ++steps) {
         above = model_.getLink(above->parent_joint->parent_link_name);
         if (chain_.frames.count(above->name) != 0) {
-          reason = "carried by the fixed base (below '" + above->name + "'): it moves nothing";
+          reason = "carried by the fixed base (below " + quote_name(above->name) + "): it moves nothing";
           break;
         }
       }
@@ -345,9 +345,9 @@ void check_last_joint_can_accelerate(const Chain& chain) {
   // point mass or a rod of zero radius on the axis is not.
   const double scale = joint.rotor_inertia + (joint.type == JointType::revolute ? inertia.A.trace() : inertia.C.trace());
   if (!(D > 1000 * std::numeric_limits<double>::epsilon() * scale))
-    throw InputError(chain.source, quoted("joint", joint.name),
-                     "the last moving body ('" + chain.bodies[n].link +
-                         "' with everything fixed to it) has no inertia about this joint's axis and the joint has "
+    throw InputError(chain.source, named("joint", joint.name),
+                     "the last moving body (" + quote_name(chain.bodies[n].link) +
+                         " with everything fixed to it) has no inertia about this joint's axis and the joint has "
                          "no rotor inertia, so D_N = 0 and its acceleration is undefined; give the link an "
                          "<inertial> or the joint a rotor inertia");
 }
@@ -356,7 +356,7 @@ void apply_rotor_inertia(Chain& chain, const std::map<std::string, double>& roto
   std::vector<std::string> names;
   for (std::size_t i = 1; i <= chain.dof(); ++i) names.push_back(chain.joints[i].name);
   for (const auto& [name, value] : rotor_inertia) {
-    const std::string element = "rotor inertia of joint '" + name + "'";
+    const std::string element = "rotor inertia of joint " + quote_name(name);
     const std::size_t i = chain.joint_index(name);
     if (i == 0) throw InputError(source, element, "no moving joint of that name on the chain" + nearest_name_hint(name, names));
     if (!std::isfinite(value) || value < 0) throw InputError(source, element, "must be a finite number >= 0");
@@ -411,7 +411,7 @@ Chain load_chain(const ChainSpec& spec) {
   // Transform from the current body's frame to the frame of the link reached last.
   Transform body_to_link = Transform::identity();
   for (const auto& urdf_joint : path_joints(*model, chain.root_link, chain.tip_link, urdf_path)) {
-    const std::string element = quoted("joint", urdf_joint->name);
+    const std::string element = named("joint", urdf_joint->name);
     if (urdf_joint->mimic)
       throw InputError(urdf_path, element, "mimic joints are not supported (the chain needs independent joints)");
     const auto child = model->getLink(urdf_joint->child_link_name);
@@ -471,7 +471,7 @@ Chain load_chain(const ChainSpec& spec) {
     }
   }
   if (chain.dof() == 0)
-    throw InputError(urdf_path, "links '" + chain.root_link + "' and '" + chain.tip_link + "'",
+    throw InputError(urdf_path, "links " + quote_name(chain.root_link) + " and " + quote_name(chain.tip_link),
                      "no moving joint between them");
   OffChainLumper(*model, spec, chain).run(chain_links);
   apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);

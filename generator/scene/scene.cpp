@@ -83,9 +83,9 @@ class Reader {
       Item key_item{key, map.element, mark_of(key, map.mark)};
       if (!key.IsScalar()) fail(key_item, "keys must be plain names, got " + kind(key));
       const std::string name = key.Scalar();
-      key_item.element = child(map.element, name);
+      key_item.element = element_path(map.element, name);
       if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
-        fail(key_item, "unknown key '" + name + "'" + nearest_name_hint(name, allowed) +
+        fail(key_item, "unknown key " + quote_name(name) + nearest_name_hint(name, allowed) +
                            " (allowed here: " + join(allowed) + ")");
       if (const auto previous = seen.find(name); previous != seen.end())
         fail(key_item, "duplicate key (first given at " + format_mark(file_, previous->second) + ")");
@@ -115,14 +115,14 @@ class Reader {
   std::string identifier(const Item& item) const {
     const std::string name = string(item);
     if (const std::string problem = identifier_problem(name); !problem.empty())
-      fail(item, "'" + name + "' is not a usable C++ identifier: it " + problem);
+      fail(item, quote_name(name) + " is not a usable C++ identifier: it " + problem);
     return name;
   }
 
   double number(const Item& item) const {
     if (!item.node.IsScalar()) fail(item, "expected a number, got " + kind(item.node));
     double value = 0;
-    if (!YAML::convert<double>::decode(item.node, value)) fail(item, "expected a number, got '" + item.node.Scalar() + "'");
+    if (!YAML::convert<double>::decode(item.node, value)) fail(item, "expected a number, got " + quote_name(item.node.Scalar()));
     if (!std::isfinite(value)) fail(item, "number is not finite (NaN or Inf)");
     return value;
   }
@@ -131,7 +131,7 @@ class Reader {
     if (!item.node.IsScalar()) fail(item, "expected an integer, got " + kind(item.node));
     long long value = 0;
     if (!YAML::convert<long long>::decode(item.node, value))
-      fail(item, "expected an integer, got '" + item.node.Scalar() + "'");
+      fail(item, "expected an integer, got " + quote_name(item.node.Scalar()));
     return value;
   }
 
@@ -139,14 +139,11 @@ class Reader {
   std::string choice(const Item& item, const std::vector<std::string>& choices, const std::string& what) const {
     const std::string text = string(item);
     if (std::find(choices.begin(), choices.end(), text) == choices.end())
-      fail(item, "unknown " + what + " '" + text + "'" + nearest_name_hint(text, choices) + " (expected one of: " +
+      fail(item, "unknown " + what + " " + quote_name(text) + nearest_name_hint(text, choices) + " (expected one of: " +
                      join(choices) + ")");
     return text;
   }
 
-  static std::string child(const std::string& parent, const std::string& key) {
-    return parent.empty() ? key : parent + "." + key;
-  }
 
  private:
   static YAML::Mark mark_of(const YAML::Node& node, const YAML::Mark& fallback) {
@@ -156,7 +153,7 @@ class Reader {
   static std::string kind(const YAML::Node& node) {
     switch (node.Type()) {
       case YAML::NodeType::Null: return "nothing";
-      case YAML::NodeType::Scalar: return "'" + node.Scalar() + "'";
+      case YAML::NodeType::Scalar: return quote_name(node.Scalar());
       case YAML::NodeType::Sequence: return "a list";
       case YAML::NodeType::Map: return "a mapping";
       default: return "nothing";
@@ -188,7 +185,7 @@ void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::
     if (name == "alpha")
       reader.fail(item, "'alpha' is reserved for the constraint directions in generated code; pick another name");
     if (const auto previous = instances.find(name); previous != instances.end())
-      reader.fail(item, "duplicate driver instance name '" + name + "' (first given at " + reader.where(previous->second) + ")");
+      reader.fail(item, "duplicate driver instance name " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
     instances.emplace(name, item);
     return name;
   };
@@ -272,10 +269,10 @@ void read_decomposition(const Reader& reader, const std::optional<Item>& decompo
     for (const Item& member : members) {
       const std::string name = reader.string(member);
       if (std::find(known.begin(), known.end(), name) == known.end())
-        reader.fail(member, "unknown driver instance '" + name + "'" + nearest_name_hint(name, known) +
+        reader.fail(member, "unknown driver instance " + quote_name(name) + nearest_name_hint(name, known) +
                                 " (known: " + join(known) + ")");
       if (const auto previous = grouped.find(name); previous != grouped.end())
-        reader.fail(member, "'" + name + "' is already in a group (at " + reader.where(previous->second) +
+        reader.fail(member, quote_name(name) + " is already in a group (at " + reader.where(previous->second) +
                                 "); an instance can be on one track only");
       grouped.emplace(name, member);
       if (track.name.empty()) track.name = name;
@@ -304,9 +301,9 @@ std::string unseparable_external_force(const solver::DriverLayout& layout) {
     if (track.external_forces.empty() || track.only_external_forces()) continue;
     std::vector<std::string> others;
     if (track.bias) others.push_back("the bias");
-    for (auto i : track.torques) others.push_back("torque '" + layout.torques[i] + "'");
-    return "external force '" + layout.external_forces[track.external_forces.front()].name + "' shares track '" +
-           track.name + "' with " + join(others);
+    for (auto i : track.torques) others.push_back("torque " + quote_name(layout.torques[i]));
+    return "external force " + quote_name(layout.external_forces[track.external_forces.front()].name) + " shares track " +
+           quote_name(track.name) + " with " + join(others);
   }
   return "";
 }
@@ -318,8 +315,8 @@ std::string solver_namespace_problem(const std::string& text) {
     const std::size_t end = text.find("::", start);
     const std::string part = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
     if (const std::string problem = identifier_problem(part); !problem.empty())
-      return "'" + text + "' is not a C++ namespace name: " + (part.empty() ? "a component" : "'" + part + "'") + " " + problem;
-    if (first && part == "std") return "'" + text + "' is not a usable namespace: 'std' is reserved";
+      return quote_name(text) + " is not a C++ namespace name: " + (part.empty() ? "a component" : quote_name(part)) + " " + problem;
+    if (first && part == "std") return quote_name(text) + " is not a usable namespace: 'std' is reserved";
     first = false;
     if (end == std::string::npos) return "";
     start = end + 2;
@@ -377,7 +374,7 @@ Scene load_scene(const std::string& path) {
   };
   const auto require = [&](const std::string& key, const std::string& what) {
     const auto item = get(key);
-    if (!item) reader.fail(Item{document, key, root.mark}, "missing required key '" + key + "' (" + what + ")");
+    if (!item) reader.fail(Item{document, key, root.mark}, "missing required key " + quote_name(key) + " (" + what + ")");
     return *item;
   };
 
@@ -427,13 +424,13 @@ Scene load_scene(const std::string& path) {
     for (auto it = item.node.begin(); it != item.node.end(); ++it) {
       Item name{it->first, item.element, it->first.Mark()};
       const std::string joint = reader.string(name);
-      name.element = key + "." + joint;
+      name.element = element_path(key, joint);
       if (const auto previous = seen.find(joint); previous != seen.end())
         reader.fail(name, "duplicate joint (first given at " + format_mark(path, previous->second) + ")");
       seen.emplace(joint, name.mark);
       const Item value{it->second, name.element, it->second.IsNull() ? name.mark : it->second.Mark()};
       values[joint] = reader.number(value);
-      scene.locations[name.element] = reader.where(name);
+      scene.locations[key + "." + joint] = reader.where(name);
       if (key == "rotor_inertia" && values[joint] < 0) reader.fail(value, "rotor inertia must be >= 0");
     }
   };
@@ -459,7 +456,7 @@ Scene load_scene(const std::string& path) {
     for (const Item& entry : entries) {
       const std::string name = reader.choice(entry, policy_names(), "policy");
       if (const auto previous = seen.find(name); previous != seen.end())
-        reader.fail(entry, "duplicate policy '" + name + "' (first given at " + reader.where(previous->second) + ")");
+        reader.fail(entry, "duplicate policy " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
       seen.emplace(name, entry);
       const solver::Policy policy = *solver::policy_from_name(name);
       if (policy == solver::Policy::prioritize_external) {
@@ -482,7 +479,7 @@ Scene load_scene(const std::string& path) {
     for (const Item& entry : entries) {
       const std::string name = reader.choice(entry, scalar_names(), "scalar type");
       if (const auto previous = seen.find(name); previous != seen.end())
-        reader.fail(entry, "duplicate scalar type '" + name + "' (first given at " + reader.where(previous->second) + ")");
+        reader.fail(entry, "duplicate scalar type " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
       seen.emplace(name, entry);
       scene.scalars.push_back(name);
     }
@@ -514,9 +511,9 @@ model::Chain load_scene_chain(const Scene& scene) {
       const std::string message = e.what();
       if (message.rfind(s.urdf + ":", 0) != 0) throw;  // already names the scene (rotor inertia)
       std::string element = "urdf";  // names are compared as the message spells them (message_text)
-      if (!s.root_link.empty() && message.find(message_text("root link '" + s.root_link + "'")) != std::string::npos)
+      if (!s.root_link.empty() && message.find(message_text("root link " + quote_name(s.root_link))) != std::string::npos)
         element = "root";
-      if (!s.tip_link.empty() && (message.find(message_text("tip link '" + s.tip_link + "'")) != std::string::npos ||
+      if (!s.tip_link.empty() && (message.find(message_text("tip link " + quote_name(s.tip_link))) != std::string::npos ||
                                   message.find("not connected") != std::string::npos))
         element = "tip";
       throw InputError(scene.location(element), element, message);
@@ -539,9 +536,9 @@ model::Chain load_scene_chain(const Scene& scene) {
       for (std::size_t i = 1; i <= chain->dof(); ++i) joints.push_back(chain->joints[i].name);
       for (const auto& [name, value] : spec.rotor_inertia) {
         if (chain->joint_index(name) == 0)
-          throw InputError(scene.location("rotor_inertia." + name), "rotor_inertia." + name,
-                           "no moving joint '" + name + "' on the chain from '" + chain->root_link + "' to '" +
-                               chain->tip_link + "'" + nearest_name_hint(name, joints));
+          throw InputError(scene.location("rotor_inertia." + name), element_path("rotor_inertia", name),
+                           "no moving joint " + quote_name(name) + " on the chain from " + quote_name(chain->root_link) + " to " +
+                               quote_name(chain->tip_link) + nearest_name_hint(name, joints));
       }
     }
   }
@@ -555,12 +552,12 @@ model::Chain load_scene_chain(const Scene& scene) {
     const auto frame = chain.frames.find(ext.link);
     if (frame == chain.frames.end())
       throw InputError(scene.location(element), element,
-                       "link '" + ext.link + "' of external force '" + ext.name + "' is not on the chain from '" +
-                           chain.root_link + "' to '" + chain.tip_link + "'" + nearest_name_hint(ext.link, links));
+                       "link " + quote_name(ext.link) + " of external force " + quote_name(ext.name) + " is not on the chain from " +
+                           quote_name(chain.root_link) + " to " + quote_name(chain.tip_link) + nearest_name_hint(ext.link, links));
     if (frame->second.body == 0)
       throw InputError(scene.location(element), element,
-                       "link '" + ext.link + "' of external force '" + ext.name +
-                           "' is fixed to the base; a force on it moves nothing");
+                       "link " + quote_name(ext.link) + " of external force " + quote_name(ext.name) +
+                           " is fixed to the base; a force on it moves nothing");
   }
   solver::validate(scene.layout, chain, scene.path.empty() ? "command line" : scene.path);
   return chain;

@@ -31,13 +31,13 @@ void validate(const DriverLayout& layout, const model::Chain& chain, const std::
   std::vector<std::string> links;
   for (const auto& [name, frame] : chain.frames) links.push_back(name);
   for (const auto& ext : layout.external_forces) {
-    const std::string element = "external force '" + ext.name + "'";
+    const std::string element = "external force " + quote_name(ext.name);
     const auto frame = chain.frames.find(ext.link);
     if (frame == chain.frames.end())
       throw InputError(source, element,
-                       "link '" + ext.link + "' is not on the chain" + nearest_name_hint(ext.link, links));
+                       "link " + quote_name(ext.link) + " is not on the chain" + nearest_name_hint(ext.link, links));
     if (frame->second.body == 0)
-      throw InputError(source, element, "link '" + ext.link + "' is fixed to the base; a force on it moves nothing");
+      throw InputError(source, element, "link " + quote_name(ext.link) + " is fixed to the base; a force on it moves nothing");
   }
   std::vector<int> torque_uses(layout.torques.size()), external_uses(layout.external_forces.size());
   int bias_uses = 0;
@@ -52,9 +52,9 @@ void validate(const DriverLayout& layout, const model::Chain& chain, const std::
                        what + (uses == 0 ? " is on no track" : " is on more than one track"));
   };
   once(bias_uses, "the velocity-product bias");
-  for (std::size_t i = 0; i < torque_uses.size(); ++i) once(torque_uses[i], "torque '" + layout.torques[i] + "'");
+  for (std::size_t i = 0; i < torque_uses.size(); ++i) once(torque_uses[i], "torque " + quote_name(layout.torques[i]));
   for (std::size_t i = 0; i < external_uses.size(); ++i)
-    once(external_uses[i], "external force '" + layout.external_forces[i].name + "'");
+    once(external_uses[i], "external force " + quote_name(layout.external_forces[i].name));
 }
 
 }  // namespace sweepgen::solver
