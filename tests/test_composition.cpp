@@ -1,4 +1,4 @@
-// Composition identities of the reference solver (docs/achd-equations.md, "Properties"):
+// Composition identities of the reference solver (docs/derivation.md, section 9):
 // Alg. 1 ≡ Alg. 2 + Alg. 3, Alg. 4's exact relations to Alg. 3, linearity (per-driver
 // contributions add up), and re-solving for new setpoints equals a fresh solve.
 // Tolerances: these are identities between two double evaluations of the same sums in a

@@ -2,7 +2,7 @@
 // inverse and forward dynamics in long double (tests/support/dense_dynamics.hpp):
 //   (c) Nc = 0: RNEA(q, q̇, q̈) + d_i q̈_i = τff + Σ J_i^T F_ext,i, rotor inertia on some joints;
 //   (d) forward dynamics M^-1 (τcmd + Σ J^T F_ext − b) reproduces q̈ for every policy, while
-//       τff + τctrl does not (the trap of docs/achd-equations.md): it agrees with τcmd only
+//       τff + τctrl does not (a trap of docs/derivation.md, section 7): it agrees with τcmd only
 //       at the last joint; the saturating policies' τcmd realise their q̈, and exact saturation
 //       keeps |τcmd| within the effort limits.
 // Cases: the four bundled robots (default tips behind fixed joints, d_i = 0.1 on every other

@@ -1,6 +1,6 @@
 // The reference solver against KDL 1.5.1's ChainHdSolver_Vereshchagin (an independent
 // implementation of the same Popov-Vereshchagin recursion), on every bundled robot
-// (docs/achd-equations.md, "Using KDL 1.5.1 (Debian) as an oracle").
+// (docs/derivation.md, section 7, "KDL's conventions").
 //
 // KDL's Vereshchagin solver aborts or corrupts memory on chains with fixed joints, so both
 // solvers run on the chain root -> last moving link (BundledRobot::last_moving_link); on

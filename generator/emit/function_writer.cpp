@@ -146,7 +146,7 @@ class Writer {
     }
     if (field.array != block_array_) {
       block_array_ = field.array;
-      text_ << "  // " << field.array << ": " << eq.formula << "\n";
+      text_ << "  // " << field.array << ": " << eq.cited() << "\n";
     }
   }
 

@@ -49,7 +49,7 @@ std::string array_members(const symbolic::Trace& trace, const std::vector<std::s
   for (const auto& name : order) {
     const auto& [per_body, components] = shape[name];
     text += "  Scalar " + name + (per_body ? "[" + std::to_string(bodies) + "]" : "") + "[" +
-            std::to_string(components) + "];  // " + equation_of(name).formula + "\n";
+            std::to_string(components) + "];  // " + equation_of(name).cited() + "\n";
   }
   return text;
 }

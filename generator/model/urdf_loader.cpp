@@ -68,7 +68,8 @@ void require_finite(const std::string& file, const std::string& element, std::in
     if (!std::isfinite(v)) throw InputError(file, element, "number is not finite (NaN or Inf)");
 }
 
-// Pose of a child frame in its parent (URDF <origin>) as the motion transform parent -> child.
+// Pose of a child frame in its parent (URDF <origin>) as the motion transform parent -> child:
+// X_T of (F2) in docs/derivation.md.
 Transform transform_from_pose(const urdf::Pose& pose, const std::string& file, const std::string& element) {
   double roll = 0, pitch = 0, yaw = 0;
   require_finite(file, element + " <origin>",
@@ -105,7 +106,7 @@ Inertia link_inertia(const urdf::Link& link, const std::string& file, double& ma
                      "inertia tensor violates the triangle inequality I1 + I2 >= I3 (" + principal.str() +
                          "), no rigid body has it");
   const Transform link_to_com = transform_from_pose(in.origin, file, element);
-  // Rotate the tensor from the inertial frame into link axes: I_link = R I_com R^T.
+  // Rotate the tensor from the inertial frame into link axes, then about the link origin (F3).
   const Mat3 R = link_to_com.E.transpose();
   const Mat3 rotated = R * inertia_com * R.transpose();
   const Vec3 com = link_to_com.r;
@@ -206,8 +207,9 @@ bool is_moving(const urdf::Joint& joint) {
          joint.type == urdf::Joint::PRISMATIC;
 }
 
-// Moving joints off the chain (chain.hpp): the links behind them are lumped with the joint held
-// at its locked position, so that every link a moving body carries counts.
+// The branches that leave the chain (chain.hpp), lumped into the body that carries them (F4):
+// behind moving joints held at their locked position, so that every link a moving body carries
+// counts.
 class OffChainLumper {
  public:
   OffChainLumper(const urdf::ModelInterface& model, const ChainSpec& spec, Chain& chain)
@@ -240,7 +242,7 @@ class OffChainLumper {
     if (is_moving(joint)) {
       const double position = lock(joint, body);
       const Vec3 axis = unit_axis(joint, file);
-      Transform motion;  // the joint's own motion, child frame in the joint frame (URDF)
+      Transform motion;  // the joint's own motion X_J(q_lock), child frame in the joint frame (F2)
       if (joint.type == urdf::Joint::PRISMATIC) motion.r = axis * position;
       else motion.E = Eigen::AngleAxisd(position, axis).toRotationMatrix().transpose();
       parent_to_child = motion * parent_to_child;

@@ -1,8 +1,8 @@
-// The joint torques that realise the solved motion on a robot (docs/achd-equations.md,
-// "Two traps"). Two inward passes of rigid force propagation, f_{i-1} += X_i^T f_i,
+// The joint torques that realise the solved motion on a robot (docs/derivation.md, section 6,
+// and "The traps"). Two inward passes of rigid force propagation, f_{i-1} += X_i^T f_i,
 // τ_i = S_i^T f_i:
-//   τcmd = τff + J^T (F_cstr,N ν)             for the policies that keep the constraint;
-//   τcmd = RNEA(q, q̇, q̈; F_ext) + d q̈         for any q̈ (used by Eq. 1 saturation).
+//   τcmd = τff + J^T (F_cstr,N ν)             for the policies that keep the constraint;  (T1)
+//   τcmd = RNEA(q, q̇, q̈; F_ext) + d q̈         for any q̈ (used by Eq. 1 saturation).     (T2)
 #pragma once
 
 #include "solver/solver_model.hpp"

@@ -1,5 +1,5 @@
-// ν = (E^A_cstr,0)^-1 r  for the symmetric positive semi-definite Nc x Nc matrix E^A_cstr,0
-// (docs/derivation.md, "Singular constraints").
+// ν = (E^A_cstr,0)^-1 r  (S2) for the symmetric positive semi-definite Nc x Nc matrix E^A_cstr,0
+// (docs/derivation.md, section 4: equilibration (C1), pivoted LDL^T (C2), damped (C3)).
 //
 // Policy: LDL^T with diagonal (symmetric) pivoting, branch-free, judged relative to each
 // direction's own diagonal entry. Step k first moves the remaining direction with the largest

@@ -1,14 +1,15 @@
 // Inward sweep, tip to base: Alg. 1 and Alg. 2 of the paper as one recursion over tracks
-// (docs/achd-equations.md, "Inward sweep"; docs/derivation.md, "Tracks").
+// (docs/derivation.md, section 3).
 //
-// Per body i, with U_i = M^A_i S_i, D_i = d_i + S_i^T U_i and P_i^T F = F − U_i D_i^-1 S_i^T F:
-//   M^A_{i-1}     = M_{i-1} + X_i^T P_i^T M^A_i X_i                                  (M^A)
-//   F^A_cstr,i-1  = X_i^T P_i^T F^A_cstr,i                                           (F^A_cstr)
-//   E^A_cstr,i-1  = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i            (E^A_cstr)
+// Per body i, with U_i = M^A_i S_i, D_i = d_i + S_i^T U_i and P_i^T F = F − U_i D_i^-1 S_i^T F (I0),
+// D_i^-1 := 0 where the joint-inertia policy locks joint i (J1):
+//   M^A_{i-1}     = M_{i-1} + X_i^T P_i^T M^A_i X_i                                  (I1)
+//   F^A_cstr,i-1  = X_i^T P_i^T F^A_cstr,i                                           (I2)
+//   E^A_cstr,i-1  = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i            (I3)
 // and for every track t, with Fc = F^A_t,i (+ M^A_i Ẍb_i if t carries the bias) and
 // u = Σ_{τ in t} τ_i − S_i^T Fc:
-//   F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u)                                (F^A_t)
-//   E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T ((Ẍb_i if bias) + S_i D_i^-1 u)              (E^A_t)
+//   F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u)                                (I4)
+//   E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T ((Ẍb_i if bias) + S_i D_i^-1 u)              (I5)
 // where own_t,i = (Fb_i if bias) − Σ_{external forces of t on body i} F_ext.
 // The bias track reproduces F^A_b/E^A_b, a torque track F^A/E^A, an external-force track
 // −F^A_ext/E^A_ext, and the single track of Alg. 1 the composed F^A_b/E^A_conf.
@@ -75,27 +76,27 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
     BodyArticulated<Scalar>& a = art.body[i];
     BodyArticulated<Scalar>& parent = art.body[i - 1];
 
-    a.U = a.articulated_inertia * joint.S;
+    a.U = a.articulated_inertia * joint.S;  // (I0)
     a.D = joint.rotor_inertia + spatial::dot(a.U, joint.S);
-    // Joint-inertia policy (solver/joint_inertia.hpp): D_i <= tol (d_i + tr block) is treated
-    // as 0, branch-free: D_i^-1 := 0, so the joint is locked (no projection in (M^A), q̈_i = 0)
+    // Joint-inertia policy (J1, solver/joint_inertia.hpp): D_i <= tol (d_i + tr block) is treated
+    // as 0, branch-free: D_i^-1 := 0, so the joint is locked (no projection in (I1), q̈_i = 0)
     // and no Inf/NaN can arise where M(q) is singular.
     const Scalar threshold = model.joint_inertia_tolerance * joint_inertia_scale(joint, a.articulated_inertia);
     a.locked = select_greater(a.D, threshold, Scalar(0), Scalar(1));
     a.inverse_D = select_greater(a.D, threshold, Scalar(1), Scalar(0)) / select_greater(a.D, threshold, a.D, Scalar(1));
 
-    if (i > 1)  // (M^A)
+    if (i > 1)  // (I1)
       parent.articulated_inertia = parent.articulated_inertia +
                                    a.articulated_inertia.minus_outer(a.U, a.inverse_D).transformed_to_parent(body.X);
 
-    // (F^A_cstr), (E^A_cstr)
+    // (I2), (I3)
     ConstraintVector<Scalar> s(nc);
     for (std::size_t k = 0; k < nc; ++k) s[k] = spatial::dot(a.constraint_force[k], joint.S);
     for (std::size_t k = 0; k < nc; ++k)
       parent.constraint_force[k] = body.X.apply_transpose(a.constraint_force[k] - a.U * (a.inverse_D * s[k]));
     parent.constraint_energy = a.constraint_energy + s * (a.inverse_D * s.transpose());
 
-    // (F^A_t), (E^A_t)
+    // (I4), (I5)
     for (std::size_t t = 0; t < tracks.size(); ++t) {
       const TrackBody<Scalar>& here = art.track[t][i];
       TrackBody<Scalar>& up = art.track[t][i - 1];

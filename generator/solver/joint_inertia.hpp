@@ -1,5 +1,6 @@
-// The joint-space articulated inertia D_i = d_i + S_i^T M^A_i S_i (docs/derivation.md, I1) and
-// the scale it is judged against (docs/stability.md, "Joint-space inertia D_i").
+// The joint-space articulated inertia D_i = d_i + S_i^T M^A_i S_i (docs/derivation.md, (I0)) and
+// the scale the joint-inertia policy (J1) judges it against (docs/stability.md, "Joint-space
+// inertia D_i").
 //
 // D_i is the inertia the outboard articulated body shows through joint i. Rounding perturbs
 // it by about eps times the size of the entries of M^A_i it is read from, so its relative

@@ -1,5 +1,5 @@
-// Outward sweep, base to tip (docs/achd-equations.md, "Outward sweep"):
-//   Ẋ_i  = X_i Ẋ_{i-1} + S_i q̇_i,   Ẍb_i = Ẋ_i × (S_i q̇_i),   Fb_i = Ẋ_i ×* (M_i Ẋ_i).
+// Outward sweep, base to tip (docs/derivation.md, section 2): X_i (F2), then
+//   Ẋ_i  = X_i Ẋ_{i-1} + S_i q̇_i (O1),   Ẍb_i = Ẋ_i × (S_i q̇_i) (O2),   Fb_i = Ẋ_i ×* (M_i Ẋ_i) (O3).
 // External forces are not folded into Fb here: every track adds its own (decomposition_sweep).
 #pragma once
 

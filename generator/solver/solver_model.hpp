@@ -57,7 +57,7 @@ struct JointModel {
   Scalar rotor_inertia;  // d_i
   Scalar effort_limit;   // used by the saturating policies
 
-  // X_i = X_J(q) X_T, the motion transform from body i-1 to body i.
+  // X_i = X_J(q) X_T, the motion transform from body i-1 to body i (F2).
   Transform<Scalar> transform(const Scalar& q) const {
     using std::cos;
     using std::sin;
@@ -78,7 +78,7 @@ struct SolverModel {
   Transform<Scalar> tip;                   // body N -> tip link frame
   std::vector<std::size_t> external_force_body;        // per external-force instance
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
-  Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g]
+  Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g] (O4)
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
   Scalar pivot_tolerance;
   Scalar joint_inertia_tolerance;

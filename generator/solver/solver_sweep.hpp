@@ -1,14 +1,14 @@
-// Solver sweeps, base to tip (docs/achd-equations.md, "Solver sweeps"): compose the tracks of
-// the decomposition under a policy.
-//   E_conf  = Σ_{t composed} E^A_t,0
-//   ν       = (E^A_cstr,0)^-1 [E_cstr,N − F^A_cstr,0^T Ẍ_0 − E_conf]                 (ν)
-//   τctrl_i = S_i^T F^A_cstr,i ν                           Alg. 3
+// Solver sweeps, base to tip (docs/derivation.md, section 5): compose the tracks of the
+// decomposition under a policy.
+//   E_conf  = Σ_{t composed} E^A_t,0                                                    (S1)
+//   ν       = (E^A_cstr,0)^-1 [E_cstr,N − F^A_cstr,0^T Ẍ_0 − E_conf]                     (S2)
+//   τctrl_i = S_i^T F^A_cstr,i ν                           Alg. 3                        (S3)
 //           + S_i^T Σ_{t external} (−F^A_t,i)               Alg. 4 adds the external forces
 //           clamped to ±effort limit                        Eq. 1
-//   q̈_i     = D_i^-1 (τff_i + τctrl_i − S_i^T (Σ_{t composed} F^A_t,i + M^A_i a_i)),
-//   a_i     = X_i Ẍ_{i-1} + Ẍb_i,      Ẍ_i = a_i + S_i q̈_i                              (q̈)
+//   q̈_i     = D_i^-1 (τff_i + τctrl_i − S_i^T (Σ_{t composed} F^A_t,i + M^A_i a_i)),   (S4)
+//   a_i     = X_i Ẍ_{i-1} + Ẍb_i,      Ẍ_i = a_i + S_i q̈_i                              (S5)
 // Exact saturation clamps τcmd instead and runs forward dynamics with it: the extra torque
-// Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity.
+// Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity (X1).
 #pragma once
 
 #include "solver/commanded_torque.hpp"

@@ -127,7 +127,7 @@ struct Transform {
   }
 };
 
-// Composition  C_X_A = C_X_B * B_X_A.
+// Composition  C_X_A = C_X_B * B_X_A (docs/derivation.md, (F1)).
 template <class Scalar>
 Transform<Scalar> operator*(const Transform<Scalar>& c_x_b, const Transform<Scalar>& b_x_a) {
   return {c_x_b.E * b_x_a.E, b_x_a.r + b_x_a.E.transpose() * c_x_b.r};
@@ -174,7 +174,7 @@ struct Inertia {
     return I;
   }
 
-  // (B_X_A)^T I (B_X_A): an inertia given in frame B expressed in frame A (eq. 2.66), in the
+  // (B_X_A)^T I (B_X_A): an inertia given in frame B expressed in frame A (F1; Featherstone eq. 2.66), in the
   // block form  A'' = A' − B' r× + r× B'^T − r× C' r×,  B'' = B' + r× C',  C'' = C'
   // with A' = E^T A E, B' = E^T B E, C' = E^T C E.
   Inertia transformed_to_parent(const Transform<Scalar>& X) const {

@@ -11,7 +11,7 @@
 // Only the chain's *data* (model::Chain: axes, tree transforms, inertias, frames) is read; the
 // spatial types serve as plain containers of that data.
 //
-// Conventions shared with the solver (docs/achd-equations.md):
+// Conventions shared with the solver (docs/derivation.md, section 1):
 //   * a link frame's twist is [ω; v] in that frame's own coordinates, v the velocity of the
 //     frame's origin; its "spatial acceleration minus gravity" is
 //     [R^T ω̇; R^T (p̈ − g) − (R^T ω) × (R^T ṗ)];
