@@ -197,7 +197,10 @@ Vec3 unit_axis(const urdf::Joint& joint, const std::string& file) {
   const std::string element = named("joint", joint.name) + " <axis>";
   const auto& a = joint.axis;
   require_finite(file, element, {a.x, a.y, a.z});
-  const Vec3 axis(a.x, a.y, a.z);
+  // The norm of an axis with a huge component (1e201) overflows to Inf, and axis / Inf is no unit
+  // vector (a fuzz_urdf finding): such an axis is scaled by its largest component first.
+  Vec3 axis(a.x, a.y, a.z);
+  if (!std::isfinite(axis.norm())) axis /= axis.cwiseAbs().maxCoeff();
   if (!(axis.norm() > 1e-12)) throw InputError(file, element, "axis has zero length");
   return axis / axis.norm();
 }
