@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "family/family.hpp"
 
 namespace sweepgen::cli {
@@ -29,14 +29,14 @@ int run_family(const FamilyOptions& options) {
   for (const auto& name : names) cases.push_back(family::family_case(name));  // all names checked before writing
   std::error_code error;
   std::filesystem::create_directories(options.out, error);
-  if (error) throw IoError(options.out + ": cannot create directory (" + error.message() + ")");
-  std::vector<OutputFile> files;
+  if (error) throw io::IoError(options.out + ": cannot create directory (" + error.message() + ")");
+  std::vector<io::OutputFile> files;
   for (const auto& c : cases) {
     const std::filesystem::path stem = std::filesystem::path(options.out) / c.name;
     files.push_back({stem.string() + ".urdf", family::urdf_text(c.robot)});
     files.push_back({stem.string() + ".yaml", family::scene_text(c)});
   }
-  write_files_atomically(files);
+  io::write_files_atomically(files);
   std::cout << "wrote " << cases.size() << " case(s) (URDF + scene each) to " << options.out << "\n";
   return 0;
 }

@@ -5,7 +5,7 @@
 
 #include "cli/family_command.hpp"
 #include "cli/generate_command.hpp"
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "cli/solve_command.hpp"
 #include "model/error.hpp"
 #include "report/report_command.hpp"
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   } catch (const sweepgen::InputError& e) {
     std::cerr << "sweepgen: error: " << e.what() << "\n";
     return 1;
-  } catch (const sweepgen::cli::IoError& e) {
+  } catch (const sweepgen::io::IoError& e) {
     std::cerr << "sweepgen: error: " << e.what() << "\n";
     return 3;
   }

@@ -33,7 +33,7 @@ struct CompiledSolver {
 };
 
 // Generates `s` (a report_scene) into `build_dir`, compiles it with `cxx` and loads it. Throws
-// cli::IoError when the compiler cannot be run or fails (its output in build_dir/compile.log),
+// io::IoError when the compiler cannot be run or fails (its output in build_dir/compile.log),
 // dlopen() fails, or the library's flat sizes do not match the scene.
 CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& chain,
                                     const std::filesystem::path& build_dir, const std::string& cxx,

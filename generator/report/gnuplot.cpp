@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "report/native_library.hpp"
 
 namespace sweepgen::report {
@@ -13,7 +13,7 @@ std::string png_terminal(const std::string& work_dir, int width, int height) {
   const std::string terminals_log = work_dir + "/gnuplot-terminals.txt";
   std::remove(terminals_log.c_str());
   if (run_process({"gnuplot", "-e", "set terminal"}, terminals_log) < 0)
-    throw cli::IoError("gnuplot: cannot be run (is gnuplot installed and on PATH?)");
+    throw io::IoError("gnuplot: cannot be run (is gnuplot installed and on PATH?)");
   std::ifstream in(terminals_log);
   std::ostringstream terminals;
   terminals << in.rdbuf();
@@ -31,7 +31,7 @@ void run_gnuplot(const std::string& script_path, const std::string& png_path, co
   char signature[8] = {};
   png.read(signature, 8);
   if (status != 0 || !png || std::string(signature, 8) != "\x89PNG\r\n\x1a\n")
-    throw cli::IoError("gnuplot " + script_path + " failed (exit " + std::to_string(status) + ") to write " + png_path +
+    throw io::IoError("gnuplot " + script_path + " failed (exit " + std::to_string(status) + ") to write " + png_path +
                        ":\n" + tail_of_file(log));
 }
 

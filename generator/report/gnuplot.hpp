@@ -6,11 +6,11 @@
 namespace sweepgen::report {
 
 // The `set terminal` line for a PNG of `width` x `height` pixels: pngcairo where this gnuplot
-// has it, else png. Throws cli::IoError when gnuplot cannot be run.
+// has it, else png. Throws io::IoError when gnuplot cannot be run.
 std::string png_terminal(const std::string& work_dir, int width, int height);
 
 // Runs `gnuplot script_path` (its output in work_dir/gnuplot.log) and checks that it wrote a
-// PNG to `png_path`; throws cli::IoError with the log's tail otherwise.
+// PNG to `png_path`; throws io::IoError with the log's tail otherwise.
 void run_gnuplot(const std::string& script_path, const std::string& png_path, const std::string& work_dir);
 
 }  // namespace sweepgen::report

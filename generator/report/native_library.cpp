@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 
 extern char** environ;
 
@@ -97,7 +97,7 @@ SharedLibrary::SharedLibrary(const std::string& path) : path_(path) {
   handle_ = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle_) {
     const char* error = ::dlerror();
-    throw cli::IoError(path + ": dlopen failed (" + (error ? error : "unknown error") + ")");
+    throw io::IoError(path + ": dlopen failed (" + (error ? error : "unknown error") + ")");
   }
 }
 
@@ -110,7 +110,7 @@ void* SharedLibrary::symbol(const std::string& name) const {
   void* address = ::dlsym(handle_, name.c_str());
   if (!address) {
     const char* error = ::dlerror();
-    throw cli::IoError(path_ + ": dlsym(" + name + ") failed (" + (error ? error : "null symbol") + ")");
+    throw io::IoError(path_ + ": dlsym(" + name + ") failed (" + (error ? error : "null symbol") + ")");
   }
   return address;
 }

@@ -29,14 +29,14 @@ std::string wrapper_source(const std::string& header_name, const std::string& so
 std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
                                          const std::string& include_dir, const std::string& output);
 
-// A dlopen()ed shared library, closed on destruction. Throws cli::IoError with dlerror()'s text.
+// A dlopen()ed shared library, closed on destruction. Throws io::IoError with dlerror()'s text.
 class SharedLibrary {
  public:
   explicit SharedLibrary(const std::string& path);
   ~SharedLibrary();
   SharedLibrary(const SharedLibrary&) = delete;
   SharedLibrary& operator=(const SharedLibrary&) = delete;
-  // The address of `name`; throws cli::IoError when it is missing.
+  // The address of `name`; throws io::IoError when it is missing.
   void* symbol(const std::string& name) const;
 
  private:

@@ -6,7 +6,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "model/error.hpp"
 #include "report/compiled_solver.hpp"
 #include "report/kdl_oracle.hpp"
@@ -121,7 +121,7 @@ int run_report(const ReportOptions& options) {
   const std::string csv = (out_dir / "report.csv").string();
   const std::string png = (out_dir / "report.png").string();
   progress(5, "writing " + csv + " and " + png + " (gnuplot)");
-  cli::write_files_atomically({{csv, csv_text(rows)}});
+  io::write_files_atomically({{csv, csv_text(rows)}});
 
   const std::size_t ill = rows.front().summary.ill_conditioned_states;
   std::cout << "sweepgen report: " << s.solver << " (" << (s.path.empty() ? "default scene for " + s.chain.urdf : s.path)

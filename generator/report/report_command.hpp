@@ -28,7 +28,7 @@ struct ReportOptions {
 
 void add_report_command(CLI::App& app, ReportOptions& options);
 
-// Exit 0 on success (with --stability: run_stability_report). Throws InputError for a bad scene or URDF (exit 1) and cli::IoError when
+// Exit 0 on success (with --stability: run_stability_report). Throws InputError for a bad scene or URDF (exit 1) and io::IoError when
 // a file cannot be written or the compiler, dlopen() or gnuplot fails (exit 3).
 int run_report(const ReportOptions& options);
 

@@ -7,7 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "report/gnuplot.hpp"
 #include "report/text_format.hpp"
 
@@ -86,7 +86,7 @@ void plot(const std::vector<ReportRow>& rows, const std::string& title, const st
     if (!(x > 0) || !std::isfinite(y)) continue;
     points.push_back({row.result->variant + " " + row.result->scalar, x, y});
   }
-  if (points.empty()) throw cli::IoError(png_path + ": nothing to plot (no variant has a finite time and error)");
+  if (points.empty()) throw io::IoError(png_path + ": nothing to plot (no variant has a finite time and error)");
   double x_min = 1e300, x_max = 0, y_min = 1e300, y_max = 0;
   for (const Point& p : points) {
     x_min = std::min(x_min, p.x);
@@ -163,7 +163,7 @@ void plot(const std::vector<ReportRow>& rows, const std::string& title, const st
          << "set yrange [" << y_min << ":" << y_max << "]\n"
          << labels.str()
          << "plot " << gnuplot_string(data_path) << " using 1:2 with points pointtype 7 pointsize 2 linecolor rgb '#1f5fa8'\n";
-  cli::write_files_atomically({{data_path, data.str()}, {script_path, script.str()}});
+  io::write_files_atomically({{data_path, data.str()}, {script_path, script.str()}});
   run_gnuplot(script_path, png_path, work_dir);
 }
 

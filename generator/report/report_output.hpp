@@ -26,7 +26,7 @@ void print_table(const std::vector<ReportRow>& rows, std::ostream& out);
 
 // Writes the gnuplot script and data under `work_dir` and runs gnuplot to make `png_path`:
 // max_rel_err_qdd (log y) against ns_median (log x), one labelled point per measured row.
-// Throws cli::IoError when gnuplot cannot be run or fails.
+// Throws io::IoError when gnuplot cannot be run or fails.
 void plot(const std::vector<ReportRow>& rows, const std::string& title, const std::string& work_dir,
           const std::string& png_path);
 

@@ -1,6 +1,6 @@
 #include "report/stability_cases.hpp"
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "family/family.hpp"
 
 namespace sweepgen::report {
@@ -8,7 +8,7 @@ namespace sweepgen::report {
 StabilityCase family_stability_case(const std::string& name, const std::filesystem::path& dir) {
   const family::FamilyCase c = family::family_case(name);
   const std::string urdf = (dir / (name + ".urdf")).string(), scene_file = (dir / (name + ".yaml")).string();
-  cli::write_files_atomically({{urdf, family::urdf_text(c.robot)}, {scene_file, family::scene_text(c)}});
+  io::write_files_atomically({{urdf, family::urdf_text(c.robot)}, {scene_file, family::scene_text(c)}});
   StabilityCase s{name, scene::load_scene(scene_file), {}, c.singular_q, c.heavy};
   s.chain = scene::load_scene_chain(s.scene);
   return s;

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "family/family.hpp"
 #include "model/error.hpp"
 #include "report/stability_output.hpp"
@@ -45,7 +45,7 @@ StabilityCase load_case(const std::string& name, const std::filesystem::path& bu
   if (!bundled.empty()) return bundled_stability_case(bundled, SWEEPGEN_SOURCE_DIR);
   std::error_code error;
   std::filesystem::create_directories(build_dir, error);
-  if (error) throw cli::IoError(build_dir.string() + ": cannot create directory (" + error.message() + ")");
+  if (error) throw io::IoError(build_dir.string() + ": cannot create directory (" + error.message() + ")");
   return family_stability_case(name, build_dir);
 }
 
@@ -87,7 +87,7 @@ int run_stability_report(const StabilityOptions& options) {
   const std::string csv = (out_dir / "stability.csv").string();
   const std::string png = (out_dir / "stability.png").string();
   std::cerr << "writing " << csv << " and " << png << " (gnuplot)" << std::endl;
-  cli::write_files_atomically({{csv, stability_csv_text(rows)}});
+  io::write_files_atomically({{csv, stability_csv_text(rows)}});
   std::cout << "sweepgen report --stability: " << cases.size() << " case(s), policies pivoted_ldlt and damped, "
             << options.states_per_kind << " states per random kind (seed " << options.seed << ")\n"
             << "errors against ReferenceSolver<Quad> (binary128) with the same factorisation and the scalar's "

@@ -19,7 +19,7 @@ struct StabilityOptions {
 // Every case name --cases takes: the family's, then the bundled scenes' (their solver names).
 std::vector<std::string> stability_case_names();
 
-// Exit 0 on success. Throws InputError for an unknown case (exit 1) and cli::IoError when a file
+// Exit 0 on success. Throws InputError for an unknown case (exit 1) and io::IoError when a file
 // cannot be written or the compiler, dlopen() or gnuplot fails (exit 3).
 int run_stability_report(const StabilityOptions& options);
 

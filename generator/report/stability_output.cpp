@@ -5,7 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 #include "report/gnuplot.hpp"
 #include "report/text_format.hpp"
 
@@ -116,7 +116,7 @@ void plot_stability(const std::vector<StabilityRow>& rows, const std::string& wo
     error_min = std::min(error_min, e);
     error_max = std::max(error_max, e);
   }
-  if (names.empty()) throw cli::IoError(png_path + ": nothing to plot (no full-rank state with a finite error)");
+  if (names.empty()) throw io::IoError(png_path + ": nothing to plot (no full-rank state with a finite error)");
   std::string data;
   for (const auto& b : blocks) data += b.str() + "\n\n";
 
@@ -151,7 +151,7 @@ void plot_stability(const std::vector<StabilityRow>& rows, const std::string& wo
   }
   script << "eps_double * x with lines dashtype 2 linewidth 2 linecolor rgb '#555555' title 'eps_{double} kappa', \\\n"
          << "     eps_float * x with lines dashtype 3 linewidth 2 linecolor rgb '#555555' title 'eps_{float} kappa'\n";
-  cli::write_files_atomically({{data_path, data}, {script_path, script.str()}});
+  io::write_files_atomically({{data_path, data}, {script_path, script.str()}});
   run_gnuplot(script_path, png_path, work_dir);
 }
 

@@ -23,7 +23,7 @@ void print_stability_table(const std::vector<StabilityRow>& rows, std::ostream& 
 
 // Writes the gnuplot script and data under `work_dir` and runs gnuplot to make `png_path`: error
 // against κ (log-log) over the full-rank states, one series per variant × policy, with eps κ of
-// double and float. Throws cli::IoError when gnuplot cannot be run or fails.
+// double and float. Throws io::IoError when gnuplot cannot be run or fails.
 void plot_stability(const std::vector<StabilityRow>& rows, const std::string& work_dir, const std::string& png_path);
 
 }  // namespace sweepgen::report

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace sweepgen::cli {
+namespace sweepgen::io {
 
 struct OutputFile {
   std::string path;
@@ -28,4 +28,4 @@ std::string fnv1a64(const std::string& bytes);
 // The whole content of a file; throws IoError naming it.
 std::string read_file(const std::string& path);
 
-}  // namespace sweepgen::cli
+}  // namespace sweepgen::io

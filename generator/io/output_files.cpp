@@ -1,4 +1,4 @@
-#include "cli/output_files.hpp"
+#include "io/output_files.hpp"
 
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace sweepgen::cli {
+namespace sweepgen::io {
 
 void write_files_atomically(const std::vector<OutputFile>& files) {
   std::vector<std::string> temporaries;
@@ -55,4 +55,4 @@ std::string read_file(const std::string& path) {
   return text.str();
 }
 
-}  // namespace sweepgen::cli
+}  // namespace sweepgen::io

@@ -1,5 +1,5 @@
-// What the emitter needs from a scene: one translation, used by `generate`, `info` and
-// `report`.
+// What the emitter needs from a scene: one translation, used by `sweepgen generate`, `info`
+// and `report`.
 #pragma once
 
 #include <string>
@@ -7,10 +7,10 @@
 #include "emit/solver_emitter.hpp"
 #include "scene/scene.hpp"
 
-namespace sweepgen::cli {
+namespace sweepgen::emit {
 
-inline emit::EmitRequest emit_request(const scene::Scene& s, const std::string& provenance) {
-  emit::EmitRequest request;
+inline EmitRequest emit_request(const scene::Scene& s, const std::string& provenance) {
+  EmitRequest request;
   request.solver_namespace = s.solver;
   request.scalars = s.scalars;
   request.expose_all = s.expose_all;
@@ -23,4 +23,4 @@ inline emit::EmitRequest emit_request(const scene::Scene& s, const std::string& 
   return request;
 }
 
-}  // namespace sweepgen::cli
+}  // namespace sweepgen::emit
