@@ -336,6 +336,25 @@ class OffChainLumper {
   Chain& chain_;
 };
 
+// Each number of the URDF is finite, but products and sums of them need not be: a centre of mass
+// at 1e304 m makes m c× c× overflow (a fuzz_urdf finding), origins of 1e308 add up to Inf.
+void check_finite_model(const Chain& chain) {
+  const auto finite = [](const Transform& X) { return X.E.allFinite() && X.r.allFinite(); };
+  for (std::size_t i = 1; i <= chain.dof(); ++i) {
+    const Inertia& M = chain.bodies[i].inertia;
+    if (!(M.A.allFinite() && M.B.allFinite() && M.C.allFinite() && std::isfinite(chain.bodies[i].mass)))
+      throw InputError(chain.source, named("link", chain.bodies[i].link) + " <inertial>",
+                       "the spatial inertia about the link's origin, with the links lumped into it, is not finite: "
+                       "a mass, centre of mass or origin is too large");
+    if (!finite(chain.joints[i].tree_transform))
+      throw InputError(chain.source, named("joint", chain.joints[i].name) + " <origin>",
+                       "the transform from the previous moving body is not finite: origins too large");
+  }
+  for (const auto& [link, frame] : chain.frames)
+    if (!finite(frame.X))
+      throw InputError(chain.source, named("link", link), "its frame is not finite: origins too large");
+}
+
 void check_last_joint_can_accelerate(const Chain& chain) {
   const std::size_t n = chain.dof();
   const Joint& joint = chain.joints[n];
@@ -479,6 +498,7 @@ Chain load_chain(const ChainSpec& spec) {
     throw InputError(urdf_path, "links " + quote_name(chain.root_link) + " and " + quote_name(chain.tip_link),
                      "no moving joint between them");
   OffChainLumper(*model, spec, chain).run(chain_links);
+  check_finite_model(chain);
   apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);
   check_last_joint_can_accelerate(chain);
   return chain;
