@@ -414,7 +414,12 @@ Chain load_chain(const ChainSpec& spec) {
   urdf::ModelInterfaceSharedPtr model;
   {
     CapturedConsole console;
-    model = urdf::parseURDF(text.str());
+    // TinyXML (under urdfdom) steps over a UTF-8 lead byte's continuation bytes without looking
+    // for the end of the text, so a lead byte among the last bytes makes it read past the
+    // string's terminator (an AddressSanitizer heap-buffer-overflow found by fuzz_urdf, input kept
+    // as fuzz/regressions/urdf/reject_utf8_lead_byte_at_end.urdf). NUL bytes after the text keep
+    // such a read inside the buffer; the parser stops at the first NUL either way.
+    model = urdf::parseURDF(text.str() + std::string(8, '\0'));
     if (!model || !console.messages().empty())
       throw InputError(urdf_path, "<robot>",
                        "not a valid URDF: " + (console.messages().empty() ? "urdfdom rejected it" : console.messages()));
