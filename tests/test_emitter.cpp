@@ -30,10 +30,6 @@ symbolic::TraceRequest request(std::vector<solver::ExternalForceDriver> external
   return r;
 }
 
-bool is_external_force_input(const std::string& name) {
-  return name.rfind("drivers.push", 0) == 0 || name.rfind("drivers.contact", 0) == 0;
-}
-
 // Operations (non-leaf nodes) the outputs of every policy need, and how many of them depend
 // on an external-force input.
 std::pair<std::size_t, std::size_t> needed_operations(const symbolic::Trace& trace) {
@@ -41,7 +37,7 @@ std::pair<std::size_t, std::size_t> needed_operations(const symbolic::Trace& tra
   std::vector<bool> external(g.size(), false), needed(g.size(), false);
   for (symbolic::NodeId id = 0; id < g.size(); ++id) {
     const auto& n = g.node(id);
-    if (n.op == symbolic::Op::input) external[id] = is_external_force_input(g.inputs()[n.input].name);
+    if (n.op == symbolic::Op::input) external[id] = trace.inputs[n.input].quantity == symbolic::Quantity::external_force;
     for (int k = 0; k < symbolic::arity(n.op); ++k) external[id] = external[id] || external[n.args[k]];
   }
   std::vector<symbolic::NodeId> stack;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <stdexcept>
 
 #include "solver/reference_solver.hpp"
 #include "solver/state_fields.hpp"
@@ -50,28 +51,23 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
         solver::ConstraintVector<double> beta(nc);
         for (std::size_t k = 0; k < nc; ++k) beta[k] = random.uniform(-1, 1);
 
-        // The same values, by input name.
-        std::map<std::string, double> by_name;
-        for (std::size_t i = 0; i < chain.dof(); ++i) {
-          by_name["q[" + std::to_string(i) + "]"] = q[i];
-          by_name["qd[" + std::to_string(i) + "]"] = qd[i];
-          for (std::size_t t = 0; t < 2; ++t)
-            by_name["drivers." + layout.torques[t] + "[" + std::to_string(i) + "]"] = d.torques[t][i];
-        }
-        for (std::size_t e = 0; e < 2; ++e)
-          for (int c = 0; c < 3; ++c) {
-            by_name["drivers." + layout.external_forces[e].name + "[" + std::to_string(c) + "]"] = d.external_forces[e].moment[c];
-            by_name["drivers." + layout.external_forces[e].name + "[" + std::to_string(c + 3) + "]"] = d.external_forces[e].force[c];
+        // The same values, by what each input stands for.
+        const auto value_of = [&](const symbolic::Input& in) {
+          const auto component = [&](const spatial::Force<double>& f) {
+            return in.index < 3 ? f.moment[in.index] : f.force[in.index - 3];
+          };
+          switch (in.quantity) {
+            case symbolic::Quantity::joint_position: return q[in.index];
+            case symbolic::Quantity::joint_velocity: return qd[in.index];
+            case symbolic::Quantity::feedforward_torque: return d.torques.at(in.instance)[in.index];
+            case symbolic::Quantity::external_force: return component(d.external_forces.at(in.instance));
+            case symbolic::Quantity::constraint_direction: return component(d.constraint_directions.at(in.instance));
+            case symbolic::Quantity::energy_setpoint: return beta[in.index];
           }
-        for (std::size_t k = 0; k < nc; ++k) {
-          for (int c = 0; c < 3; ++c) {
-            by_name["drivers.alpha[" + std::to_string(k) + "][" + std::to_string(c) + "]"] = d.constraint_directions[k].moment[c];
-            by_name["drivers.alpha[" + std::to_string(k) + "][" + std::to_string(c + 3) + "]"] = d.constraint_directions[k].force[c];
-          }
-          by_name["beta[" + std::to_string(k) + "]"] = beta[k];
-        }
+          throw std::logic_error("unknown input quantity");
+        };
         std::vector<double> inputs;
-        for (const auto& in : trace.graph.inputs()) inputs.push_back(by_name.at(in.name));
+        for (const auto& in : trace.inputs) inputs.push_back(value_of(in));
         const std::vector<double> values = trace.graph.evaluate(inputs);
 
         std::map<Key, double> expected;
@@ -110,7 +106,7 @@ TEST(Trace, CanonicalGraphDoesNotDependOnTheOrderOfConstruction) {
   using symbolic::Op;
   const auto build = [](bool left_first) {
     Graph g;
-    const NodeId a = g.input("a", 1), b = g.input("b", 1), c = g.input("c", 1), d = g.input("d", 1);
+    const NodeId a = g.input(), b = g.input(), c = g.input(), d = g.input();
     NodeId ab, cd;
     if (left_first) {
       ab = g.make(Op::mul, a, b);

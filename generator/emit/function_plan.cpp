@@ -1,7 +1,10 @@
 #include "emit/function_plan.hpp"
 
+#include "emit/names.hpp"
+
 #include <algorithm>
 #include <functional>
+#include <stdexcept>
 #include <set>
 #include <unordered_map>
 
@@ -12,11 +15,12 @@ using symbolic::Graph;
 using symbolic::Node;
 using symbolic::Op;
 
-std::vector<int> node_stages(const Graph& graph) {
+std::vector<int> node_stages(const symbolic::Trace& trace) {
+  const Graph& graph = trace.graph;
   std::vector<int> stage(graph.size(), 0);
   for (NodeId id = 0; id < graph.size(); ++id) {
     const Node& n = graph.node(id);
-    if (n.op == Op::input) stage[id] = graph.inputs()[n.input].stage;
+    if (n.op == Op::input) stage[id] = symbolic::stage_of(trace.inputs[n.input].quantity);
     for (int k = 0; k < symbolic::arity(n.op); ++k) stage[id] = std::max(stage[id], stage[n.args[k]]);
   }
   return stage;
@@ -123,15 +127,34 @@ void schedule(const symbolic::Trace& trace, const std::vector<int>& stage, const
   reduce_live_ranges(graph, f.computed, blocks);
 }
 
-std::string carried_member_name(const symbolic::Trace& trace, NodeId id, std::size_t ordinal) {
-  for (const auto& field : trace.fields) {
-    if (field.node != id) continue;
-    std::string name = is_state_field(field) ? "" : field.group + "_";
-    name += field.array;
-    if (field.body >= 0) name += "_" + std::to_string(field.body);
-    return name + "_" + std::to_string(field.component);
+std::vector<std::size_t> anchors(const symbolic::Trace& trace) {
+  std::vector<std::size_t> anchor(trace.graph.size(), kNoAnchor);
+  for (std::size_t f = 0; f < trace.fields.size(); ++f) {
+    std::vector<NodeId> stack{trace.fields[f].node};
+    while (!stack.empty()) {
+      const NodeId id = stack.back();
+      stack.pop_back();
+      if (anchor[id] != kNoAnchor) continue;
+      anchor[id] = f;
+      const Node& n = trace.graph.node(id);
+      for (int k = 0; k < symbolic::arity(n.op); ++k) stack.push_back(n.args[k]);
+    }
   }
-  return "carried_" + std::to_string(ordinal);
+  return anchor;
+}
+
+// A carried node's State member: the field it is, sin/cos of the input it is, or the
+// "_term" (numbered from the second on) of the field it is computed for.
+std::string carried_member_name(const symbolic::Trace& trace, const Plan& plan, NodeId id,
+                                std::map<std::string, int>& terms) {
+  for (const auto& field : trace.fields)
+    if (field.node == id) return field_name(field, !is_state_field(field));
+  if (std::string name = function_of_input_name(trace, id); !name.empty()) return name;
+  if (plan.anchor[id] == kNoAnchor) throw std::logic_error("carried node " + std::to_string(id) + " reaches no field");
+  const auto& field = trace.fields[plan.anchor[id]];
+  const std::string name = field_name(field, !is_state_field(field)) + "_term";
+  const int count = ++terms[name];
+  return count == 1 ? name : name + "_" + std::to_string(count);
 }
 
 // Marks every node in the cone of `roots` (through all stages, down to inputs).
@@ -177,9 +200,9 @@ bool is_state_field(const symbolic::Field& field) {
 }
 
 Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
-  const Graph& graph = trace.graph;
   Plan plan;
-  plan.stage = node_stages(graph);
+  plan.stage = node_stages(trace);
+  plan.anchor = anchors(trace);
 
   std::vector<FunctionPlan> solves;
   for (const auto policy : trace.policies) {
@@ -189,8 +212,11 @@ Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
     f.stage = symbolic::stage_solve;
     solves.push_back(f);
   }
-  FunctionPlan outward{"outward", symbolic::stage_outward, "", {}, {}, {}, {}};
-  FunctionPlan decompose{"decompose", symbolic::stage_decompose, "", {}, {}, {}, {}};
+  FunctionPlan outward, decompose;
+  outward.name = "outward";
+  outward.stage = symbolic::stage_outward;
+  decompose.name = "decompose";
+  decompose.stage = symbolic::stage_decompose;
 
   for (std::size_t i = 0; i < trace.fields.size(); ++i) {
     const symbolic::Field& field = trace.fields[i];
@@ -229,11 +255,11 @@ Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
   outward.carried_out = carried_at(symbolic::stage_outward);
   plan_function(outward, outward.carried_out);
 
-  std::size_t ordinal = 0;
-  for (NodeId id : carried) plan.carried_name[id] = carried_member_name(trace, id, ordinal++);
   plan.functions.push_back(std::move(outward));
   plan.functions.push_back(std::move(decompose));
   for (auto& f : solves) plan.functions.push_back(std::move(f));
+  std::map<std::string, int> terms;
+  for (NodeId id : carried) plan.carried_name[id] = carried_member_name(trace, plan, id, terms);
   return plan;
 }
 

@@ -5,7 +5,7 @@
 //   solve_<policy>()   what depends on the setpoints E_cstr,
 // so that re-solving for new setpoints redoes only the last part. A node is computed in the
 // function of the latest stage among its inputs; a value a later function needs is stored in
-// the State ("carried"). Only what the outputs (and, with expose: all, the intermediates)
+// the State ("carried", under the name of the field it is, or is a term of). Only what the outputs (and, with expose: all, the intermediates)
 // need is computed at all.
 #pragma once
 
@@ -29,10 +29,16 @@ struct FunctionPlan {
   std::vector<NodeId> computed;      // nodes it computes, in emission order
 };
 
+constexpr std::size_t kNoAnchor = ~std::size_t(0);
+
 struct Plan {
   std::vector<int> stage;                      // per node
+  // Per node, the trace field whose computation it belongs to: the first field, in sweep order,
+  // whose expression reaches it (kNoAnchor: none). Its banner in the emitted code, and its name
+  // when it is carried.
+  std::vector<std::size_t> anchor;
   std::vector<FunctionPlan> functions;         // outward, decompose, solve_<policy>...
-  std::map<NodeId, std::string> carried_name;  // State member of each carried node
+  std::map<NodeId, std::string> carried_name;  // State member of each carried node, named from the math
   std::map<NodeId, std::size_t> exposed_field; // a State field already storing the node
   std::vector<std::size_t> state_fields;       // fields stored in the State (expose: all)
 };

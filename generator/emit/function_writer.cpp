@@ -8,6 +8,7 @@
 
 #include "emit/equations.hpp"
 #include "emit/literal.hpp"
+#include "emit/names.hpp"
 
 namespace sweepgen::emit {
 namespace {
@@ -17,22 +18,6 @@ using symbolic::Node;
 using symbolic::Op;
 
 constexpr int kAtom = 100, kUnary = 3, kProduct = 2, kSum = 1, kTernary = 0;
-
-std::string sanitized(const std::string& expression) {
-  std::string name;
-  for (char c : expression) {
-    if (c == '.' || c == '[') name += '_';
-    else if (c != ']') name += c;
-  }
-  return name;
-}
-
-std::string field_local_name(const Field& field, bool with_group) {
-  std::string name = with_group ? field.group + "_" : "";
-  name += field.array;
-  if (field.body >= 0) name += "_" + std::to_string(field.body);
-  return name + "_" + std::to_string(field.component);
-}
 
 class Writer {
  public:
@@ -74,10 +59,10 @@ class Writer {
     for (NodeId id : f_.carried_out) uses_[id] += 2;
     for (NodeId id : f_.computed) {
       const auto field = field_of_.find(id);
-      if (field != field_of_.end()) local_[id] = field_local_name(*field->second, !is_state_field(*field->second) && field->second->group != f_.group);
-      const Node& n = graph_.node(id);
-      if ((n.op == Op::sin || n.op == Op::cos) && graph_.node(n.args[0]).op == Op::input && !local_.count(id))
-        local_[id] = std::string(symbolic::op_name(n.op)) + "_" + sanitized(graph_.inputs()[graph_.node(n.args[0]).input].name);
+      if (field != field_of_.end())
+        local_[id] = field_name(*field->second, !is_state_field(*field->second) && field->second->group != f_.group);
+      else if (const std::string name = function_of_input_name(trace_, id); !name.empty())
+        local_[id] = name;
     }
   }
 
@@ -89,12 +74,12 @@ class Writer {
       const Node& n = graph_.node(id);
       std::string source;
       if (n.op == Op::input && plan_.stage[id] == f_.stage) {
-        source = graph_.inputs()[n.input].name;
-        local_[id] = sanitized(source);
+        source = input_spelling(trace_, trace_.inputs[n.input]);
+        local_[id] = identifier(source);
       } else if (plan_.exposed_field.count(id)) {
         const Field& field = trace_.fields[plan_.exposed_field.at(id)];
         source = state_field_access(field);
-        local_[id] = field_local_name(field, false);
+        local_[id] = field_name(field, false);
       } else {
         source = "state." + plan_.carried_name.at(id);
         local_[id] = plan_.carried_name.at(id);
@@ -120,15 +105,16 @@ class Writer {
   void collect_stores() {
     for (std::size_t i : f_.fields) {
       const Field& field = trace_.fields[i];
-      stores_[field.node].push_back(is_state_field(field) ? state_field_access(field) : solution_field_access(field));
+      stores_[field.node].push_back({is_state_field(field) ? state_field_access(field) : solution_field_access(field), &field});
     }
-    for (NodeId id : f_.carried_out) stores_[id].push_back("state." + plan_.carried_name.at(id));
+    for (NodeId id : f_.carried_out) stores_[id].push_back({"state." + plan_.carried_name.at(id), nullptr});
   }
 
+  // A banner where a block begins: the sweep, body (link and joint) and quantity of the field
+  // whose computation the block is (Plan::anchor), with its equation tags.
   void banner_for(NodeId id) {
-    const auto found = field_of_.find(id);
-    if (found == field_of_.end()) return;
-    const Field& field = *found->second;
+    if (plan_.anchor[id] == kNoAnchor) return;
+    const Field& field = trace_.fields[plan_.anchor[id]];
     const Equation& eq = equation_of(field.array);
     if (field.body != block_body_ || eq.sweep != block_sweep_) {
       block_body_ = field.body;
@@ -159,7 +145,7 @@ class Writer {
     declared_[id] = true;
     const auto targets = stores_.find(id);
     if (targets == stores_.end()) return;
-    for (const std::string& target : targets->second) text_ << "  " << target << " = " << local_[id] << ";\n";
+    for (const auto& [target, field] : targets->second) text_ << "  " << store_statement(target, field, local_[id]) << "\n";
     stores_.erase(targets);
   }
 
@@ -267,10 +253,13 @@ class Writer {
       const Field& field = trace_.fields[i];
       if (!stores_.count(field.node)) continue;
       const std::string target = is_state_field(field) ? state_field_access(field) : solution_field_access(field);
-      lines << "  " << target << " = " << operand(field.node, kTernary) << ";\n";
+      const Node& n = graph_.node(field.node);
+      lines << "  " << store_statement(target, &field, operand(field.node, kTernary), n.op == Op::constant ? &n.value : nullptr)
+            << "\n";
     }
     for (NodeId id : f_.carried_out)
-      if (stores_.count(id)) lines << "  state." << plan_.carried_name.at(id) << " = " << operand(id, kTernary) << ";\n";
+      if (stores_.count(id))
+        lines << "  " << store_statement("state." + plan_.carried_name.at(id), nullptr, operand(id, kTernary)) << "\n";
     text_ << "\n  // Values computed before this function, and constants.\n";
     flush_loads();
     text_ << lines.str();
@@ -289,7 +278,7 @@ class Writer {
   std::map<NodeId, std::string> leaf_source_;
   std::set<NodeId> loaded_;
   std::vector<NodeId> pending_loads_;
-  std::map<NodeId, std::vector<std::string>> stores_;
+  std::map<NodeId, std::vector<std::pair<std::string, const Field*>>> stores_;  // target, field (or carried)
   std::ostringstream text_;
   OpCount ops_;
   int next_expression_ = 0;
@@ -298,16 +287,6 @@ class Writer {
 };
 
 }  // namespace
-
-std::string state_field_access(const Field& field) {
-  return "state." + field.array + "[" + std::to_string(field.body) + "][" + std::to_string(field.component) + "]";
-}
-
-std::string solution_field_access(const Field& field) {
-  std::string access = "out." + field.array;
-  if (field.body >= 0) access += "[" + std::to_string(field.body) + "]";
-  return access + "[" + std::to_string(field.component) + "]";
-}
 
 FunctionText write_function(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function,
                             const model::Chain& chain, const std::string& scalar) {

@@ -19,10 +19,6 @@ struct FunctionText {
   OpCount ops;
 };
 
-// Where stored values live in generated code.
-std::string state_field_access(const symbolic::Field& field);     // state.<array>[body][component]
-std::string solution_field_access(const symbolic::Field& field);  // out.<array>[...]
-
 FunctionText write_function(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function,
                             const model::Chain& chain, const std::string& scalar);
 

@@ -12,6 +12,7 @@
 #include "emit/function_plan.hpp"
 #include "emit/function_writer.hpp"
 #include "emit/literal.hpp"
+#include "emit/names.hpp"
 #include "emit/templates.hpp"
 #include "solver/state_fields.hpp"
 
@@ -35,8 +36,10 @@ double epsilon_of(const std::string& scalar) {
 
 std::string tag_of(const std::string& scalar) { return scalar == "double" ? "f64" : "f32"; }
 
-// Array declarations "  Scalar name[rows][columns];" for the given fields, in first-seen order.
-std::string array_members(const symbolic::Trace& trace, const std::vector<std::size_t>& fields, std::size_t bodies) {
+// Array declarations "  Scalar name[rows][columns];" for the given fields, in first-seen order;
+// in a Solution, flags as bool and counts as one int (names.hpp, Storage).
+std::string array_members(const symbolic::Trace& trace, const std::vector<std::size_t>& fields, std::size_t bodies,
+                          bool solution) {
   std::vector<std::string> order;
   std::map<std::string, std::pair<bool, int>> shape;  // name -> (per body, components)
   for (std::size_t i : fields) {
@@ -48,8 +51,11 @@ std::string array_members(const symbolic::Trace& trace, const std::vector<std::s
   std::string text;
   for (const auto& name : order) {
     const auto& [per_body, components] = shape[name];
-    text += "  Scalar " + name + (per_body ? "[" + std::to_string(bodies) + "]" : "") + "[" +
-            std::to_string(components) + "];  // " + equation_of(name).cited() + "\n";
+    const Storage storage = solution ? solution_storage(name) : Storage::value;
+    const std::string extent = storage == Storage::count ? ""
+                               : (per_body ? "[" + std::to_string(bodies) + "]" : "") + "[" + std::to_string(components) + "]";
+    const char* type = storage == Storage::flag ? "bool" : storage == Storage::count ? "int" : "Scalar";
+    text += std::string("  ") + type + " " + name + extent + ";  // " + equation_of(name).cited() + "\n";
   }
   return text;
 }
@@ -188,7 +194,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variant.set("tag", tag_of(scalar));
     variant.set("drivers_members", drivers_members(request.trace, nc));
 
-    std::string state = array_members(trace, plan.state_fields, n + 1);
+    std::string state = array_members(trace, plan.state_fields, n + 1, false);
     for (const auto& [node, name] : plan.carried_name) state += "  Scalar " + name + ";\n";
     variant.set("state_members", state);
 
@@ -197,7 +203,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     for (const auto& f : plan.functions)
       for (std::size_t i : f.fields)
         if (!is_state_field(trace.fields[i])) solution_fields.push_back(i);
-    variant.set("solution_members", array_members(trace, solution_fields, n + 1));
+    variant.set("solution_members", array_members(trace, solution_fields, n + 1, true));
 
     OpCount shared;
     data solves{data::type::list};

@@ -93,7 +93,7 @@ bool Graph::ordered_before(NodeId a, NodeId b) const {
 Graph Graph::canonical(std::vector<NodeId>& roots) const {
   constexpr NodeId unset = ~NodeId(0);
   Graph out;
-  out.inputs_ = inputs_;
+  out.input_count_ = input_count_;
   std::vector<NodeId> renamed(nodes_.size(), unset);
   renamed[0] = 0;  // the constant 0, node 0 of every graph
   std::vector<std::pair<NodeId, int>> stack;  // node, next operand to visit
@@ -126,11 +126,10 @@ NodeId Graph::constant(double value) {
   return intern(n);
 }
 
-NodeId Graph::input(const std::string& name, int stage) {
+NodeId Graph::input() {
   Node n;
   n.op = Op::input;
-  n.input = static_cast<std::uint32_t>(inputs_.size());
-  inputs_.push_back({name, stage});
+  n.input = input_count_++;
   return intern(n);
 }
 
@@ -208,6 +207,7 @@ NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
       break;
     case Op::select_greater:
       if (args[2] == args[3]) return args[2];
+      //FOLDTMP
       // (a > b ? 1 : 0) > t ? p : q  with 0 <= t < 1 is  a > b ? p : q.
       if (x.op == Op::select_greater && is(nodes_[x.args[2]], 1) && is(nodes_[x.args[3]], 0) && y.op == Op::constant &&
           y.value >= 0 && y.value < 1)

@@ -4,13 +4,15 @@
 // expression it has seen before (common subexpressions are shared by construction).
 //   x+0 = x   x-0 = x   0-x = -x   x-x = 0   x*0 = 0   x*1 = x   x*(-1) = -x   x/1 = x
 //   0/x = 0   -(-x) = x   a+(-b) = a-b   a-(-b) = a+b   select(a, b, x, x) = x
+//   select(a, b, x, y) = (a > b ? x : y) for constants a, b
 //   -(c*x) = (-c)*x for a constant c   select(select(a, b, 1, 0), t, x, y) = select(a, b, x, y), 0 <= t < 1
 // x*0 = 0 assumes finite x: every input of a dynamics solve is (NaN checks live elsewhere).
+// The graph holds numbers and operations only: what an input stands for is the tracer's
+// (Trace::inputs), how anything is spelt in a target language is the emitter's.
 #pragma once
 
 #include <array>
 #include <cstdint>
-#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -42,12 +44,7 @@ struct Node {
   Op op = Op::constant;
   std::array<NodeId, 4> args{};
   double value = 0;      // Op::constant
-  std::uint32_t input = 0;  // Op::input: index into Graph::inputs()
-};
-
-struct Input {
-  std::string name;  // C++ spelling in generated code, e.g. "q[3]"
-  int stage = 0;     // which generated function receives it (see emit/stages.hpp)
+  std::uint32_t input = 0;  // Op::input: its number, 0.. in creation order (what it stands for: Trace::inputs)
 };
 
 class Graph {
@@ -55,12 +52,12 @@ class Graph {
   Graph();
 
   NodeId constant(double value);
-  NodeId input(const std::string& name, int stage);
+  NodeId input();  // a new input, numbered input_count() before the call
   NodeId make(Op op, NodeId a, NodeId b = 0, NodeId c = 0, NodeId d = 0);
 
   const Node& node(NodeId id) const { return nodes_[id]; }
   std::size_t size() const { return nodes_.size(); }
-  const std::vector<Input>& inputs() const { return inputs_; }
+  std::uint32_t input_count() const { return input_count_; }
   bool is_constant(NodeId id, double value) const {
     return nodes_[id].op == Op::constant && nodes_[id].value == value;
   }
@@ -93,7 +90,7 @@ class Graph {
   };
   std::vector<Node> nodes_;
   std::vector<std::uint64_t> shapes_;  // per node: hash of op, value, input and operands' shapes
-  std::vector<Input> inputs_;
+  std::uint32_t input_count_ = 0;
   std::unordered_map<Node, NodeId, KeyHash, KeyEqual> index_;
 };
 

@@ -8,11 +8,19 @@
 namespace sweepgen::symbolic {
 namespace {
 
-Symbol input(Graph& graph, const std::string& name, Stage stage) { return Symbol::from_node(graph.input(name, stage)); }
-
-std::string indexed(const std::string& array, std::size_t i) { return array + "[" + std::to_string(i) + "]"; }
-
 }  // namespace
+
+Stage stage_of(Quantity quantity) {
+  switch (quantity) {
+    case Quantity::joint_position:
+    case Quantity::joint_velocity: return stage_outward;
+    case Quantity::feedforward_torque:
+    case Quantity::external_force:
+    case Quantity::constraint_direction: return stage_decompose;
+    case Quantity::energy_setpoint: return stage_solve;
+  }
+  return stage_solve;
+}
 
 Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   Trace trace;
@@ -21,14 +29,19 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   const solver::DriverLayout& layout = request.layout;
   const solver::SolverModel<Symbol> model(chain, layout, request.options, request.epsilon);
   const std::size_t n = model.dof(), nc = model.constraints();
+  trace.layout = layout;
   trace.dof = n;
   trace.constraints = nc;
   trace.policies = request.policies;
 
+  const auto input = [&trace](Quantity quantity, std::size_t instance, std::size_t index) {
+    trace.inputs.push_back({quantity, static_cast<std::uint32_t>(instance), static_cast<std::uint32_t>(index)});
+    return Symbol::from_node(trace.graph.input());
+  };
   solver::JointVector<Symbol> q(n), qd(n);
   for (std::size_t i = 0; i < n; ++i) {
-    q[i] = input(g, indexed("q", i), stage_outward);
-    qd[i] = input(g, indexed("qd", i), stage_outward);
+    q[i] = input(Quantity::joint_position, 0, i);
+    qd[i] = input(Quantity::joint_velocity, 0, i);
   }
   auto kin = solver::KinematicsState<Symbol>::sized(n);
   solver::outward_sweep_base_to_tip(model, q, qd, kin);
@@ -36,21 +49,20 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   auto drivers = solver::DriverInputs<Symbol>::sized(layout, n);
   for (std::size_t t = 0; t < layout.torques.size(); ++t)
     for (std::size_t i = 0; i < n; ++i)
-      drivers.torques[t][i] = input(g, indexed("drivers." + layout.torques[t], i), stage_decompose);
+      drivers.torques[t][i] = input(Quantity::feedforward_torque, t, i);
   for (std::size_t e = 0; e < layout.external_forces.size(); ++e) {
-    const std::string name = "drivers." + layout.external_forces[e].name;
     auto& f = drivers.external_forces[e];
     for (int c = 0; c < 3; ++c) {
-      f.moment[c] = input(g, indexed(name, c), stage_decompose);
-      f.force[c] = input(g, indexed(name, 3 + c), stage_decompose);
+      f.moment[c] = input(Quantity::external_force, e, c);
+      f.force[c] = input(Quantity::external_force, e, 3 + c);
     }
   }
   for (std::size_t k = 0; k < nc; ++k) {
     auto& alpha = drivers.constraint_directions[k];
     for (int c = 0; c < 3; ++c) {
       if (request.fixed_directions.empty()) {
-        alpha.moment[c] = input(g, indexed(indexed("drivers.alpha", k), c), stage_decompose);
-        alpha.force[c] = input(g, indexed(indexed("drivers.alpha", k), 3 + c), stage_decompose);
+        alpha.moment[c] = input(Quantity::constraint_direction, k, c);
+        alpha.force[c] = input(Quantity::constraint_direction, k, 3 + c);
       } else {
         alpha.moment[c] = Symbol(request.fixed_directions[k].moment[c]);
         alpha.force[c] = Symbol(request.fixed_directions[k].force[c]);
@@ -61,7 +73,7 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   solver::decomposition_sweep_tip_to_base(model, kin, drivers, art);
 
   solver::ConstraintVector<Symbol> beta(nc);
-  for (std::size_t k = 0; k < nc; ++k) beta[k] = input(g, indexed("beta", k), stage_solve);
+  for (std::size_t k = 0; k < nc; ++k) beta[k] = input(Quantity::energy_setpoint, 0, k);
 
   const auto record = [&trace](const std::string& group, bool solution) {
     return [&trace, group, solution](const std::string& array, int body, int component, const Symbol& value) {

@@ -2,6 +2,7 @@
 // generator/solver, and the generated code is what they compute for one robot and scene.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,25 @@ enum Stage : int {
   stage_solve = 3,      // E_cstr (β)
 };
 
+// What an input of the traced solve stands for, in the math's terms (the emitter spells it).
+enum class Quantity : std::uint8_t {
+  joint_position,        // q_i: index = joint (0-based)
+  joint_velocity,        // q̇_i: index = joint
+  feedforward_torque,    // τff of torque driver `instance` (DriverLayout::torques): index = joint
+  external_force,        // F_ext of driver `instance` (DriverLayout::external_forces): index = component
+  constraint_direction,  // α_k, k = `instance`: index = component [moment; force]
+  energy_setpoint,       // E_cstr,k = β_k: index = k
+};
+
+struct Input {
+  Quantity quantity;
+  std::uint32_t instance = 0;
+  std::uint32_t index = 0;
+};
+
+// The generated function that receives an input.
+Stage stage_of(Quantity quantity);
+
 struct Field {
   std::string group;  // "kinematics", "articulated" or a policy name
   std::string array;  // name from the math, e.g. "articulated_inertia"
@@ -33,6 +53,8 @@ struct Field {
 
 struct Trace {
   Graph graph;
+  std::vector<Input> inputs;  // by Node::input
+  solver::DriverLayout layout;
   std::size_t dof = 0;
   std::size_t constraints = 0;
   std::vector<solver::Policy> policies;
