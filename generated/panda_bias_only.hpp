@@ -27,10 +27,10 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1524, mul 2034, div 12, neg 109, sin/cos 12, compare 256 (total 3947)
+//   f64::outward: add 1524, mul 2034, div 12, neg 110, sin/cos 12, compare 256 (total 3948)
 //   f64::decompose: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
-//   f64::solve_original: add 212, mul 246, div 0, neg 6, sin/cos 0, compare 50 (total 514)
-//   f64: outward + decompose + solve_original: add 1736, mul 2280, div 12, neg 115, sin/cos 12, compare 306 (total 4461)
+//   f64::solve_original: add 212, mul 246, div 0, neg 5, sin/cos 0, compare 40 (total 503)
+//   f64: outward + decompose + solve_original: add 1736, mul 2280, div 12, neg 115, sin/cos 12, compare 296 (total 4451)
 #pragma once
 
 namespace panda_bias_only {
@@ -66,7 +66,7 @@ struct Drivers {
 struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
-  Scalar bias_acceleration_2_0_term;
+  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar X_E_3_0;
   Scalar X_E_3_2;

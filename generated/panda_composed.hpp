@@ -29,12 +29,12 @@
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 701, mul 922, div 6, neg 46, sin/cos 12, compare 18 (total 1705)
 //   f64::decompose: add 1007, mul 1318, div 6, neg 69, sin/cos 0, compare 238 (total 2638)
-//   f64::solve_original: add 247, mul 271, div 0, neg 6, sin/cos 0, compare 50 (total 574)
-//   f64: outward + decompose + solve_original: add 1955, mul 2511, div 12, neg 121, sin/cos 12, compare 306 (total 4917)
-//   f64::solve_saturate: add 383, mul 368, div 0, neg 9, sin/cos 0, compare 78 (total 838)
-//   f64: outward + decompose + solve_saturate: add 2091, mul 2608, div 12, neg 124, sin/cos 12, compare 334 (total 5181)
-//   f64::solve_saturate_exact: add 290, mul 322, div 0, neg 8, sin/cos 0, compare 78 (total 698)
-//   f64: outward + decompose + solve_saturate_exact: add 1998, mul 2562, div 12, neg 123, sin/cos 12, compare 334 (total 5041)
+//   f64::solve_original: add 247, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 563)
+//   f64: outward + decompose + solve_original: add 1955, mul 2511, div 12, neg 120, sin/cos 12, compare 296 (total 4906)
+//   f64::solve_saturate: add 383, mul 368, div 0, neg 8, sin/cos 0, compare 68 (total 827)
+//   f64: outward + decompose + solve_saturate: add 2091, mul 2608, div 12, neg 123, sin/cos 12, compare 324 (total 5170)
+//   f64::solve_saturate_exact: add 290, mul 322, div 0, neg 9, sin/cos 0, compare 68 (total 689)
+//   f64: outward + decompose + solve_saturate_exact: add 1998, mul 2562, div 12, neg 124, sin/cos 12, compare 324 (total 5032)
 #pragma once
 
 namespace panda_composed {

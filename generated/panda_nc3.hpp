@@ -29,24 +29,24 @@
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
 //   f64::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
-//   f64::solve_original: add 196, mul 202, div 0, neg 5, sin/cos 0, compare 8 (total 411)
-//   f64: outward + decompose + solve_original: add 1600, mul 2013, div 9, neg 102, sin/cos 12, compare 47 (total 3783)
-//   f64::solve_prioritize_external: add 199, mul 202, div 0, neg 5, sin/cos 0, compare 8 (total 414)
-//   f64: outward + decompose + solve_prioritize_external: add 1603, mul 2013, div 9, neg 102, sin/cos 12, compare 47 (total 3786)
-//   f64::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 36 (total 712)
-//   f64: outward + decompose + solve_saturate: add 1757, mul 2125, div 9, neg 106, sin/cos 12, compare 75 (total 4084)
-//   f64::solve_saturate_exact: add 257, mul 271, div 0, neg 9, sin/cos 0, compare 36 (total 573)
-//   f64: outward + decompose + solve_saturate_exact: add 1661, mul 2082, div 9, neg 106, sin/cos 12, compare 75 (total 3945)
+//   f64::solve_original: add 196, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 407)
+//   f64: outward + decompose + solve_original: add 1600, mul 2013, div 9, neg 102, sin/cos 12, compare 43 (total 3779)
+//   f64::solve_prioritize_external: add 199, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 411)
+//   f64: outward + decompose + solve_prioritize_external: add 1603, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3783)
+//   f64::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 32 (total 708)
+//   f64: outward + decompose + solve_saturate: add 1757, mul 2125, div 9, neg 106, sin/cos 12, compare 71 (total 4080)
+//   f64::solve_saturate_exact: add 257, mul 271, div 0, neg 9, sin/cos 0, compare 32 (total 569)
+//   f64: outward + decompose + solve_saturate_exact: add 1661, mul 2082, div 9, neg 106, sin/cos 12, compare 71 (total 3941)
 //   f32::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
 //   f32::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
-//   f32::solve_original: add 196, mul 202, div 0, neg 6, sin/cos 0, compare 8 (total 412)
-//   f32: outward + decompose + solve_original: add 1600, mul 2013, div 9, neg 103, sin/cos 12, compare 47 (total 3784)
-//   f32::solve_prioritize_external: add 199, mul 202, div 0, neg 5, sin/cos 0, compare 8 (total 414)
-//   f32: outward + decompose + solve_prioritize_external: add 1603, mul 2013, div 9, neg 102, sin/cos 12, compare 47 (total 3786)
-//   f32::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 36 (total 712)
-//   f32: outward + decompose + solve_saturate: add 1757, mul 2125, div 9, neg 106, sin/cos 12, compare 75 (total 4084)
-//   f32::solve_saturate_exact: add 257, mul 271, div 0, neg 8, sin/cos 0, compare 36 (total 572)
-//   f32: outward + decompose + solve_saturate_exact: add 1661, mul 2082, div 9, neg 105, sin/cos 12, compare 75 (total 3944)
+//   f32::solve_original: add 196, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 408)
+//   f32: outward + decompose + solve_original: add 1600, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3780)
+//   f32::solve_prioritize_external: add 199, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 411)
+//   f32: outward + decompose + solve_prioritize_external: add 1603, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3783)
+//   f32::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 32 (total 708)
+//   f32: outward + decompose + solve_saturate: add 1757, mul 2125, div 9, neg 106, sin/cos 12, compare 71 (total 4080)
+//   f32::solve_saturate_exact: add 257, mul 271, div 0, neg 8, sin/cos 0, compare 32 (total 568)
+//   f32: outward + decompose + solve_saturate_exact: add 1661, mul 2082, div 9, neg 105, sin/cos 12, compare 71 (total 3940)
 #pragma once
 
 namespace panda_nc3 {
@@ -273,22 +273,22 @@ struct State {
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
   Scalar original_nu_0_term_8;
-  Scalar original_nu_0_term_9;
-  Scalar original_nu_0_term_10;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_11;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
+  Scalar original_nu_0_term_9;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_10;
+  Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_14;
   Scalar original_qdd_0_term;
   Scalar original_qdd_0_term_2;
@@ -582,19 +582,19 @@ struct State {
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_8;
+  Scalar original_nu_0_term_9;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_9;
   Scalar original_nu_0_term_10;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;

@@ -29,24 +29,24 @@
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
 //   f64::decompose: add 1166, mul 1589, div 6, neg 81, sin/cos 0, compare 238 (total 3080)
-//   f64::solve_original: add 262, mul 271, div 0, neg 5, sin/cos 0, compare 50 (total 588)
-//   f64: outward + decompose + solve_original: add 2241, mul 2870, div 12, neg 135, sin/cos 12, compare 306 (total 5576)
-//   f64::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 50 (total 591)
-//   f64: outward + decompose + solve_prioritize_external: add 2244, mul 2870, div 12, neg 135, sin/cos 12, compare 306 (total 5579)
-//   f64::solve_saturate: add 404, mul 368, div 0, neg 8, sin/cos 0, compare 78 (total 858)
-//   f64: outward + decompose + solve_saturate: add 2383, mul 2967, div 12, neg 138, sin/cos 12, compare 334 (total 5846)
-//   f64::solve_saturate_exact: add 305, mul 322, div 0, neg 8, sin/cos 0, compare 78 (total 713)
-//   f64: outward + decompose + solve_saturate_exact: add 2284, mul 2921, div 12, neg 138, sin/cos 12, compare 334 (total 5701)
+//   f64::solve_original: add 262, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 579)
+//   f64: outward + decompose + solve_original: add 2241, mul 2870, div 12, neg 136, sin/cos 12, compare 296 (total 5567)
+//   f64::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 581)
+//   f64: outward + decompose + solve_prioritize_external: add 2244, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5569)
+//   f64::solve_saturate: add 404, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 849)
+//   f64: outward + decompose + solve_saturate: add 2383, mul 2967, div 12, neg 139, sin/cos 12, compare 324 (total 5837)
+//   f64::solve_saturate_exact: add 305, mul 322, div 0, neg 9, sin/cos 0, compare 68 (total 704)
+//   f64: outward + decompose + solve_saturate_exact: add 2284, mul 2921, div 12, neg 139, sin/cos 12, compare 324 (total 5692)
 //   f32::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
 //   f32::decompose: add 1166, mul 1589, div 6, neg 81, sin/cos 0, compare 238 (total 3080)
-//   f32::solve_original: add 262, mul 271, div 0, neg 6, sin/cos 0, compare 50 (total 589)
-//   f32: outward + decompose + solve_original: add 2241, mul 2870, div 12, neg 136, sin/cos 12, compare 306 (total 5577)
-//   f32::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 50 (total 591)
-//   f32: outward + decompose + solve_prioritize_external: add 2244, mul 2870, div 12, neg 135, sin/cos 12, compare 306 (total 5579)
-//   f32::solve_saturate: add 404, mul 368, div 0, neg 9, sin/cos 0, compare 78 (total 859)
-//   f32: outward + decompose + solve_saturate: add 2383, mul 2967, div 12, neg 139, sin/cos 12, compare 334 (total 5847)
-//   f32::solve_saturate_exact: add 305, mul 322, div 0, neg 9, sin/cos 0, compare 78 (total 714)
-//   f32: outward + decompose + solve_saturate_exact: add 2284, mul 2921, div 12, neg 139, sin/cos 12, compare 334 (total 5702)
+//   f32::solve_original: add 262, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 579)
+//   f32: outward + decompose + solve_original: add 2241, mul 2870, div 12, neg 136, sin/cos 12, compare 296 (total 5567)
+//   f32::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 581)
+//   f32: outward + decompose + solve_prioritize_external: add 2244, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5569)
+//   f32::solve_saturate: add 404, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 849)
+//   f32: outward + decompose + solve_saturate: add 2383, mul 2967, div 12, neg 139, sin/cos 12, compare 324 (total 5837)
+//   f32::solve_saturate_exact: add 305, mul 322, div 0, neg 9, sin/cos 0, compare 68 (total 704)
+//   f32: outward + decompose + solve_saturate_exact: add 2284, mul 2921, div 12, neg 139, sin/cos 12, compare 324 (total 5692)
 #pragma once
 
 namespace panda_nc6 {
@@ -307,6 +307,8 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
@@ -324,10 +326,20 @@ struct State {
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
   Scalar original_nu_0_term_18;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_19;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_20;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_21;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_22;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
@@ -340,23 +352,11 @@ struct State {
   Scalar original_nu_0_term_32;
   Scalar original_nu_0_term_33;
   Scalar original_nu_0_term_34;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_35;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_36;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_37;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_38;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_39;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_40;
   Scalar original_nu_0_term_41;
   Scalar original_nu_0_term_42;
@@ -697,6 +697,8 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
@@ -714,10 +716,20 @@ struct State {
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
   Scalar original_nu_0_term_18;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_19;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_20;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_21;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_22;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
@@ -727,24 +739,12 @@ struct State {
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_32;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_33;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_34;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_35;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_36;
   Scalar original_nu_0_term_37;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_38;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;

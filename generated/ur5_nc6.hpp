@@ -28,24 +28,24 @@
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 854, mul 1278, div 11, neg 29, sin/cos 10, compare 252 (total 2434)
 //   f64::decompose: add 263, mul 252, div 0, neg 5, sin/cos 0, compare 0 (total 520)
-//   f64::solve_original: add 178, mul 180, div 0, neg 5, sin/cos 0, compare 50 (total 413)
-//   f64: outward + decompose + solve_original: add 1295, mul 1710, div 11, neg 39, sin/cos 10, compare 302 (total 3367)
-//   f64::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 50 (total 415)
-//   f64: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 302 (total 3369)
-//   f64::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 74 (total 593)
-//   f64: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 326 (total 3547)
-//   f64::solve_saturate_exact: add 207, mul 213, div 0, neg 5, sin/cos 0, compare 74 (total 499)
-//   f64: outward + decompose + solve_saturate_exact: add 1324, mul 1743, div 11, neg 39, sin/cos 10, compare 326 (total 3453)
+//   f64::solve_original: add 178, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 403)
+//   f64: outward + decompose + solve_original: add 1295, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3357)
+//   f64::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 405)
+//   f64: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3359)
+//   f64::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 64 (total 583)
+//   f64: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 316 (total 3537)
+//   f64::solve_saturate_exact: add 207, mul 213, div 0, neg 5, sin/cos 0, compare 64 (total 489)
+//   f64: outward + decompose + solve_saturate_exact: add 1324, mul 1743, div 11, neg 39, sin/cos 10, compare 316 (total 3443)
 //   f32::outward: add 854, mul 1278, div 11, neg 29, sin/cos 10, compare 252 (total 2434)
 //   f32::decompose: add 263, mul 252, div 0, neg 5, sin/cos 0, compare 0 (total 520)
-//   f32::solve_original: add 178, mul 180, div 0, neg 5, sin/cos 0, compare 50 (total 413)
-//   f32: outward + decompose + solve_original: add 1295, mul 1710, div 11, neg 39, sin/cos 10, compare 302 (total 3367)
-//   f32::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 50 (total 415)
-//   f32: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 302 (total 3369)
-//   f32::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 74 (total 593)
-//   f32: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 326 (total 3547)
-//   f32::solve_saturate_exact: add 207, mul 213, div 0, neg 5, sin/cos 0, compare 74 (total 499)
-//   f32: outward + decompose + solve_saturate_exact: add 1324, mul 1743, div 11, neg 39, sin/cos 10, compare 326 (total 3453)
+//   f32::solve_original: add 178, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 403)
+//   f32: outward + decompose + solve_original: add 1295, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3357)
+//   f32::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 405)
+//   f32: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3359)
+//   f32::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 64 (total 583)
+//   f32: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 316 (total 3537)
+//   f32::solve_saturate_exact: add 207, mul 213, div 0, neg 5, sin/cos 0, compare 64 (total 489)
+//   f32: outward + decompose + solve_saturate_exact: add 1324, mul 1743, div 11, neg 39, sin/cos 10, compare 316 (total 3443)
 #pragma once
 
 namespace ur5_nc6 {
@@ -244,6 +244,8 @@ struct State {
   Scalar articulated_force_tool_load_1_2;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
@@ -258,9 +260,19 @@ struct State {
   Scalar original_nu_0_term_14;
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_17;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_18;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_19;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
@@ -272,22 +284,10 @@ struct State {
   Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_31;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_32;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_33;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_34;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_35;
   Scalar original_nu_0_term_36;
   Scalar original_nu_0_term_37;
@@ -573,6 +573,8 @@ struct State {
   Scalar articulated_force_tool_load_1_2;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
@@ -588,9 +590,19 @@ struct State {
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_18;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_19;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_20;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
@@ -604,22 +616,10 @@ struct State {
   Scalar original_nu_0_term_31;
   Scalar original_nu_0_term_32;
   Scalar original_nu_0_term_33;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_34;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_35;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_36;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_37;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_38;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;

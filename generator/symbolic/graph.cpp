@@ -207,7 +207,7 @@ NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
       break;
     case Op::select_greater:
       if (args[2] == args[3]) return args[2];
-      //FOLDTMP
+      if (x.op == Op::constant && y.op == Op::constant) return x.value > y.value ? args[2] : args[3];
       // (a > b ? 1 : 0) > t ? p : q  with 0 <= t < 1 is  a > b ? p : q.
       if (x.op == Op::select_greater && is(nodes_[x.args[2]], 1) && is(nodes_[x.args[3]], 0) && y.op == Op::constant &&
           y.value >= 0 && y.value < 1)
