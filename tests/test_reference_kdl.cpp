@@ -83,6 +83,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "report/relative_error.hpp"
 #include "report/kdl_chain.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
@@ -156,11 +157,8 @@ Motion<double> from_kdl_base(const KDL::Twist& t, const Eigen::Matrix3d& R) {
   return {R.transpose() * from_kdl(t.rot), R.transpose() * from_kdl(t.vel)};
 }
 
-// ‖a − b‖∞ / max(1, ‖b‖∞), b the oracle.
-double relative_error(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  if (b.size() == 0) return 0;
-  return (a - b).lpNorm<Eigen::Infinity>() / std::max(1.0, b.lpNorm<Eigen::Infinity>());
-}
+// ‖a − b‖∞ / max(1, ‖b‖∞), b the oracle (report/relative_error.hpp).
+using report::relative_error;
 Eigen::VectorXd stack(const Motion<double>& m) {
   Eigen::VectorXd v(6);
   v << m.angular, m.linear;

@@ -1,18 +1,17 @@
 #include "support/inputs.hpp"
 
 #include <cmath>
-#include <stdexcept>
 
 namespace sweepgen::bench {
 
-void Random::unit_direction(std::vector<double>& out) {
+spatial::Force<double> Random::unit_direction() {
   double v[6], norm = 0;
   for (double& x : v) {
     x = uniform(-1, 1);
     norm += x * x;
   }
   norm = std::sqrt(norm);
-  for (double x : v) out.push_back(x / norm);
+  return {Eigen::Vector3d(v[0], v[1], v[2]) / norm, Eigen::Vector3d(v[3], v[4], v[5]) / norm};
 }
 
 SceneInputs make_inputs(const std::string& scene_path, std::size_t count, unsigned seed) {
@@ -21,73 +20,46 @@ SceneInputs make_inputs(const std::string& scene_path, std::size_t count, unsign
   s.chain = scene::load_scene_chain(s.scene);
   s.dof = s.chain.dof();
   s.constraints = s.scene.layout.constraints;
-  const bool runtime_directions = s.scene.fixed_directions.empty();
+  const auto layout = solver::FlatLayout::of(s.scene.layout, s.dof, !s.scene.fixed_directions.empty());
+  const auto n = static_cast<Eigen::Index>(s.dof);
   Random random(seed);
   for (std::size_t state = 0; state < count; ++state) {
-    std::vector<double> in;
-    for (std::size_t i = 1; i <= s.dof; ++i) {
-      const auto& j = s.chain.joints[i];
-      in.push_back(random.uniform(std::isfinite(j.lower) ? j.lower : -M_PI, std::isfinite(j.upper) ? j.upper : M_PI));
+    solver::SolveInputs<double> p;
+    p.q.resize(n);
+    p.qd.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto& j = s.chain.joints[static_cast<std::size_t>(i) + 1];
+      p.q[i] = random.uniform(std::isfinite(j.lower) ? j.lower : -M_PI, std::isfinite(j.upper) ? j.upper : M_PI);
     }
-    for (std::size_t i = 0; i < s.dof; ++i) in.push_back(random.uniform(-2, 2));
+    for (Eigen::Index i = 0; i < n; ++i) p.qd[i] = random.uniform(-2, 2);
     for (std::size_t t = 0; t < s.scene.layout.torques.size(); ++t) {
       const double fraction = t == 0 ? 1.5 : 0.2;
-      for (std::size_t i = 1; i <= s.dof; ++i) {
-        const double e = s.chain.joints[i].effort_limit;
+      Eigen::VectorXd tau(n);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double e = s.chain.joints[static_cast<std::size_t>(i) + 1].effort_limit;
         const double limit = std::isfinite(e) && e > 0 ? e : 10.0;
-        in.push_back(random.uniform(-fraction * limit, fraction * limit));
+        tau[i] = random.uniform(-fraction * limit, fraction * limit);
       }
+      p.torques.push_back(tau);
     }
     for (std::size_t e = 0; e < s.scene.layout.external_forces.size(); ++e) {
-      for (int k = 0; k < 3; ++k) in.push_back(random.uniform(-2, 2));
-      for (int k = 0; k < 3; ++k) in.push_back(random.uniform(-20, 20));
+      spatial::Force<double> w;
+      for (int k = 0; k < 3; ++k) w.moment[k] = random.uniform(-2, 2);
+      for (int k = 0; k < 3; ++k) w.force[k] = random.uniform(-20, 20);
+      p.wrenches.push_back(w);
     }
-    if (runtime_directions)
-      for (std::size_t k = 0; k < s.constraints; ++k) random.unit_direction(in);
-    for (std::size_t k = 0; k < s.constraints; ++k) in.push_back(random.uniform(-3, 3));
+    p.alpha = s.scene.fixed_directions;
+    if (layout.directions_in_input)
+      for (std::size_t k = 0; k < s.constraints; ++k) p.alpha.push_back(random.unit_direction());
+    p.beta.resize(static_cast<Eigen::Index>(s.constraints));
+    for (auto& b : p.beta) b = random.uniform(-3, 3);
     std::vector<double> beta;
     for (std::size_t k = 0; k < s.constraints; ++k) beta.push_back(random.uniform(-3, 3));
-    s.flat.push_back(std::move(in));
+    s.flat.push_back(solver::flat_input(p, layout));
+    s.problems.push_back(std::move(p));
     s.new_beta.push_back(std::move(beta));
   }
   return s;
-}
-
-std::vector<ReferenceInput> reference_inputs(const SceneInputs& s) {
-  std::vector<ReferenceInput> result;
-  const std::size_t n = s.dof, nc = s.constraints;
-  for (const auto& in : s.flat) {
-    ReferenceInput r;
-    r.drivers = solver::DriverInputs<double>::sized(s.scene.layout, n);
-    std::size_t at = 0;
-    const auto take = [&](std::size_t count) {
-      if (at + count > in.size()) throw std::logic_error("flat input too short");
-      const double* p = in.data() + at;
-      at += count;
-      return p;
-    };
-    r.q = Eigen::Map<const Eigen::VectorXd>(take(n), static_cast<Eigen::Index>(n));
-    r.qd = Eigen::Map<const Eigen::VectorXd>(take(n), static_cast<Eigen::Index>(n));
-    for (auto& tau : r.drivers.torques) tau = Eigen::Map<const Eigen::VectorXd>(take(n), static_cast<Eigen::Index>(n));
-    for (auto& w : r.drivers.external_forces) {
-      const double* p = take(6);
-      w.moment = Eigen::Vector3d(p[0], p[1], p[2]);
-      w.force = Eigen::Vector3d(p[3], p[4], p[5]);
-    }
-    for (std::size_t k = 0; k < nc; ++k) {
-      if (s.scene.fixed_directions.empty()) {
-        const double* p = take(6);
-        r.drivers.constraint_directions[k].moment = Eigen::Vector3d(p[0], p[1], p[2]);
-        r.drivers.constraint_directions[k].force = Eigen::Vector3d(p[3], p[4], p[5]);
-      } else {
-        r.drivers.constraint_directions[k] = s.scene.fixed_directions[k];
-      }
-    }
-    r.beta = Eigen::Map<const Eigen::VectorXd>(take(nc), static_cast<Eigen::Index>(nc));
-    if (at != in.size()) throw std::logic_error("flat input too long");
-    result.push_back(std::move(r));
-  }
-  return result;
 }
 
 }  // namespace sweepgen::bench

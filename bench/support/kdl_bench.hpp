@@ -61,30 +61,23 @@ class KdlBench {
         if (chain_.getSegment(k).getName() == ext.link) segment = k;
       load_segment.push_back(segment);
     }
-    for (const auto& in : s.flat) {
+    for (const auto& in : s.problems) {
       Problem p{KDL::JntArray(n), KDL::JntArray(n), KDL::JntArray(n), KDL::JntArray(nc), KDL::Jacobian(nc),
                 KDL::Wrenches(chain_.getNrOfSegments(), KDL::Wrench::Zero())};
-      const double* at = in.data();
-      for (unsigned i = 0; i < n; ++i) p.q(i) = *at++;
-      for (unsigned i = 0; i < n; ++i) p.qd(i) = *at++;
-      for (std::size_t t = 0; t < s.scene.layout.torques.size(); ++t)
-        for (unsigned i = 0; i < n; ++i) p.tau(i) += *at++;
-      for (unsigned segment : load_segment) {  // [moment; force] -> Wrench(force, torque)
-        p.f_ext[segment] = KDL::Wrench(KDL::Vector(at[3], at[4], at[5]), KDL::Vector(at[0], at[1], at[2]));
-        at += 6;
-      }
-      std::vector<double> alpha;  // 6 x 6, [moment; force] per direction
-      for (const auto& d : s.scene.fixed_directions) alpha.insert(alpha.end(), {d.moment.x(), d.moment.y(), d.moment.z(), d.force.x(), d.force.y(), d.force.z()});
-      if (alpha.empty()) {
-        alpha.assign(at, at + 36);
-        at += 36;
+      p.q.data = in.q;
+      p.qd.data = in.qd;
+      for (const auto& tau : in.torques) p.tau.data += tau;
+      for (std::size_t e = 0; e < load_segment.size(); ++e) {  // [moment; force] -> Wrench(force, torque)
+        const auto& w = in.wrenches[e];
+        p.f_ext[load_segment[e]] = KDL::Wrench(KDL::Vector(w.force.x(), w.force.y(), w.force.z()),
+                                               KDL::Vector(w.moment.x(), w.moment.y(), w.moment.z()));
       }
       for (unsigned k = 0; k < nc; ++k)
         for (int r = 0; r < 3; ++r) {
-          p.alfa(r, k) = alpha[6 * k + 3 + r];  // KDL rows: force, then moment
-          p.alfa(3 + r, k) = alpha[6 * k + r];
+          p.alfa(r, k) = in.alpha[k].force[r];  // KDL rows: force, then moment
+          p.alfa(3 + r, k) = in.alpha[k].moment[r];
         }
-      for (unsigned k = 0; k < nc; ++k) p.beta(k) = at[k];
+      for (unsigned k = 0; k < nc; ++k) p.beta(k) = in.beta[k];
       problems_.push_back(std::move(p));
     }
     qdd_ = KDL::JntArray(n);

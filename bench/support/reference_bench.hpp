@@ -13,8 +13,8 @@ namespace sweepgen::bench {
 class ReferenceBench {
  public:
   explicit ReferenceBench(const std::string& scene_path)
-      : inputs_(make_inputs(scene_path)), problems_(reference_inputs(inputs_)) {
-    for (std::size_t i = 0; i < problems_.size(); ++i) {
+      : inputs_(make_inputs(scene_path)) {
+    for (std::size_t i = 0; i < count(); ++i) {
       // One solver per state, so that re-solves can cycle through decomposed states.
       solvers_.push_back(std::make_unique<solver::ReferenceSolver<double>>(inputs_.chain, inputs_.scene.layout,
                                                                            inputs_.scene.solver_options()));
@@ -22,26 +22,16 @@ class ReferenceBench {
                                                                static_cast<Eigen::Index>(inputs_.new_beta[i].size())));
     }
   }
-  std::size_t count() const { return problems_.size(); }
+  std::size_t count() const { return inputs_.problems.size(); }
   const SceneInputs& inputs() const { return inputs_; }
 
   // outward + drivers + decompose + solve of problem i (one solver object for all).
   const solver::Solution<double>& full(std::size_t i, solver::Policy policy) {
-    auto& s = *solvers_[0];
-    const ReferenceInput& p = problems_[i];
-    s.outward(p.q, p.qd);
-    s.drivers() = p.drivers;  // same sizes: element-wise copy, no allocation
-    s.decompose();
-    return s.solve(policy, p.beta);
+    return solvers_[0]->run(inputs_.problems[i], policy);  // same sizes: copies, no allocation
   }
-  // Runs outward + decompose for every problem on its own solver (before re-solves).
+  // Runs outward + decompose (and a solve) for every problem on its own solver (before re-solves).
   void decompose_all() {
-    for (std::size_t i = 0; i < problems_.size(); ++i) {
-      auto& s = *solvers_[i];
-      s.outward(problems_[i].q, problems_[i].qd);
-      s.drivers() = problems_[i].drivers;
-      s.decompose();
-    }
+    for (std::size_t i = 0; i < count(); ++i) solvers_[i]->run(inputs_.problems[i], solver::Policy::original);
   }
   // solve only, with other setpoints, on problem i's decomposed state (after decompose_all()).
   const solver::Solution<double>& resolve(std::size_t i, solver::Policy policy) {
@@ -50,7 +40,6 @@ class ReferenceBench {
 
  private:
   SceneInputs inputs_;
-  std::vector<ReferenceInput> problems_;
   std::vector<std::unique_ptr<solver::ReferenceSolver<double>>> solvers_;
   std::vector<solver::ConstraintVector<double>> new_beta_;
 };

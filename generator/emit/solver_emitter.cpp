@@ -14,6 +14,7 @@
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
 #include "emit/templates.hpp"
+#include "solver/flat_layout.hpp"
 #include "solver/state_fields.hpp"
 
 namespace sweepgen::emit {
@@ -99,12 +100,7 @@ std::string check_drivers(const symbolic::TraceRequest& request, std::size_t nc)
   return text + "  state.drivers_input_status = residue == Scalar(0) ? status_ok : status_not_finite;";
 }
 
-std::size_t flat_in_size(const symbolic::TraceRequest& request, std::size_t n, std::size_t nc) {
-  std::size_t size = 2 * n + n * request.layout.torques.size() + 6 * request.layout.external_forces.size() + nc;
-  if (request.fixed_directions.empty()) size += 6 * nc;
-  return size;
-}
-
+// The order of solver::FlatLayout's `in` (solver/flat_layout.hpp).
 std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc) {
   std::string text = "q (dof), qd (dof)";
   for (const auto& name : request.layout.torques) text += ", " + name + " (dof)";
@@ -114,6 +110,7 @@ std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc) {
   return text;
 }
 
+// The order of solver::FlatLayout's `out` (solver/flat_layout.hpp).
 const char* kFlatOut = "qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), status";
 
 // The Solution arrays of kFlatOut, in its order, with their loop headers.
@@ -231,8 +228,9 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variant.set("solves", solves);
     variant.set("flat_in", flat_in(request.trace, nc));
     variant.set("flat_out", kFlatOut);
-    variant.set("flat_in_size", std::to_string(flat_in_size(request.trace, n, nc)));
-    variant.set("flat_out_size", std::to_string(3 * n + nc + 7));
+    const auto flat = solver::FlatLayout::of(request.trace.layout, n, !request.trace.fixed_directions.empty());
+    variant.set("flat_in_size", std::to_string(flat.in_size()));
+    variant.set("flat_out_size", std::to_string(flat.out_size()));
     variant.set("unpack_drivers", unpack_drivers(request.trace, nc));
     variant.set("check_drivers", check_drivers(request.trace, nc));
     variant.set("check_solution", check_solution(nc));

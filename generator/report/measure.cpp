@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "report/relative_error.hpp"
 #include "solver/joint_inertia.hpp"
 #include "solver/reference_solver.hpp"
 
@@ -91,27 +92,14 @@ std::vector<Precise> widen(const Vector& v) {
 
 }  // namespace
 
-std::size_t flat_in_size(const scene::Scene& s, const model::Chain& chain) {
-  const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  return 2 * n + s.layout.torques.size() * n + 6 * s.layout.external_forces.size() +
-         (s.fixed_directions.empty() ? 6 * nc : 0) + nc;
+solver::FlatLayout flat_layout(const scene::Scene& s, const model::Chain& chain) {
+  return solver::FlatLayout::of(s.layout, chain.dof(), !s.fixed_directions.empty());
 }
 
 void pack_flat(const scene::Scene& s, Problem& p) {
-  p.flat.clear();
-  append(p.flat, p.q);
-  append(p.flat, p.qd);
-  for (const auto& t : p.torques) append(p.flat, t);
-  for (const auto& w : p.wrenches) {
-    append(p.flat, w.moment);
-    append(p.flat, w.force);
-  }
-  if (s.fixed_directions.empty())
-    for (const auto& a : p.alpha) {
-      append(p.flat, a.moment);
-      append(p.flat, a.force);
-    }
-  append(p.flat, p.beta);
+  // q has the chain's dof values.
+  p.flat = solver::flat_input(p, solver::FlatLayout::of(s.layout, static_cast<std::size_t>(p.q.size()),
+                                                        !s.fixed_directions.empty()));
 }
 
 std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& chain, std::size_t count,
@@ -164,19 +152,11 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
                                      const std::vector<Problem>& problems, const solver::SolverOptions& options) {
   solver::ReferenceSolver<Precise> reference(chain, s.layout, options);
-  const auto cast = [](const spatial::Force<double>& f) {
-    return spatial::Force<Precise>{f.moment.cast<Precise>(), f.force.cast<Precise>()};
-  };
   std::vector<Truth> truth;
   truth.reserve(problems.size());
   for (const Problem& p : problems) {
-    reference.outward(p.q.cast<Precise>(), p.qd.cast<Precise>());
+    const auto& r = reference.run(p.cast<Precise>(), solver::Policy::original);
     auto& d = reference.drivers();
-    for (std::size_t t = 0; t < p.torques.size(); ++t) d.torques[t] = p.torques[t].cast<Precise>();
-    for (std::size_t e = 0; e < p.wrenches.size(); ++e) d.external_forces[e] = cast(p.wrenches[e]);
-    for (std::size_t k = 0; k < p.alpha.size(); ++k) d.constraint_directions[k] = cast(p.alpha[k]);
-    reference.decompose();
-    const auto& r = reference.solve(solver::Policy::original, p.beta.cast<Precise>());
     const auto& E = reference.articulated().body[0].constraint_energy;
     Truth t{widen(r.qdd),
             widen(r.tau_cmd),
@@ -211,67 +191,40 @@ solver::SolverOptions with_tolerance_factor(const scene::Scene& s, double factor
 }
 
 namespace {
+// What a solve wrote to `out` (generated layout), widened.
+template <class Scalar>
+Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
+  Outcome outcome;
+  outcome.qdd.assign(o + layout.qdd(), o + layout.qdd() + layout.dof);
+  outcome.tau_cmd.assign(o + layout.tau_cmd(), o + layout.tau_cmd() + layout.dof);
+  outcome.nu.assign(o + layout.nu(), o + layout.nu() + layout.constraints);
+  for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[layout.tip_acceleration() + k];
+  outcome.status = static_cast<unsigned>(o[layout.status()]);
+  outcome.rank_deficient = outcome.status & solver::status_constraint_rank_deficient;
+  return outcome;
+}
+
 // ReferenceSolver<Scalar> on the states (inputs rounded to Scalar outside the timed loop).
 template <class Scalar>
 VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
                                 const TimingOptions& timing, const char* scalar_name) {
   solver::ReferenceSolver<Scalar> reference(chain, s.layout, s.solver_options());
-  const std::size_t n = chain.dof(), nc = s.layout.constraints, stride = 2 * n + nc + 7;
+  const solver::FlatLayout layout{chain.dof(), s.layout.constraints};
   // Results go to a plain buffer inside the timed loop (as the generated code's do), widened after.
-  std::vector<Scalar> out(problems.size() * stride);
-  struct Input {
-    solver::JointVector<Scalar> q, qd;
-    std::vector<solver::JointVector<Scalar>> torques;
-    std::vector<spatial::Force<Scalar>> wrenches, alpha;
-    solver::ConstraintVector<Scalar> beta;
-  };
-  const auto cast = [](const spatial::Force<double>& f) {
-    return spatial::Force<Scalar>{f.moment.cast<Scalar>(), f.force.cast<Scalar>()};
-  };
-  std::vector<Input> inputs;
-  for (const Problem& p : problems) {
-    Input in{p.q.cast<Scalar>(), p.qd.cast<Scalar>(), {}, {}, {}, p.beta.cast<Scalar>()};
-    for (const auto& t : p.torques) in.torques.push_back(t.cast<Scalar>());
-    for (const auto& w : p.wrenches) in.wrenches.push_back(cast(w));
-    for (const auto& a : p.alpha) in.alpha.push_back(cast(a));
-    inputs.push_back(std::move(in));
-  }
-  unsigned rank_deficient_bit = solver::status_constraint_rank_deficient;
+  std::vector<Scalar> out(problems.size() * layout.out_size());
+  std::vector<solver::SolveInputs<Scalar>> inputs;
+  for (const Problem& p : problems) inputs.push_back(p.template cast<Scalar>());
   const auto run_all = [&] {
     Scalar* o = out.data();
-    for (const Input& p : inputs) {
-      reference.outward(p.q, p.qd);
-      auto& d = reference.drivers();
-      for (std::size_t t = 0; t < p.torques.size(); ++t) d.torques[t] = p.torques[t];
-      for (std::size_t e = 0; e < p.wrenches.size(); ++e) d.external_forces[e] = p.wrenches[e];
-      for (std::size_t k = 0; k < p.alpha.size(); ++k) d.constraint_directions[k] = p.alpha[k];
-      reference.decompose();
-      const auto& r = reference.solve(solver::Policy::original, p.beta);
-      for (std::size_t i = 0; i < n; ++i) {
-        o[i] = r.qdd[static_cast<Eigen::Index>(i)];
-        o[n + i] = r.tau_cmd[static_cast<Eigen::Index>(i)];
-      }
-      for (std::size_t k = 0; k < nc; ++k) o[2 * n + k] = r.nu[static_cast<Eigen::Index>(k)];
-      for (int k = 0; k < 3; ++k) {
-        o[2 * n + nc + k] = r.tip_acceleration.angular[k];
-        o[2 * n + nc + 3 + k] = r.tip_acceleration.linear[k];
-      }
-      o[2 * n + nc + 6] = static_cast<Scalar>(reference.status());
-      o += stride;
+    for (const auto& p : inputs) {
+      const auto& solution = reference.run(p, solver::Policy::original);
+      solver::flat_output(solution, reference.status(), layout, o);
+      o += layout.out_size();
     }
   };
   VariantResult result{"reference", scalar_name, "", time_passes(problems.size(), timing, run_all), {}};
-  for (std::size_t state = 0; state < problems.size(); ++state) {
-    const Scalar* o = out.data() + state * stride;
-    Outcome outcome;
-    outcome.qdd.assign(o, o + n);
-    outcome.tau_cmd.assign(o + n, o + 2 * n);
-    outcome.nu.assign(o + 2 * n, o + 2 * n + nc);
-    for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[2 * n + nc + k];
-    outcome.status = static_cast<unsigned>(o[2 * n + nc + 6]);
-    outcome.rank_deficient = outcome.status & rank_deficient_bit;
-    result.outcomes.push_back(std::move(outcome));
-  }
+  for (std::size_t state = 0; state < problems.size(); ++state)
+    result.outcomes.push_back(outcome_of(out.data() + state * layout.out_size(), layout));
   return result;
 }
 }  // namespace
@@ -290,8 +243,8 @@ template <class Scalar>
 VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name, std::size_t dof,
                                 std::size_t constraints, const std::vector<Problem>& problems,
                                 const TimingOptions& timing) {
-  const std::size_t n = dof, nc = constraints;
-  const std::size_t in_size = problems.empty() ? 0 : problems.front().flat.size(), out_size = 3 * n + nc + 7;
+  const solver::FlatLayout layout{dof, constraints};
+  const std::size_t in_size = problems.empty() ? 0 : problems.front().flat.size(), out_size = layout.out_size();
   std::vector<Scalar> in(problems.size() * in_size), out(problems.size() * out_size);
   for (std::size_t state = 0; state < problems.size(); ++state)
     for (std::size_t i = 0; i < in_size; ++i) in[state * in_size + i] = static_cast<Scalar>(problems[state].flat[i]);
@@ -301,17 +254,8 @@ VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name
     for (std::size_t state = 0; state < problems.size(); ++state, i += in_size, o += out_size) solve(i, o);
   };
   VariantResult result{"generated", scalar_name, "", time_passes(problems.size(), timing, run_all), {}};
-  for (std::size_t state = 0; state < problems.size(); ++state) {
-    const Scalar* o = out.data() + state * out_size;
-    Outcome outcome;
-    outcome.qdd.assign(o, o + n);
-    outcome.tau_cmd.assign(o + n, o + 2 * n);
-    outcome.nu.assign(o + 3 * n, o + 3 * n + nc);
-    for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[3 * n + nc + k];
-    outcome.status = static_cast<unsigned>(o[3 * n + nc + 6]);
-    outcome.rank_deficient = outcome.status & solver::status_constraint_rank_deficient;
-    result.outcomes.push_back(std::move(outcome));
-  }
+  for (std::size_t state = 0; state < problems.size(); ++state)
+    result.outcomes.push_back(outcome_of(out.data() + state * out_size, layout));
   return result;
 }
 
@@ -319,18 +263,6 @@ template VariantResult measure_generated<double>(FlatSolve<double>, const char*,
                                                  const std::vector<Problem>&, const TimingOptions&);
 template VariantResult measure_generated<float>(FlatSolve<float>, const char*, std::size_t, std::size_t,
                                                 const std::vector<Problem>&, const TimingOptions&);
-
-Precise relative_error(const std::vector<Precise>& a, const std::vector<Precise>& b) {
-  Precise diff = 0, scale = 1;
-  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
-    diff = std::max(diff, abs(a[i] - b[i]));
-    scale = std::max(scale, abs(b[i]));
-  }
-  // NaN in the answer is the worst error there is.
-  for (const Precise v : a)
-    if (!isfinite(v)) return std::numeric_limits<Precise>::infinity();
-  return diff / scale;
-}
 
 Precise constraint_residual(const Outcome& o, const Problem& p) {
   for (const Precise v : o.tip_acceleration)
@@ -358,7 +290,7 @@ Summary summarize(const VariantResult& result, const std::vector<Problem>& probl
     const Outcome& o = result.outcomes[state];
     const Problem& p = problems[state];
     const Truth& t = truth[state];
-    const Precise e_qdd = relative_error(o.qdd, t.qdd);
+    const Precise e_qdd = relative_error<Precise>(o.qdd, t.qdd);
     if (!(t.cond <= kIllConditioned)) {
       ++summary.ill_conditioned_states;
       summary.ill_conditioned_max_rel_err_qdd = std::max(summary.ill_conditioned_max_rel_err_qdd, e_qdd);
@@ -370,7 +302,7 @@ Summary summarize(const VariantResult& result, const std::vector<Problem>& probl
       summary.max_rel_err_qdd_full_rank = std::max(summary.max_rel_err_qdd_full_rank, e_qdd);
     qdd_errors.push_back(e_qdd);
     summary.max_rel_err_qdd = std::max(summary.max_rel_err_qdd, e_qdd);
-    summary.max_rel_err_tau = std::max(summary.max_rel_err_tau, relative_error(o.tau_cmd, t.tau_cmd));
+    summary.max_rel_err_tau = std::max(summary.max_rel_err_tau, relative_error<Precise>(o.tau_cmd, t.tau_cmd));
     summary.max_constraint_residual = std::max(summary.max_constraint_residual, constraint_residual(o, p));
   }
   summary.median_rel_err_qdd = quantile(qdd_errors, 0.5);

@@ -12,6 +12,7 @@
 
 #include "model/chain.hpp"
 #include "scene/scene.hpp"
+#include "solver/flat_layout.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/state.hpp"
 #include "spatial/spatial.hpp"
@@ -30,14 +31,9 @@ static_assert(std::numeric_limits<Precise>::digits >= 2 * std::numeric_limits<do
 constexpr double kIllConditioned = 1e6;
 
 // One random state with its drivers and setpoints, in double.
-struct Problem {
-  Eigen::VectorXd q, qd;
-  std::vector<Eigen::VectorXd> torques;              // one per torque instance
-  Eigen::VectorXd tau_ff;                            // their sum (what τcmd starts from)
-  std::vector<spatial::Force<double>> wrenches;      // one per external-force instance, link frame
-  std::vector<spatial::Force<double>> alpha;         // Nc directions, tip frame (fixed ones too)
-  solver::ConstraintVector<double> beta;             // Nc setpoints
-  std::vector<double> flat;                          // the generated code's flat input
+struct Problem : solver::SolveInputs<double> {
+  Eigen::VectorXd tau_ff;     // the sum of the torques (what τcmd starts from)
+  std::vector<double> flat;   // the generated code's flat input (solver/flat_layout.hpp)
 };
 
 // Seeded random states: q within the joint limits ([-pi, pi] where unlimited), q̇ in [-2, 2],
@@ -48,11 +44,11 @@ struct Problem {
 std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& chain, std::size_t count,
                                      unsigned long long seed);
 
-// Fills p.flat, the generated code's flat input (q, q̇, torques, wrenches, run-time α, β).
-void pack_flat(const scene::Scene& s, Problem& p);
+// The flat layout of the scene's generated solver.
+solver::FlatLayout flat_layout(const scene::Scene& s, const model::Chain& chain);
 
-// Number of values in the generated flat input of the scene.
-std::size_t flat_in_size(const scene::Scene& s, const model::Chain& chain);
+// Fills p.flat, the generated code's flat input.
+void pack_flat(const scene::Scene& s, Problem& p);
 
 // The high-precision answer for one state.
 struct Truth {
@@ -152,8 +148,6 @@ Summary summarize(const VariantResult& result, const std::vector<Problem>& probl
 // max_k |α_kᵀ Ẍ_tip − β_k| / max(1, ‖β‖∞, ‖Ẍ_tip‖∞) (0 when Nc = 0; infinite when Ẍ_tip is not
 // finite). Needs no referee: it checks the answer against the problem itself.
 Precise constraint_residual(const Outcome& outcome, const Problem& problem);
-// ‖a − b‖∞ / max(1, ‖b‖∞).
-Precise relative_error(const std::vector<Precise>& a, const std::vector<Precise>& b);
 // The q-th quantile (0..1) of `values`, linear between order statistics; NaN when empty.
 template <class T>
 T quantile(std::vector<T> values, double q) {

@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "report/relative_error.hpp"
 #include "scene/scene.hpp"
+#include "solver/flat_layout.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/random_problem.hpp"
 
@@ -29,15 +31,6 @@
 
 namespace sweepgen::test {
 
-// Relative error ‖a − b‖∞ / max(1, ‖b‖∞), in long double.
-inline long double relative_error(const std::vector<long double>& a, const std::vector<long double>& b) {
-  long double diff = 0, scale = 1;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    diff = std::max(diff, std::abs(a[i] - b[i]));
-    scale = std::max(scale, std::abs(b[i]));
-  }
-  return diff / scale;
-}
 
 struct ErrorSummary {
   long double qdd = 0, tau_cmd = 0, nu = 0;  // max over well-conditioned states
@@ -45,13 +38,14 @@ struct ErrorSummary {
   int states = 0, ill_conditioned = 0, rank_deficient = 0, borderline = 0;
 };
 
-// One random problem of a scene, in the flat input order of the generated code.
-struct FlatProblem {
+// One random problem of a scene, and its flat input for the generated code.
+struct FlatProblem : solver::SolveInputs<double> {
   std::vector<double> in;
-  Eigen::VectorXd q, qd, beta;
-  std::vector<Eigen::VectorXd> torques;
-  std::vector<spatial::Force<double>> wrenches, alpha;
 };
+
+inline solver::FlatLayout flat_layout(const scene::Scene& s, const model::Chain& chain) {
+  return solver::FlatLayout::of(s.layout, chain.dof(), !s.fixed_directions.empty());
+}
 
 inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene& s, const model::Chain& chain) {
   FlatProblem p;
@@ -65,20 +59,7 @@ inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene
     for (std::size_t k = 0; k < nc; ++k) p.alpha.push_back(random.unit_direction());
   p.beta.resize(nc);
   for (auto& b : p.beta) b = random.uniform(-3, 3);
-  const auto push = [&p](const auto& v) { p.in.insert(p.in.end(), v.data(), v.data() + v.size()); };
-  push(p.q);
-  push(p.qd);
-  for (const auto& t : p.torques) push(t);
-  for (const auto& w : p.wrenches) {
-    push(w.moment);
-    push(w.force);
-  }
-  if (s.fixed_directions.empty())
-    for (const auto& a : p.alpha) {
-      push(a.moment);
-      push(a.force);
-    }
-  push(p.beta);
+  p.in = solver::flat_input(p, flat_layout(s, chain));
   return p;
 }
 
@@ -107,7 +88,8 @@ ErrorSummary check_against_reference(const std::string& scene_path, int states, 
   options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<Scalar>::epsilon());
   solver::ReferenceSolver<long double> reference(chain, s.layout, options);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  EXPECT_EQ(static_cast<std::size_t>(Api::flat_out_size), 3 * n + nc + 7);
+  const solver::FlatLayout layout = flat_layout(s, chain);
+  EXPECT_EQ(static_cast<std::size_t>(Api::flat_out_size), layout.out_size());
 
   RandomProblem random(seed);
   ErrorSummary summary;
@@ -135,7 +117,7 @@ ErrorSummary check_against_reference(const std::string& scene_path, int states, 
       const auto policy = *solver::policy_from_name(entry.policy);
       entry.solve(in.data(), out.data());
       const auto& r = reference.solve(policy, p.beta.cast<long double>());
-      const unsigned status = static_cast<unsigned>(out[3 * n + nc + 6]);
+      const unsigned status = static_cast<unsigned>(out[layout.status()]);
       for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " state " << state;
       const bool reference_dropped = reference.status() & solver::status_constraint_rank_deficient;
       const bool generated_dropped = status & solver::status_constraint_rank_deficient;
@@ -155,9 +137,9 @@ ErrorSummary check_against_reference(const std::string& scene_path, int states, 
         return std::vector<long double>(out.begin() + offset, out.begin() + offset + count);
       };
       const auto vec = [](const auto& v) { return std::vector<long double>(v.data(), v.data() + v.size()); };
-      const long double e_qdd = relative_error(slice(0, n), vec(r.qdd));
-      const long double e_tau = relative_error(slice(n, n), vec(r.tau_cmd));
-      const long double e_nu = relative_error(slice(3 * n, nc), vec(r.nu));
+      const long double e_qdd = report::relative_error<long double>(slice(layout.qdd(), n), vec(r.qdd));
+      const long double e_tau = report::relative_error<long double>(slice(layout.tau_cmd(), n), vec(r.tau_cmd));
+      const long double e_nu = report::relative_error<long double>(slice(layout.nu(), nc), vec(r.nu));
       if (cond <= 1e6) {
         summary.qdd = std::max(summary.qdd, e_qdd);
         summary.tau_cmd = std::max(summary.tau_cmd, e_tau);
@@ -187,15 +169,16 @@ void check_resolve_equals_full_solve(const std::string& scene_path, int states) 
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
+  const solver::FlatLayout layout = flat_layout(s, chain);
   RandomProblem random(99);
   std::vector<Scalar> in(Api::flat_in_size), out(Api::flat_out_size);
   for (int state = 0; state < states; ++state) {
     const FlatProblem p = random_flat_problem(random, s, chain);
     for (std::size_t i = 0; i < p.in.size(); ++i) in[i] = static_cast<Scalar>(p.in[i]);
     typename Api::State st;
-    Api::outward(in.data(), in.data() + n, st);
-    Api::decompose(in.data() + 2 * n, st);
-    std::vector<Scalar> beta1(nc + 1), beta2(in.end() - nc, in.end());
+    Api::outward(in.data() + layout.q(), in.data() + layout.qd(), st);
+    Api::decompose(in.data() + layout.torque(0), st);
+    std::vector<Scalar> beta1(nc + 1), beta2(in.begin() + layout.beta(), in.end());
     for (auto& b : beta1) b = static_cast<Scalar>(random.uniform(-1, 1));
     for (std::size_t k = 0; k < std::size(Api::flat_solves); ++k) {
       typename Api::Solution first, second;
@@ -203,11 +186,11 @@ void check_resolve_equals_full_solve(const std::string& scene_path, int states) 
       Api::solves[k].solve(st, beta2.data(), second);
       Api::flat_solves[k].solve(in.data(), out.data());
       for (std::size_t i = 0; i < n; ++i) {
-        ASSERT_EQ(second.qdd[i], out[i]) << Api::solves[k].policy << " joint " << i;
-        ASSERT_EQ(second.tau_cmd[i], out[n + i]);
-        ASSERT_EQ(second.tau_ctrl[i], out[2 * n + i]);
+        ASSERT_EQ(second.qdd[i], out[layout.qdd() + i]) << Api::solves[k].policy << " joint " << i;
+        ASSERT_EQ(second.tau_cmd[i], out[layout.tau_cmd() + i]);
+        ASSERT_EQ(second.tau_ctrl[i], out[layout.tau_ctrl() + i]);
       }
-      ASSERT_EQ(static_cast<Scalar>(second.status), out[3 * n + nc + 6]);
+      ASSERT_EQ(static_cast<Scalar>(second.status), out[layout.status()]);
     }
   }
 }
@@ -226,7 +209,8 @@ void check_bad_inputs(const std::string& scene_path, bool checks_inputs, unsigne
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const std::size_t status_at = 3 * n + nc + 6;
+  const solver::FlatLayout layout = flat_layout(s, chain);
+  const std::size_t status_at = layout.status();
   RandomProblem random(5);
   const FlatProblem p = random_flat_problem(random, s, chain);
   const std::vector<Scalar> clean(p.in.begin(), p.in.end());
@@ -247,7 +231,7 @@ void check_bad_inputs(const std::string& scene_path, bool checks_inputs, unsigne
     }
   }
   if (nc == 0 || !s.fixed_directions.empty()) return;  // alpha is not a run-time input
-  const std::size_t alpha_at = Api::flat_in_size - nc - 6 * nc;
+  const std::size_t alpha_at = layout.alpha(0);
   for (std::size_t k = 0; k < nc; ++k) {
     in = clean;
     for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] = 0;
@@ -264,10 +248,10 @@ void check_bad_inputs(const std::string& scene_path, bool checks_inputs, unsigne
     const Scalar scale = Scalar(64);
     for (std::size_t k = 0; k < nc; ++k) {
       for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] *= scale;
-      in[Api::flat_in_size - nc + k] *= scale;
+      in[layout.beta() + k] *= scale;
     }
     EXPECT_EQ(status_of(entry), 0u) << entry.policy;
-    const long double e = relative_error(std::vector<long double>(out.begin(), out.begin() + n),
+    const long double e = report::relative_error<long double>(std::vector<long double>(out.begin(), out.begin() + n),
                                          std::vector<long double>(unit_qdd.begin(), unit_qdd.end()));
     EXPECT_LE(e, 1e4L * std::numeric_limits<Scalar>::epsilon()) << entry.policy << ": alpha and beta scaled by 64";
   }

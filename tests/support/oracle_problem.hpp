@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "report/relative_error.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/dense_dynamics.hpp"
@@ -127,13 +128,10 @@ inline const solver::Solution<double>& solve(solver::ReferenceSolver<double>& s,
   return s.solve(policy, p.beta);
 }
 
-// ‖a − b‖∞ / max(1, ‖b‖∞)
+// ‖a − b‖∞ / max(1, ‖b‖∞) (report/relative_error.hpp), in the oracles' precision.
 template <class A, class B>
 double relative_error(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
-  if (b.size() == 0) return 0;
-  const OracleMat d = a.template cast<LongDouble>() - b.template cast<LongDouble>();
-  const LongDouble scale = std::max<LongDouble>(1, b.template cast<LongDouble>().cwiseAbs().maxCoeff());
-  return static_cast<double>(d.cwiseAbs().maxCoeff() / scale);
+  return static_cast<double>(report::relative_error<LongDouble>(a.derived(), b.derived()));
 }
 
 }  // namespace sweepgen::test
