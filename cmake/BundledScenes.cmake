@@ -1,6 +1,7 @@
 # The bundled scenes (robots/*/*.yaml), each generated at build time into one library
 # <stem>_solver that tests/ and bench/ share, compiled warning-free under -Wall -Wextra
-# -Wpedantic -Werror. Sets SWEEPGEN_BUNDLED_SCENES (the files) and, per scene stem,
+# -Wpedantic -Werror, and without exceptions or RTTI (-fno-exceptions -fno-rtti: what a
+# real-time controller may build them with; tests/realtime/noexcept_solve.cpp runs two of them). Sets SWEEPGEN_BUNDLED_SCENES (the files) and, per scene stem,
 # SWEEPGEN_SCENE_<stem>_NAMESPACE and SWEEPGEN_SCENE_<stem>_HAS_FLOAT, read from the one-line
 # `solver:` and `scalars:` entries our scenes use.
 option(SWEEPGEN_NATIVE "Compile the bundled generated solvers with -march=native" OFF)
@@ -16,7 +17,7 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
     set(SWEEPGEN_SCENE_${stem}_HAS_FLOAT 0)
   endif()
   sweepgen_add_solver(${stem}_solver SCENE ${scene})
-  target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror)
+  target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror -fno-exceptions -fno-rtti)
   if(SWEEPGEN_NATIVE)
     # Plain arrays, no Eigen: the ABI does not change with it.
     target_compile_options(${stem}_solver PRIVATE -march=native)

@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  g++ cmake make pkg-config             # toolchain
+  g++ cmake ninja-build make pkg-config # toolchain (the presets build with Ninja)
   libeigen3-dev liburdfdom-dev          # tool: linear algebra, URDF parsing
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libkainjow-mustache-dev
   libgtest-dev libbenchmark-dev         # tests and benchmarks

@@ -22,6 +22,9 @@ if(NOT TARGET sweepgen_fuzz_entries)
   target_include_directories(sweepgen_fuzz_entries PUBLIC ${PROJECT_SOURCE_DIR}/fuzz)
   target_link_libraries(sweepgen_fuzz_entries PUBLIC sweepgen_core nlohmann_json::nlohmann_json)
   target_compile_options(sweepgen_fuzz_entries PRIVATE -Wall -Wextra -Wpedantic)
+  if(SWEEPGEN_FUZZ)
+    target_compile_options(sweepgen_fuzz_entries PRIVATE -fsanitize=fuzzer-no-link)  # coverage feedback
+  endif()
 endif()
 
 # sweepgen_fuzz_seeds(TARGET DIR): writes the seed inputs of fuzz target TARGET (urdf, scene or

@@ -1,7 +1,8 @@
 // The benchmark kernels of one generated solver variant (a scene's f64 or f32 namespace),
 // instantiated by the per-scene sources that bench/CMakeLists.txt configures from
 // scene_variants.cpp.in. Each variant registers itself in generated_variants(); with
-// SWEEPGEN_BENCH_GBENCH defined (bench_generated) it also registers Google Benchmark cases.
+// SWEEPGEN_BENCH_GBENCH defined (when Google Benchmark is installed) it also has the Google
+// Benchmark cases that bench_generated runs.
 //
 // All inputs are prepared before any timed or counted loop: kStates flat inputs (cast to the
 // variant's scalar), the same as Drivers structs, and kStates States after outward() +

@@ -1,7 +1,7 @@
-// The generated code needs no exceptions and no RTTI: this program and the committed
-// generated/panda_nc6.cpp and generated/iiwa14_nc6.cpp are compiled with -fno-exceptions
-// -fno-rtti -Wall -Wextra -Wpedantic -Werror (tests/CMakeLists.txt, "Hardening" block), and it
-// runs a solve of every policy of both. No gtest: it would bring exceptions back. ctest runs it
+// The generated code needs no exceptions and no RTTI: this program and the bundled scenes'
+// solver libraries (the panda_nc6 and iiwa14_nc6 ones here) are compiled with -fno-exceptions
+// -fno-rtti -Wall -Wextra -Wpedantic -Werror (tests/CMakeLists.txt, "Hardening" block, and
+// cmake/BundledScenes.cmake), and it runs a solve of every policy of both. No gtest: it would bring exceptions back. ctest runs it
 // as realtime_no_exceptions; exit code 0 when every output is finite.
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
 #error "built with exceptions: the -fno-exceptions flag did not reach this target"
@@ -14,8 +14,8 @@
 #include <cstdio>
 #include <utility>
 
-#include "iiwa14_nc6.hpp"
-#include "panda_nc6.hpp"
+#include "iiwa14_nc6_solver.hpp"
+#include "panda_nc6_solver.hpp"
 
 namespace {
 
