@@ -85,6 +85,7 @@
 
 #include "report/relative_error.hpp"
 #include "report/kdl_chain.hpp"
+#include "report/kdl_convention.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
@@ -113,19 +114,12 @@ KDL::Chain kdl_chain(const BundledRobot& robot) {
   return chain;
 }
 
-KDL::Vector kdl_vector(const Eigen::Vector3d& v) { return KDL::Vector(v.x(), v.y(), v.z()); }
-Eigen::Vector3d from_kdl(const KDL::Vector& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
-Eigen::Matrix3d from_kdl(const KDL::Rotation& r) {
-  Eigen::Matrix3d m;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m(i, j) = r(i, j);
-  return m;
-}
-KDL::JntArray kdl_joints(const Eigen::VectorXd& v) {
-  KDL::JntArray a(static_cast<unsigned>(v.size()));
-  a.data = v;
-  return a;
-}
+// The translation under test is the one `sweepgen report` uses (report/kdl_convention.hpp).
+using report::from_kdl;
+using report::from_kdl_base;
+using report::kdl_joints;
+using report::kdl_vector;
+using report::to_kdl_base;
 
 // R_i (body i -> base rotation) and p_i (body i origin in the base), i = 0..N, from the
 // outward sweep's X_i = {E_i, r_i}: R_i = R_{i-1} E_i^T, p_i = p_{i-1} + R_{i-1} r_i.
@@ -135,26 +129,15 @@ struct BodyPoses {
 };
 BodyPoses body_poses(const solver::KinematicsState<double>& kin) {
   BodyPoses poses;
-  poses.R.assign(kin.body.size(), Eigen::Matrix3d::Identity());
+  poses.R = report::body_rotations(kin);
   poses.p.assign(kin.body.size(), Eigen::Vector3d::Zero());
-  for (std::size_t i = 1; i < kin.body.size(); ++i) {
-    poses.p[i] = poses.p[i - 1] + poses.R[i - 1] * kin.body[i].X.r;
-    poses.R[i] = poses.R[i - 1] * kin.body[i].X.E.transpose();
-  }
+  for (std::size_t i = 1; i < kin.body.size(); ++i) poses.p[i] = poses.p[i - 1] + poses.R[i - 1] * kin.body[i].X.r;
   return poses;
 }
 
-// sweepgen wrench (link frame, [moment; force]) -> KDL Vereshchagin wrench (base orientation).
-KDL::Wrench to_kdl_base(const Force<double>& f, const Eigen::Matrix3d& R) {
-  return KDL::Wrench(kdl_vector(R * f.force), kdl_vector(R * f.moment));
-}
 // R applied to both parts of a KDL wrench (a change of orientation, no shift).
 KDL::Wrench rotated(const Eigen::Matrix3d& R, const KDL::Wrench& w) {
   return KDL::Wrench(kdl_vector(R * from_kdl(w.force)), kdl_vector(R * from_kdl(w.torque)));
-}
-// KDL Twist in base orientation -> sweepgen motion in the frame with rotation R.
-Motion<double> from_kdl_base(const KDL::Twist& t, const Eigen::Matrix3d& R) {
-  return {R.transpose() * from_kdl(t.rot), R.transpose() * from_kdl(t.vel)};
 }
 
 // ‖a − b‖∞ / max(1, ‖b‖∞), b the oracle (report/relative_error.hpp).
@@ -234,11 +217,7 @@ KdlRun run_kdl(const KDL::Chain& chain, KDL::ChainHdSolver_Vereshchagin& hd, con
   run.f_ext.assign(chain.getNrOfSegments(), KDL::Wrench::Zero());
   for (std::size_t k = 0; k < p.forces.size(); ++k)
     run.f_ext[p.force_bodies[k] - 1] += to_kdl_base(p.forces[k], R[p.force_bodies[k]]);
-  run.alfa = KDL::Jacobian(nc);
-  for (unsigned k = 0; k < nc; ++k) {
-    run.alfa.data.block<3, 1>(0, k) = R[N] * p.alpha[k].force;
-    run.alfa.data.block<3, 1>(3, k) = R[N] * p.alpha[k].moment;
-  }
+  run.alfa = report::kdl_directions(p.alpha, R[N]);
   KDL::JntArray beta(nc);
   beta.data = p.beta;
   KDL::JntArray qdd(n), ctorques(n);
@@ -294,7 +273,7 @@ class ProblemGenerator {
   std::unique_ptr<ReferenceSolver<double>> free_;
 };
 
-KDL::Twist root_acceleration() { return KDL::Twist(KDL::Vector(0, 0, kGravity), KDL::Vector::Zero()); }
+KDL::Twist root_acceleration() { return report::kdl_root_acceleration(Eigen::Vector3d(0, 0, -kGravity)); }
 
 // The chains correspond: same joint count, no fixed joints, the tip is body N, and KDL's
 // segment frames are sweepgen's body frames (rotation and origin).

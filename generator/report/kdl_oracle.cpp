@@ -19,19 +19,11 @@ VariantResult measure_kdl(const scene::Scene&, const model::Chain&, const std::v
 #include <kdl/tree.hpp>
 
 #include "report/kdl_chain.hpp"
+#include "report/kdl_convention.hpp"
 #include "solver/reference_solver.hpp"
 
 namespace sweepgen::report {
 namespace {
-
-KDL::Vector kdl_vector(const Eigen::Vector3d& v) { return KDL::Vector(v.x(), v.y(), v.z()); }
-Eigen::Vector3d from_kdl(const KDL::Vector& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
-
-KDL::JntArray kdl_joints(const Eigen::VectorXd& v) {
-  KDL::JntArray a(static_cast<unsigned>(v.size()));
-  a.data = v;
-  return a;
-}
 
 VariantResult unavailable(const std::string& why) { return {"kdl", "double", why, {}, {}}; }
 
@@ -60,32 +52,28 @@ VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, cons
   inputs.reserve(problems.size());
   for (const Problem& p : problems) {
     kinematics.outward(p.q, p.qd);
-    std::vector<Eigen::Matrix3d> R(n + 1, Eigen::Matrix3d::Identity());
-    for (std::size_t i = 1; i <= n; ++i) R[i] = R[i - 1] * kinematics.kinematics().body[i].X.E.transpose();
+    const std::vector<Eigen::Matrix3d> R = body_rotations(kinematics.kinematics());
     KdlInput in;
     in.q = kdl_joints(p.q);
     in.qd = kdl_joints(p.qd);
     in.ff = kdl_joints(p.tau_ff);
     in.beta = KDL::JntArray(static_cast<unsigned>(nc));
     in.beta.data = p.beta;
-    in.alfa = KDL::Jacobian(static_cast<unsigned>(nc));
-    for (std::size_t k = 0; k < nc; ++k) {
-      const spatial::Force<double> on_body = tip.X.apply_transpose(p.alpha[k]);  // body N frame, about its origin
-      in.alfa.data.block<3, 1>(0, static_cast<Eigen::Index>(k)) = R[n] * on_body.force;
-      in.alfa.data.block<3, 1>(3, static_cast<Eigen::Index>(k)) = R[n] * on_body.moment;
-    }
+    std::vector<spatial::Force<double>> on_body_n;  // body N frame, about its origin
+    for (std::size_t k = 0; k < nc; ++k) on_body_n.push_back(tip.X.apply_transpose(p.alpha[k]));
+    in.alfa = kdl_directions(on_body_n, R[n]);
     in.f_ext.assign(segments, KDL::Wrench::Zero());
     for (std::size_t e = 0; e < p.wrenches.size(); ++e) {
       const model::Frame& frame = chain.frames.at(s.layout.external_forces[e].link);
       const spatial::Force<double> on_body = frame.X.apply_transpose(p.wrenches[e]);
-      in.f_ext[frame.body - 1] += KDL::Wrench(kdl_vector(R[frame.body] * on_body.force), kdl_vector(R[frame.body] * on_body.moment));
+      in.f_ext[frame.body - 1] += to_kdl_base(on_body, R[frame.body]);
     }
     in.R_tip_body = R[n];
     inputs.push_back(std::move(in));
   }
 
   const Eigen::Vector3d g = s.gravity;
-  KDL::ChainHdSolver_Vereshchagin hd(kdl, KDL::Twist(kdl_vector(-g), KDL::Vector::Zero()), static_cast<unsigned>(nc));
+  KDL::ChainHdSolver_Vereshchagin hd(kdl, kdl_root_acceleration(g), static_cast<unsigned>(nc));
   std::vector<KDL::JntArray> qdd(problems.size(), KDL::JntArray(static_cast<unsigned>(n)));
   std::vector<Eigen::VectorXd> nu(problems.size(), Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nc)));
   std::vector<KDL::Twist> tip_acceleration(problems.size());
@@ -118,8 +106,7 @@ VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, cons
     for (std::size_t i = 0; i < n; ++i) o.tau_cmd.push_back(tau[static_cast<Eigen::Index>(i)]);
     for (std::size_t k = 0; k < nc; ++k) o.nu.push_back(-nu[state][static_cast<Eigen::Index>(k)]);  // KDL's ν is −ν
     // KDL's Ẍ_N (base orientation, about body N's origin) -> body N frame -> tip frame.
-    const spatial::Motion<double> body{in.R_tip_body.transpose() * from_kdl(tip_acceleration[state].rot),
-                                       in.R_tip_body.transpose() * from_kdl(tip_acceleration[state].vel)};
+    const spatial::Motion<double> body = from_kdl_base(tip_acceleration[state], in.R_tip_body);
     const spatial::Motion<double> at_tip = tip.X.apply(body);
     for (int k = 0; k < 3; ++k) {
       o.tip_acceleration[static_cast<std::size_t>(k)] = at_tip.angular[k];
