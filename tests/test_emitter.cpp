@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <regex>
 #include <set>
 
 #include "emit/equations.hpp"
+#include "emit/function_plan.hpp"
 #include "emit/literal.hpp"
 #include "emit/solver_emitter.hpp"
 #include "support/bundled_robots.hpp"
@@ -94,6 +96,50 @@ TEST(Emitter, EveryStoredArrayHasAnEquation) {
   EXPECT_GT(arrays.size(), 20u);
   for (const auto& array : arrays) EXPECT_NO_THROW(emit::equation_of(array)) << array;
   EXPECT_THROW(emit::equation_of("no_such_array"), std::logic_error);
+}
+
+// Every value a later function reads is a State member named from the math: the field it is
+// (array_body_component, with the policy in front for a solve's own), sin/cos of the input it
+// is, or a term of the first field whose expression reaches it; and every block of statements
+// sits under a banner naming the quantity it computes.
+TEST(Emitter, StateMembersAndBannersAreNamedFromTheMath) {
+  const model::Chain chain = panda();
+  for (std::size_t nc : {0u, 6u}) {
+    const auto trace = symbolic::trace_solver(chain, request({{"push", "panda_hand"}}, nc));
+    const emit::Plan plan = emit::make_plan(trace, false);
+    std::set<std::string> arrays;
+    for (const auto& f : trace.fields) arrays.insert((emit::is_state_field(f) ? "" : f.group + "_") + f.array);
+    const std::regex named(R"(^(.+?)(_\d+)?_\d+(_term(_\d+)?)?$)");
+    const std::regex function_of_input(R"(^(sin|cos)_q_\d+$)");
+    ASSERT_FALSE(plan.carried_name.empty());
+    std::set<std::string> names;
+    for (const auto& [node, name] : plan.carried_name) {
+      EXPECT_TRUE(names.insert(name).second) << "two State members named " << name;
+      std::smatch m;
+      if (std::regex_match(name, function_of_input)) continue;
+      ASSERT_TRUE(std::regex_match(name, m, named)) << name;
+      EXPECT_TRUE(arrays.count(m[1])) << name << ": no array " << m[1];
+    }
+    const emit::EmitRequest emit_request{"scene", {"double"}, false, request({{"push", "panda_hand"}}, nc), "test"};
+    const auto emitted = emit::emit_solver(chain, emit_request);
+    for (const auto& file : emitted.files) {
+      EXPECT_EQ(file.text.find("carried_"), std::string::npos) << file.name;
+      if (file.name != "scene.cpp") continue;
+      // Between two banners or array comments there is code; no statement precedes the first.
+      const auto body = file.text.find("void outward(");
+      const auto first_statement = file.text.find("  const double", body);
+      const auto first_banner = file.text.find("  // ==== outward sweep", body);
+      EXPECT_LT(first_banner, first_statement);
+      if (nc > 0) {
+        // The constraint multipliers' factorisation sits under the banner of nu.
+        const auto solve = file.text.find("void solve_original(");
+        const auto nu_banner = file.text.find("  // nu: ", solve);
+        const auto nu_store = file.text.find("out.nu[0] =", solve);
+        const auto last_banner_before = file.text.rfind("  // ", nu_store);
+        EXPECT_EQ(last_banner_before, nu_banner);
+      }
+    }
+  }
 }
 
 TEST(Emitter, LiteralsRoundTrip) {
