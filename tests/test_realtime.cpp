@@ -30,6 +30,7 @@
 #include "iiwa14_nc6_solver.hpp"
 #include "panda_nc6_solver.hpp"
 #include "support/bundled_robots.hpp"
+#include "support/flat_problem.hpp"
 #include "support/generated_check.hpp"
 
 // ---- Allocation counter ---------------------------------------------------------------------

@@ -1,19 +1,15 @@
 // Checks one generated solver variant (f64 or f32 namespace of a scene) against the
-// reference solver in long double, through the generated flat and structured APIs.
+// reference solver in long double, through the generated flat and structured APIs. The checks
+// that need no generated type take a FlatVariant (sizes and the flat solves as function
+// pointers) and are compiled once, in generated_check.cpp, for double and float: a scene's test
+// translation unit compiles only its own few lines.
 #pragma once
 
 #include <gtest/gtest.h>
 
-#include <Eigen/SVD>
-#include <iostream>
+#include <cstddef>
 #include <string>
 #include <vector>
-
-#include "report/relative_error.hpp"
-#include "scene/scene.hpp"
-#include "solver/flat_layout.hpp"
-#include "solver/reference_solver.hpp"
-#include "support/random_problem.hpp"
 
 // Defines struct `Name` describing the generated variant in namespace `ns` (e.g. panda::f64).
 #define SWEEPGEN_GENERATED_API(Name, ns)                                          \
@@ -31,6 +27,25 @@
 
 namespace sweepgen::test {
 
+// A generated variant's flat entry points.
+template <class Scalar>
+struct FlatVariant {
+  struct Entry {
+    const char* policy;
+    void (*solve)(const Scalar* in, Scalar* out);
+  };
+  std::size_t in_size = 0, out_size = 0;
+  std::vector<Entry> solves;
+};
+
+template <class Api>
+FlatVariant<typename Api::Scalar> flat_variant() {
+  FlatVariant<typename Api::Scalar> v;
+  v.in_size = static_cast<std::size_t>(Api::flat_in_size);
+  v.out_size = static_cast<std::size_t>(Api::flat_out_size);
+  for (const auto& entry : Api::flat_solves) v.solves.push_back({entry.policy, entry.solve});
+  return v;
+}
 
 struct ErrorSummary {
   long double qdd = 0, tau_cmd = 0, nu = 0;  // max over well-conditioned states
@@ -38,223 +53,61 @@ struct ErrorSummary {
   int states = 0, ill_conditioned = 0, rank_deficient = 0, borderline = 0;
 };
 
-// One random problem of a scene, and its flat input for the generated code.
-struct FlatProblem : solver::SolveInputs<double> {
-  std::vector<double> in;
+// Compares every flat solve of the variant with ReferenceSolver<long double> on `states` random
+// problems (generated_check.cpp says how).
+template <class Scalar>
+ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const std::string& scene_path, int states,
+                                     long double floor, long double eps_multiple, unsigned seed = 2024);
+
+// Bad inputs at run time (generated_check.cpp says which).
+template <class Scalar>
+void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& scene_path, bool checks_inputs,
+                      unsigned not_finite_bit);
+
+// Problems for check_resolve_equals_full_solve: flat inputs, a first setpoint vector (one value
+// more than there are constraints: a solve reads only its own), and where the parts of `in` are.
+struct ResolveProblems {
+  std::size_t dof = 0, constraints = 0, qd_at = 0, drivers_at = 0, beta_at = 0;
+  std::size_t qdd_at = 0, tau_cmd_at = 0, tau_ctrl_at = 0, status_at = 0;
+  std::vector<std::vector<double>> in, first_beta;
 };
-
-inline solver::FlatLayout flat_layout(const scene::Scene& s, const model::Chain& chain) {
-  return solver::FlatLayout::of(s.layout, chain.dof(), !s.fixed_directions.empty());
-}
-
-inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene& s, const model::Chain& chain) {
-  FlatProblem p;
-  p.q = random.positions(chain);
-  p.qd = random.velocities(chain);
-  const std::size_t nc = s.layout.constraints;
-  for (std::size_t t = 0; t < s.layout.torques.size(); ++t) p.torques.push_back(random.torques(chain, t == 0 ? 1.5 : 0.2));
-  for (std::size_t e = 0; e < s.layout.external_forces.size(); ++e) p.wrenches.push_back(random.wrench());
-  p.alpha = s.fixed_directions;
-  if (p.alpha.empty())
-    for (std::size_t k = 0; k < nc; ++k) p.alpha.push_back(random.unit_direction());
-  p.beta.resize(nc);
-  for (auto& b : p.beta) b = random.uniform(-3, 3);
-  p.in = solver::flat_input(p, flat_layout(s, chain));
-  return p;
-}
-
-inline double condition_number(const solver::ConstraintMatrix<long double>& E) {
-  if (E.rows() == 0) return 1;
-  const Eigen::MatrixXd Ed = E.cast<double>();
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(Ed).singularValues();
-  return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : std::numeric_limits<double>::infinity();
-}
-
-// Compares every flat solve of `Api` with ReferenceSolver<long double> on `states` random
-// problems. The relative error of q̈, τcmd and ν must stay below
-//     max(floor, eps_multiple * eps * cond(E^A_cstr,0)):
-// a fixed floor where the constraint is well conditioned, growing with the condition number
-// beyond, since rounding in ν is amplified by it in any solver of that precision. Where the
-// reference drops a constraint pivot the generated solve must report
-// constraint_rank_deficient too (the dropped direction makes ν non-unique) and stay finite.
-template <class Api>
-ErrorSummary check_against_reference(const std::string& scene_path, int states, long double floor,
-                                     long double eps_multiple, unsigned seed = 2024) {
-  using Scalar = typename Api::Scalar;
-  const scene::Scene s = scene::load_scene(scene_path);
-  const model::Chain chain = scene::load_scene_chain(s);
-  solver::SolverOptions options = s.solver_options();
-  // The generated code's pivot tolerance, so both make the same rank decisions.
-  options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<Scalar>::epsilon());
-  solver::ReferenceSolver<long double> reference(chain, s.layout, options);
-  const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const solver::FlatLayout layout = flat_layout(s, chain);
-  EXPECT_EQ(static_cast<std::size_t>(Api::flat_out_size), layout.out_size());
-
-  RandomProblem random(seed);
-  ErrorSummary summary;
-  std::vector<Scalar> in(Api::flat_in_size), out(Api::flat_out_size);
-  for (int state = 0; state < states; ++state) {
-    const FlatProblem p = random_flat_problem(random, s, chain);
-    EXPECT_EQ(p.in.size(), static_cast<std::size_t>(Api::flat_in_size));
-    for (std::size_t i = 0; i < p.in.size(); ++i) in[i] = static_cast<Scalar>(p.in[i]);
-
-    reference.outward(p.q.cast<long double>(), p.qd.cast<long double>());
-    auto& d = reference.drivers();
-    for (std::size_t t = 0; t < p.torques.size(); ++t) d.torques[t] = p.torques[t].cast<long double>();
-    for (std::size_t e = 0; e < p.wrenches.size(); ++e)
-      d.external_forces[e] = {p.wrenches[e].moment.cast<long double>(), p.wrenches[e].force.cast<long double>()};
-    for (std::size_t k = 0; k < nc; ++k)
-      d.constraint_directions[k] = {p.alpha[k].moment.cast<long double>(), p.alpha[k].force.cast<long double>()};
-    reference.decompose();
-    const double cond = condition_number(reference.articulated().body[0].constraint_energy);
-    const long double eps = std::numeric_limits<Scalar>::epsilon();
-    const long double allowed = std::max(floor, eps_multiple * eps * static_cast<long double>(cond));
-    ++summary.states;
-    if (cond > 1e6) ++summary.ill_conditioned;
-
-    for (const auto& entry : Api::flat_solves) {
-      const auto policy = *solver::policy_from_name(entry.policy);
-      entry.solve(in.data(), out.data());
-      const auto& r = reference.solve(policy, p.beta.cast<long double>());
-      const unsigned status = static_cast<unsigned>(out[layout.status()]);
-      for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " state " << state;
-      const bool reference_dropped = reference.status() & solver::status_constraint_rank_deficient;
-      const bool generated_dropped = status & solver::status_constraint_rank_deficient;
-      if (reference_dropped != generated_dropped) {
-        // Rounding may flip a pivot that sits at the tolerance; a kept pivot has
-        // d_k / E_kk >= 1 / cond, so that can only happen where cond * tolerance is near 1.
-        ++summary.borderline;
-        EXPECT_GE(cond * options.pivot_tolerance, 0.1)
-            << entry.policy << " state " << state << ": rank decisions differ on a well-conditioned constraint";
-        continue;
-      }
-      if (reference_dropped) {
-        ++summary.rank_deficient;
-        continue;
-      }
-      const auto slice = [&](std::size_t offset, std::size_t count) {
-        return std::vector<long double>(out.begin() + offset, out.begin() + offset + count);
-      };
-      const auto vec = [](const auto& v) { return std::vector<long double>(v.data(), v.data() + v.size()); };
-      const long double e_qdd = report::relative_error<long double>(slice(layout.qdd(), n), vec(r.qdd));
-      const long double e_tau = report::relative_error<long double>(slice(layout.tau_cmd(), n), vec(r.tau_cmd));
-      const long double e_nu = report::relative_error<long double>(slice(layout.nu(), nc), vec(r.nu));
-      if (cond <= 1e6) {
-        summary.qdd = std::max(summary.qdd, e_qdd);
-        summary.tau_cmd = std::max(summary.tau_cmd, e_tau);
-        summary.nu = std::max(summary.nu, e_nu);
-      }
-      summary.worst_ratio = std::max(summary.worst_ratio, std::max({e_qdd, e_tau, e_nu}) / allowed);
-      EXPECT_LE(e_qdd, allowed) << entry.policy << " state " << state << " cond " << cond;
-      EXPECT_LE(e_tau, allowed) << entry.policy << " state " << state << " cond " << cond;
-      EXPECT_LE(e_nu, allowed) << entry.policy << " state " << state << " cond " << cond;
-      if (::testing::Test::HasFailure()) return summary;
-    }
-  }
-  std::cout << scene_path.substr(scene_path.find_last_of('/') + 1) << " " << (sizeof(Scalar) == 8 ? "double" : "float")
-            << ": max relative error (cond <= 1e6) qdd " << static_cast<double>(summary.qdd) << ", tau_cmd "
-            << static_cast<double>(summary.tau_cmd) << ", nu " << static_cast<double>(summary.nu) << "; states "
-            << summary.states << ", cond > 1e6: " << summary.ill_conditioned
-            << ", rank-deficient solves: " << summary.rank_deficient << " (+" << summary.borderline << " at the tolerance)"
-            << ", worst error/tolerance " << static_cast<double>(summary.worst_ratio) << "\n";
-  return summary;
-}
+ResolveProblems resolve_problems(const std::string& scene_path, int states);
 
 // outward + decompose once, then every policy's solve for one setpoint and again for a second:
 // the second equals (bit for bit) a full flat solve with the second setpoint.
 template <class Api>
 void check_resolve_equals_full_solve(const std::string& scene_path, int states) {
   using Scalar = typename Api::Scalar;
-  const scene::Scene s = scene::load_scene(scene_path);
-  const model::Chain chain = scene::load_scene_chain(s);
-  const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const solver::FlatLayout layout = flat_layout(s, chain);
-  RandomProblem random(99);
-  std::vector<Scalar> in(Api::flat_in_size), out(Api::flat_out_size);
-  for (int state = 0; state < states; ++state) {
-    const FlatProblem p = random_flat_problem(random, s, chain);
-    for (std::size_t i = 0; i < p.in.size(); ++i) in[i] = static_cast<Scalar>(p.in[i]);
+  const ResolveProblems p = resolve_problems(scene_path, states);
+  std::vector<Scalar> out(Api::flat_out_size);
+  for (std::size_t state = 0; state < p.in.size(); ++state) {
+    const std::vector<Scalar> in(p.in[state].begin(), p.in[state].end());
+    ASSERT_EQ(in.size(), static_cast<std::size_t>(Api::flat_in_size));
     typename Api::State st;
-    Api::outward(in.data() + layout.q(), in.data() + layout.qd(), st);
-    Api::decompose(in.data() + layout.torque(0), st);
-    std::vector<Scalar> beta1(nc + 1), beta2(in.begin() + layout.beta(), in.end());
-    for (auto& b : beta1) b = static_cast<Scalar>(random.uniform(-1, 1));
+    Api::outward(in.data(), in.data() + p.qd_at, st);
+    Api::decompose(in.data() + p.drivers_at, st);
+    const std::vector<Scalar> beta1(p.first_beta[state].begin(), p.first_beta[state].end());
+    const std::vector<Scalar> beta2(in.begin() + static_cast<std::ptrdiff_t>(p.beta_at), in.end());
     for (std::size_t k = 0; k < std::size(Api::flat_solves); ++k) {
       typename Api::Solution first, second;
       Api::solves[k].solve(st, beta1.data(), first);
       Api::solves[k].solve(st, beta2.data(), second);
       Api::flat_solves[k].solve(in.data(), out.data());
-      for (std::size_t i = 0; i < n; ++i) {
-        ASSERT_EQ(second.qdd[i], out[layout.qdd() + i]) << Api::solves[k].policy << " joint " << i;
-        ASSERT_EQ(second.tau_cmd[i], out[layout.tau_cmd() + i]);
-        ASSERT_EQ(second.tau_ctrl[i], out[layout.tau_ctrl() + i]);
+      for (std::size_t i = 0; i < p.dof; ++i) {
+        ASSERT_EQ(second.qdd[i], out[p.qdd_at + i]) << Api::solves[k].policy << " joint " << i;
+        ASSERT_EQ(second.tau_cmd[i], out[p.tau_cmd_at + i]);
+        ASSERT_EQ(second.tau_ctrl[i], out[p.tau_ctrl_at + i]);
       }
-      ASSERT_EQ(static_cast<Scalar>(second.status), out[layout.status()]);
+      ASSERT_EQ(static_cast<Scalar>(second.status), out[p.status_at]);
     }
   }
 }
 
-// Bad inputs at run time (README, "Generated code"): on a random problem of the scene,
-//  - NaN and +Inf written into any one flat input value make every flat solve raise
-//    status_not_finite (when the scene checks inputs; `checks_inputs` is the generated
-//    header's constant), and the clean problem does not;
-//  - a zero constraint direction alpha_k raises status_constraint_rank_deficient with finite
-//    results (the direction is not enforced);
-//  - a non-unit direction is a valid input: alpha_k and beta_k scaled by the same factor give
-//    the same q̈ (the constraint alpha_k^T Ẍ = beta_k is unchanged), to rounding.
-template <class Api>
-void check_bad_inputs(const std::string& scene_path, bool checks_inputs, unsigned not_finite_bit) {
-  using Scalar = typename Api::Scalar;
-  const scene::Scene s = scene::load_scene(scene_path);
-  const model::Chain chain = scene::load_scene_chain(s);
-  const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const solver::FlatLayout layout = flat_layout(s, chain);
-  const std::size_t status_at = layout.status();
-  RandomProblem random(5);
-  const FlatProblem p = random_flat_problem(random, s, chain);
-  const std::vector<Scalar> clean(p.in.begin(), p.in.end());
-  std::vector<Scalar> in = clean, out(Api::flat_out_size);
-  const auto status_of = [&](const auto& entry) {
-    entry.solve(in.data(), out.data());
-    return static_cast<unsigned>(out[status_at]);
-  };
-  for (const auto& entry : Api::flat_solves) EXPECT_EQ(status_of(entry) & not_finite_bit, 0u) << entry.policy;
-  if (checks_inputs) {
-    for (const Scalar bad : {std::numeric_limits<Scalar>::quiet_NaN(), std::numeric_limits<Scalar>::infinity()}) {
-      for (std::size_t i = 0; i < in.size(); ++i) {
-        in = clean;
-        in[i] = bad;
-        for (const auto& entry : Api::flat_solves)
-          EXPECT_NE(status_of(entry) & not_finite_bit, 0u) << entry.policy << ": " << bad << " at flat input " << i;
-      }
-    }
-  }
-  if (nc == 0 || !s.fixed_directions.empty()) return;  // alpha is not a run-time input
-  const std::size_t alpha_at = layout.alpha(0);
-  for (std::size_t k = 0; k < nc; ++k) {
-    in = clean;
-    for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] = 0;
-    for (const auto& entry : Api::flat_solves) {
-      EXPECT_NE(status_of(entry) & solver::status_constraint_rank_deficient, 0u) << entry.policy << " alpha_" << k << " = 0";
-      for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " alpha_" << k << " = 0";
-    }
-  }
-  std::vector<Scalar> unit_qdd(n);
-  for (const auto& entry : Api::flat_solves) {
-    in = clean;
-    if (status_of(entry) != 0) continue;  // saturation or a dropped pivot: compare only plain solves
-    std::copy(out.begin(), out.begin() + n, unit_qdd.begin());
-    const Scalar scale = Scalar(64);
-    for (std::size_t k = 0; k < nc; ++k) {
-      for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] *= scale;
-      in[layout.beta() + k] *= scale;
-    }
-    EXPECT_EQ(status_of(entry), 0u) << entry.policy;
-    const long double e = report::relative_error<long double>(std::vector<long double>(out.begin(), out.begin() + n),
-                                         std::vector<long double>(unit_qdd.begin(), unit_qdd.end()));
-    EXPECT_LE(e, 1e4L * std::numeric_limits<Scalar>::epsilon()) << entry.policy << ": alpha and beta scaled by 64";
-  }
-}
+extern template ErrorSummary check_against_reference<double>(const FlatVariant<double>&, const std::string&, int,
+                                                             long double, long double, unsigned);
+extern template ErrorSummary check_against_reference<float>(const FlatVariant<float>&, const std::string&, int,
+                                                            long double, long double, unsigned);
+extern template void check_bad_inputs<double>(const FlatVariant<double>&, const std::string&, bool, unsigned);
+extern template void check_bad_inputs<float>(const FlatVariant<float>&, const std::string&, bool, unsigned);
 
 }  // namespace sweepgen::test
