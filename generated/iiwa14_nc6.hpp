@@ -27,26 +27,26 @@
 //   body 7 (joint lbr_iiwa_joint_7): 1.2 kg = lbr_iiwa_link_7 1.2 kg + lumped lbr_iiwa_link_ee 0 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 809, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1908)
+//   f64::outward: add 805, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1904)
 //   f64::decompose: add 1142, mul 1558, div 6, neg 32, sin/cos 0, compare 238 (total 2976)
 //   f64::solve_original: add 247, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 545)
-//   f64: outward + decompose + solve_original: add 2198, mul 2828, div 12, neg 81, sin/cos 14, compare 296 (total 5429)
+//   f64: outward + decompose + solve_original: add 2194, mul 2828, div 12, neg 81, sin/cos 14, compare 296 (total 5425)
 //   f64::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 547)
-//   f64: outward + decompose + solve_prioritize_external: add 2200, mul 2828, div 12, neg 81, sin/cos 14, compare 296 (total 5431)
+//   f64: outward + decompose + solve_prioritize_external: add 2196, mul 2828, div 12, neg 81, sin/cos 14, compare 296 (total 5427)
 //   f64::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 68 (total 736)
-//   f64: outward + decompose + solve_saturate: add 2299, mul 2892, div 12, neg 79, sin/cos 14, compare 324 (total 5620)
-//   f64::solve_saturate_exact: add 287, mul 302, div 0, neg 7, sin/cos 0, compare 68 (total 664)
-//   f64: outward + decompose + solve_saturate_exact: add 2238, mul 2876, div 12, neg 84, sin/cos 14, compare 324 (total 5548)
-//   f32::outward: add 809, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1908)
+//   f64: outward + decompose + solve_saturate: add 2295, mul 2892, div 12, neg 79, sin/cos 14, compare 324 (total 5616)
+//   f64::solve_saturate_exact: add 287, mul 302, div 0, neg 6, sin/cos 0, compare 68 (total 663)
+//   f64: outward + decompose + solve_saturate_exact: add 2234, mul 2876, div 12, neg 83, sin/cos 14, compare 324 (total 5543)
+//   f32::outward: add 805, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1904)
 //   f32::decompose: add 1142, mul 1558, div 6, neg 30, sin/cos 0, compare 238 (total 2974)
 //   f32::solve_original: add 247, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 545)
-//   f32: outward + decompose + solve_original: add 2198, mul 2828, div 12, neg 79, sin/cos 14, compare 296 (total 5427)
+//   f32: outward + decompose + solve_original: add 2194, mul 2828, div 12, neg 79, sin/cos 14, compare 296 (total 5423)
 //   f32::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 547)
-//   f32: outward + decompose + solve_prioritize_external: add 2200, mul 2828, div 12, neg 79, sin/cos 14, compare 296 (total 5429)
+//   f32: outward + decompose + solve_prioritize_external: add 2196, mul 2828, div 12, neg 79, sin/cos 14, compare 296 (total 5425)
 //   f32::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 68 (total 736)
-//   f32: outward + decompose + solve_saturate: add 2299, mul 2892, div 12, neg 77, sin/cos 14, compare 324 (total 5618)
+//   f32: outward + decompose + solve_saturate: add 2295, mul 2892, div 12, neg 77, sin/cos 14, compare 324 (total 5614)
 //   f32::solve_saturate_exact: add 287, mul 302, div 0, neg 6, sin/cos 0, compare 68 (total 663)
-//   f32: outward + decompose + solve_saturate_exact: add 2238, mul 2876, div 12, neg 81, sin/cos 14, compare 324 (total 5545)
+//   f32: outward + decompose + solve_saturate_exact: add 2234, mul 2876, div 12, neg 81, sin/cos 14, compare 324 (total 5541)
 #pragma once
 
 namespace iiwa14_nc6 {
@@ -136,9 +136,9 @@ struct State {
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
-  Scalar original_nu_0_term_3;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
@@ -153,22 +153,22 @@ struct State {
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
-  Scalar original_nu_0_term_18;
-  Scalar original_nu_0_term_19;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_18;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_21;
+  Scalar original_nu_0_term_19;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar original_nu_0_term_22;
+  Scalar original_nu_0_term_20;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_21;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_22;
+  Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
   Scalar original_nu_0_term_26;
@@ -376,21 +376,21 @@ struct State {
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
   Scalar original_nu_0_term_18;
+  Scalar original_nu_0_term_19;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_20;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_21;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar original_nu_0_term_21;
+  Scalar original_nu_0_term_22;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_22;
+  Scalar original_nu_0_term_23;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
   Scalar original_nu_0_term_26;

@@ -27,10 +27,10 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1524, mul 2034, div 12, neg 110, sin/cos 12, compare 256 (total 3948)
+//   f64::outward: add 1521, mul 2034, div 12, neg 110, sin/cos 12, compare 256 (total 3945)
 //   f64::decompose: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
 //   f64::solve_original: add 212, mul 246, div 0, neg 5, sin/cos 0, compare 40 (total 503)
-//   f64: outward + decompose + solve_original: add 1736, mul 2280, div 12, neg 115, sin/cos 12, compare 296 (total 4451)
+//   f64: outward + decompose + solve_original: add 1733, mul 2280, div 12, neg 115, sin/cos 12, compare 296 (total 4448)
 #pragma once
 
 namespace panda_bias_only {
@@ -140,8 +140,8 @@ struct State {
   Scalar constraint_force_4_26;
   Scalar constraint_force_4_32;
   Scalar articulated_force_bias_4_2;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
+  Scalar articulated_inertia_3_2;
+  Scalar articulated_inertia_3_5;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;

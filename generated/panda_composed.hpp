@@ -27,14 +27,14 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 701, mul 922, div 6, neg 46, sin/cos 12, compare 18 (total 1705)
+//   f64::outward: add 698, mul 922, div 6, neg 46, sin/cos 12, compare 18 (total 1702)
 //   f64::decompose: add 1007, mul 1318, div 6, neg 69, sin/cos 0, compare 238 (total 2638)
-//   f64::solve_original: add 247, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 563)
-//   f64: outward + decompose + solve_original: add 1955, mul 2511, div 12, neg 120, sin/cos 12, compare 296 (total 4906)
-//   f64::solve_saturate: add 383, mul 368, div 0, neg 8, sin/cos 0, compare 68 (total 827)
-//   f64: outward + decompose + solve_saturate: add 2091, mul 2608, div 12, neg 123, sin/cos 12, compare 324 (total 5170)
-//   f64::solve_saturate_exact: add 290, mul 322, div 0, neg 9, sin/cos 0, compare 68 (total 689)
-//   f64: outward + decompose + solve_saturate_exact: add 1998, mul 2562, div 12, neg 124, sin/cos 12, compare 324 (total 5032)
+//   f64::solve_original: add 247, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 564)
+//   f64: outward + decompose + solve_original: add 1952, mul 2511, div 12, neg 121, sin/cos 12, compare 296 (total 4904)
+//   f64::solve_saturate: add 383, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 828)
+//   f64: outward + decompose + solve_saturate: add 2088, mul 2608, div 12, neg 124, sin/cos 12, compare 324 (total 5168)
+//   f64::solve_saturate_exact: add 290, mul 322, div 0, neg 8, sin/cos 0, compare 68 (total 688)
+//   f64: outward + decompose + solve_saturate_exact: add 1995, mul 2562, div 12, neg 123, sin/cos 12, compare 324 (total 5028)
 #pragma once
 
 namespace panda_composed {
@@ -245,8 +245,6 @@ struct State {
   Scalar articulated_force_composed_4_2;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;

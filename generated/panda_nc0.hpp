@@ -27,26 +27,26 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 813, mul 1009, div 6, neg 49, sin/cos 12, compare 18 (total 1907)
+//   f64::outward: add 810, mul 1009, div 6, neg 49, sin/cos 12, compare 18 (total 1904)
 //   f64::decompose: add 285, mul 341, div 0, neg 20, sin/cos 0, compare 0 (total 646)
 //   f64::solve_original: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
-//   f64: outward + decompose + solve_original: add 1098, mul 1350, div 6, neg 69, sin/cos 12, compare 18 (total 2553)
-//   f64::solve_prioritize_external: add 118, mul 99, div 0, neg 11, sin/cos 0, compare 0 (total 228)
-//   f64: outward + decompose + solve_prioritize_external: add 1216, mul 1449, div 6, neg 80, sin/cos 12, compare 18 (total 2781)
+//   f64: outward + decompose + solve_original: add 1095, mul 1350, div 6, neg 69, sin/cos 12, compare 18 (total 2550)
+//   f64::solve_prioritize_external: add 118, mul 99, div 0, neg 10, sin/cos 0, compare 0 (total 227)
+//   f64: outward + decompose + solve_prioritize_external: add 1213, mul 1449, div 6, neg 79, sin/cos 12, compare 18 (total 2777)
 //   f64::solve_saturate: add 204, mul 179, div 0, neg 3, sin/cos 0, compare 0 (total 386)
-//   f64: outward + decompose + solve_saturate: add 1302, mul 1529, div 6, neg 72, sin/cos 12, compare 18 (total 2939)
-//   f64::solve_saturate_exact: add 195, mul 186, div 0, neg 9, sin/cos 0, compare 28 (total 418)
-//   f64: outward + decompose + solve_saturate_exact: add 1293, mul 1536, div 6, neg 78, sin/cos 12, compare 46 (total 2971)
-//   f32::outward: add 813, mul 1009, div 6, neg 49, sin/cos 12, compare 18 (total 1907)
-//   f32::decompose: add 285, mul 341, div 0, neg 20, sin/cos 0, compare 0 (total 646)
+//   f64: outward + decompose + solve_saturate: add 1299, mul 1529, div 6, neg 72, sin/cos 12, compare 18 (total 2936)
+//   f64::solve_saturate_exact: add 195, mul 186, div 0, neg 8, sin/cos 0, compare 28 (total 417)
+//   f64: outward + decompose + solve_saturate_exact: add 1290, mul 1536, div 6, neg 77, sin/cos 12, compare 46 (total 2967)
+//   f32::outward: add 810, mul 1009, div 6, neg 49, sin/cos 12, compare 18 (total 1904)
+//   f32::decompose: add 285, mul 341, div 0, neg 21, sin/cos 0, compare 0 (total 647)
 //   f32::solve_original: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
-//   f32: outward + decompose + solve_original: add 1098, mul 1350, div 6, neg 69, sin/cos 12, compare 18 (total 2553)
-//   f32::solve_prioritize_external: add 118, mul 99, div 0, neg 11, sin/cos 0, compare 0 (total 228)
-//   f32: outward + decompose + solve_prioritize_external: add 1216, mul 1449, div 6, neg 80, sin/cos 12, compare 18 (total 2781)
+//   f32: outward + decompose + solve_original: add 1095, mul 1350, div 6, neg 70, sin/cos 12, compare 18 (total 2551)
+//   f32::solve_prioritize_external: add 118, mul 99, div 0, neg 10, sin/cos 0, compare 0 (total 227)
+//   f32: outward + decompose + solve_prioritize_external: add 1213, mul 1449, div 6, neg 80, sin/cos 12, compare 18 (total 2778)
 //   f32::solve_saturate: add 204, mul 179, div 0, neg 3, sin/cos 0, compare 0 (total 386)
-//   f32: outward + decompose + solve_saturate: add 1302, mul 1529, div 6, neg 72, sin/cos 12, compare 18 (total 2939)
+//   f32: outward + decompose + solve_saturate: add 1299, mul 1529, div 6, neg 73, sin/cos 12, compare 18 (total 2937)
 //   f32::solve_saturate_exact: add 195, mul 186, div 0, neg 9, sin/cos 0, compare 28 (total 418)
-//   f32: outward + decompose + solve_saturate_exact: add 1293, mul 1536, div 6, neg 78, sin/cos 12, compare 46 (total 2971)
+//   f32: outward + decompose + solve_saturate_exact: add 1290, mul 1536, div 6, neg 79, sin/cos 12, compare 46 (total 2969)
 #pragma once
 
 namespace panda_nc0 {
@@ -85,7 +85,6 @@ struct Drivers {
 struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
-  Scalar bias_acceleration_2_0_term;
   Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
@@ -198,8 +197,6 @@ struct State {
   Scalar articulated_force_push_4_2;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
@@ -226,8 +223,8 @@ struct State {
   Scalar original_qdd_0_term_2;
   Scalar original_qdd_0_term_3;
   Scalar original_qdd_0;
-  Scalar original_acceleration_2_1;
   Scalar original_acceleration_2_0;
+  Scalar original_acceleration_2_1;
   Scalar original_acceleration_2_3;
   Scalar original_qdd_1_term;
   Scalar original_qdd_1;
@@ -238,33 +235,33 @@ struct State {
   Scalar original_acceleration_3_0;
   Scalar original_acceleration_3_1;
   Scalar original_qdd_2;
-  Scalar original_acceleration_4_3;
   Scalar original_acceleration_4_4;
   Scalar original_acceleration_3_2;
   Scalar original_qdd_3_term;
-  Scalar original_acceleration_4_1;
+  Scalar original_acceleration_4_3;
   Scalar original_acceleration_4_0;
+  Scalar original_acceleration_4_1;
   Scalar original_qdd_3;
   Scalar original_acceleration_4_2;
-  Scalar original_acceleration_5_1;
   Scalar original_acceleration_5_0;
-  Scalar original_acceleration_5_4;
-  Scalar original_acceleration_5_5;
+  Scalar original_acceleration_5_1;
   Scalar original_acceleration_5_3;
+  Scalar original_acceleration_5_5;
+  Scalar original_acceleration_5_4;
   Scalar original_qdd_4;
   Scalar original_acceleration_5_2;
-  Scalar original_acceleration_6_1;
   Scalar original_acceleration_6_0;
-  Scalar original_acceleration_6_3;
+  Scalar original_acceleration_6_1;
   Scalar original_acceleration_6_4;
+  Scalar original_acceleration_6_3;
   Scalar original_qdd_5;
   Scalar original_acceleration_6_2;
   Scalar original_acceleration_7_1;
   Scalar original_qdd_6_term;
   Scalar original_acceleration_7_0;
   Scalar original_qdd_6_term_2;
-  Scalar original_acceleration_7_3;
   Scalar original_acceleration_7_4;
+  Scalar original_acceleration_7_3;
   Scalar original_qdd_6_term_3;
   Scalar original_qdd_6;
   Scalar original_tip_acceleration_0;
@@ -482,8 +479,6 @@ struct State {
   Scalar articulated_force_push_4_2;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
@@ -510,13 +505,13 @@ struct State {
   Scalar original_qdd_0_term_2;
   Scalar original_qdd_0_term_3;
   Scalar original_qdd_0;
-  Scalar original_acceleration_2_3;
-  Scalar original_qdd_1_term;
   Scalar original_acceleration_2_0;
   Scalar original_acceleration_2_1;
+  Scalar original_acceleration_2_3;
+  Scalar original_qdd_1_term;
   Scalar original_qdd_1;
-  Scalar original_acceleration_3_1;
   Scalar original_acceleration_3_0;
+  Scalar original_acceleration_3_1;
   Scalar original_acceleration_3_5;
   Scalar original_qdd_2_term;
   Scalar original_acceleration_3_4;
@@ -526,21 +521,21 @@ struct State {
   Scalar original_acceleration_4_4;
   Scalar original_acceleration_3_2;
   Scalar original_qdd_3_term;
-  Scalar original_acceleration_4_1;
   Scalar original_acceleration_4_0;
+  Scalar original_acceleration_4_1;
   Scalar original_qdd_3;
   Scalar original_acceleration_4_2;
-  Scalar original_acceleration_5_3;
+  Scalar original_acceleration_5_1;
+  Scalar original_acceleration_5_0;
   Scalar original_acceleration_5_5;
   Scalar original_acceleration_5_4;
-  Scalar original_acceleration_5_0;
-  Scalar original_acceleration_5_1;
+  Scalar original_acceleration_5_3;
   Scalar original_qdd_4;
-  Scalar original_acceleration_6_3;
-  Scalar original_acceleration_6_4;
   Scalar original_acceleration_5_2;
   Scalar original_acceleration_6_0;
   Scalar original_acceleration_6_1;
+  Scalar original_acceleration_6_3;
+  Scalar original_acceleration_6_4;
   Scalar original_qdd_5;
   Scalar original_acceleration_6_2;
   Scalar original_acceleration_7_1;

@@ -27,26 +27,26 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
+//   f64::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
 //   f64::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
-//   f64::solve_original: add 196, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 407)
-//   f64: outward + decompose + solve_original: add 1600, mul 2013, div 9, neg 102, sin/cos 12, compare 43 (total 3779)
-//   f64::solve_prioritize_external: add 199, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 411)
-//   f64: outward + decompose + solve_prioritize_external: add 1603, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3783)
+//   f64::solve_original: add 196, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 408)
+//   f64: outward + decompose + solve_original: add 1597, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3777)
+//   f64::solve_prioritize_external: add 199, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 410)
+//   f64: outward + decompose + solve_prioritize_external: add 1600, mul 2013, div 9, neg 102, sin/cos 12, compare 43 (total 3779)
 //   f64::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 32 (total 708)
-//   f64: outward + decompose + solve_saturate: add 1757, mul 2125, div 9, neg 106, sin/cos 12, compare 71 (total 4080)
+//   f64: outward + decompose + solve_saturate: add 1754, mul 2125, div 9, neg 106, sin/cos 12, compare 71 (total 4077)
 //   f64::solve_saturate_exact: add 257, mul 271, div 0, neg 9, sin/cos 0, compare 32 (total 569)
-//   f64: outward + decompose + solve_saturate_exact: add 1661, mul 2082, div 9, neg 106, sin/cos 12, compare 71 (total 3941)
-//   f32::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
+//   f64: outward + decompose + solve_saturate_exact: add 1658, mul 2082, div 9, neg 106, sin/cos 12, compare 71 (total 3938)
+//   f32::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
 //   f32::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
-//   f32::solve_original: add 196, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 408)
-//   f32: outward + decompose + solve_original: add 1600, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3780)
+//   f32::solve_original: add 196, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 407)
+//   f32: outward + decompose + solve_original: add 1597, mul 2013, div 9, neg 102, sin/cos 12, compare 43 (total 3776)
 //   f32::solve_prioritize_external: add 199, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 411)
-//   f32: outward + decompose + solve_prioritize_external: add 1603, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3783)
-//   f32::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 32 (total 708)
-//   f32: outward + decompose + solve_saturate: add 1757, mul 2125, div 9, neg 106, sin/cos 12, compare 71 (total 4080)
+//   f32: outward + decompose + solve_prioritize_external: add 1600, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3780)
+//   f32::solve_saturate: add 353, mul 314, div 0, neg 8, sin/cos 0, compare 32 (total 707)
+//   f32: outward + decompose + solve_saturate: add 1754, mul 2125, div 9, neg 105, sin/cos 12, compare 71 (total 4076)
 //   f32::solve_saturate_exact: add 257, mul 271, div 0, neg 8, sin/cos 0, compare 32 (total 568)
-//   f32: outward + decompose + solve_saturate_exact: add 1661, mul 2082, div 9, neg 105, sin/cos 12, compare 71 (total 3940)
+//   f32: outward + decompose + solve_saturate_exact: add 1658, mul 2082, div 9, neg 105, sin/cos 12, compare 71 (total 3937)
 #pragma once
 
 namespace panda_nc3 {
@@ -229,8 +229,6 @@ struct State {
   Scalar articulated_force_push_4_2;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
@@ -280,12 +278,12 @@ struct State {
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
   Scalar original_nu_0_term_8;
+  Scalar original_nu_0_term_9;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_9;
+  Scalar original_nu_0_term_10;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_10;
   Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
@@ -538,8 +536,6 @@ struct State {
   Scalar articulated_force_push_4_2;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
@@ -580,10 +576,10 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
-  Scalar original_nu_0_term_2;
-  Scalar original_nu_0_term_3;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_2;
+  Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;

@@ -27,26 +27,26 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
+//   f64::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
 //   f64::decompose: add 1166, mul 1589, div 6, neg 81, sin/cos 0, compare 238 (total 3080)
-//   f64::solve_original: add 262, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 579)
-//   f64: outward + decompose + solve_original: add 2241, mul 2870, div 12, neg 136, sin/cos 12, compare 296 (total 5567)
+//   f64::solve_original: add 262, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 578)
+//   f64: outward + decompose + solve_original: add 2238, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5563)
 //   f64::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 581)
-//   f64: outward + decompose + solve_prioritize_external: add 2244, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5569)
+//   f64: outward + decompose + solve_prioritize_external: add 2241, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5566)
 //   f64::solve_saturate: add 404, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 849)
-//   f64: outward + decompose + solve_saturate: add 2383, mul 2967, div 12, neg 139, sin/cos 12, compare 324 (total 5837)
+//   f64: outward + decompose + solve_saturate: add 2380, mul 2967, div 12, neg 139, sin/cos 12, compare 324 (total 5834)
 //   f64::solve_saturate_exact: add 305, mul 322, div 0, neg 9, sin/cos 0, compare 68 (total 704)
-//   f64: outward + decompose + solve_saturate_exact: add 2284, mul 2921, div 12, neg 139, sin/cos 12, compare 324 (total 5692)
-//   f32::outward: add 813, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1908)
+//   f64: outward + decompose + solve_saturate_exact: add 2281, mul 2921, div 12, neg 139, sin/cos 12, compare 324 (total 5689)
+//   f32::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
 //   f32::decompose: add 1166, mul 1589, div 6, neg 81, sin/cos 0, compare 238 (total 3080)
 //   f32::solve_original: add 262, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 579)
-//   f32: outward + decompose + solve_original: add 2241, mul 2870, div 12, neg 136, sin/cos 12, compare 296 (total 5567)
-//   f32::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 581)
-//   f32: outward + decompose + solve_prioritize_external: add 2244, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5569)
+//   f32: outward + decompose + solve_original: add 2238, mul 2870, div 12, neg 136, sin/cos 12, compare 296 (total 5564)
+//   f32::solve_prioritize_external: add 265, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 582)
+//   f32: outward + decompose + solve_prioritize_external: add 2241, mul 2870, div 12, neg 136, sin/cos 12, compare 296 (total 5567)
 //   f32::solve_saturate: add 404, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 849)
-//   f32: outward + decompose + solve_saturate: add 2383, mul 2967, div 12, neg 139, sin/cos 12, compare 324 (total 5837)
-//   f32::solve_saturate_exact: add 305, mul 322, div 0, neg 9, sin/cos 0, compare 68 (total 704)
-//   f32: outward + decompose + solve_saturate_exact: add 2284, mul 2921, div 12, neg 139, sin/cos 12, compare 324 (total 5692)
+//   f32: outward + decompose + solve_saturate: add 2380, mul 2967, div 12, neg 139, sin/cos 12, compare 324 (total 5834)
+//   f32::solve_saturate_exact: add 305, mul 322, div 0, neg 8, sin/cos 0, compare 68 (total 703)
+//   f32: outward + decompose + solve_saturate_exact: add 2281, mul 2921, div 12, neg 138, sin/cos 12, compare 324 (total 5688)
 #pragma once
 
 namespace panda_nc6 {
@@ -256,8 +256,6 @@ struct State {
   Scalar articulated_force_push_4_2;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
@@ -307,10 +305,10 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
@@ -325,21 +323,21 @@ struct State {
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
-  Scalar original_nu_0_term_18;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_18;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_19;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar original_nu_0_term_21;
+  Scalar original_nu_0_term_20;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_22;
+  Scalar original_nu_0_term_21;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
@@ -646,8 +644,6 @@ struct State {
   Scalar articulated_force_push_4_2;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_6;
-  Scalar articulated_inertia_3_7;
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
@@ -697,9 +693,9 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
+  Scalar original_nu_0_term_2;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
-  Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;

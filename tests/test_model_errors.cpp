@@ -55,6 +55,22 @@ TEST(ModelErrors, ValidArmLoads) {
   EXPECT_EQ(chain.tip_link, "l2");
 }
 
+// The sweeps compute one triangle of every symmetric block, so the loaded inertias must be
+// exactly symmetric (issue 12): R I R^T of a full tensor under a skew rotation is not, in
+// floating point, unless the loader makes it so.
+TEST(ModelErrors, LoadedInertiasAreExactlySymmetric) {
+  const std::string skew_inertial =
+      R"(<inertial><origin xyz="0.05 -0.02 0.11" rpy="0.3 0.7 1.1"/><mass value="1.7"/>)"
+      R"(<inertia ixx="0.1" ixy="0.013" ixz="0.021" iyy="0.2" iyz="0.037" izz="0.25"/></inertial>)";
+  test::TempDir dir;
+  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm("revolute", skew_inertial)), "", "", {}, "", {}, {}});
+  for (std::size_t i = 1; i <= chain.dof(); ++i) {
+    const auto& M = chain.bodies[i].inertia;
+    EXPECT_TRUE(M.A == M.A.transpose()) << chain.bodies[i].link << ":\n" << M.A;
+    EXPECT_TRUE(M.C == M.C.transpose()) << chain.bodies[i].link;
+  }
+}
+
 TEST(ModelErrors, MalformedXml) {
   const std::string message = load_error("<robot name='x'><link name='a'></robot");
   expect_contains(message, "<robot>");

@@ -112,7 +112,11 @@ Inertia link_inertia(const urdf::Link& link, const std::string& file, double& ma
   const Vec3 com = link_to_com.r;
   const Mat3 cx = spatial::skew(com);
   mass = in.mass;
-  return Inertia::rigid(in.mass, in.mass * com, rotated - in.mass * cx * cx);
+  // R I R^T and c× c× are symmetric in exact arithmetic, not always in floating point; the
+  // sweeps rely on symmetric blocks (they compute one triangle), so make it exact.
+  Mat3 about_origin = rotated - in.mass * cx * cx;
+  spatial::symmetrize_from_upper(about_origin);
+  return Inertia::rigid(in.mass, in.mass * com, about_origin);
 }
 
 std::vector<std::string> link_names(const urdf::ModelInterface& model) {
