@@ -3,7 +3,7 @@
 #   1. cmake/install-dependencies.sh (Debian packages; nothing when all are present)
 #   2. release workflow: build/, the whole suite
 #   3. sanitize workflow: build-sanitize/, clang with AddressSanitizer + UndefinedBehaviorSanitizer,
-#      the whole suite and each fuzzer for SWEEPGEN_FUZZ_SECONDS (20) from the committed corpora
+#      the whole suite and each fuzzer for SWEEPGEN_FUZZ_SECONDS (15) from the committed corpora
 # Stops at the first failing stage; prints each stage's wall time at the end either way.
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
