@@ -20,7 +20,7 @@ SceneInputs make_inputs(const std::string& scene_path, std::size_t count, unsign
   s.chain = scene::load_scene_chain(s.scene);
   s.dof = s.chain.dof();
   s.constraints = s.scene.layout.constraints;
-  const auto layout = solver::FlatLayout::of(s.scene.layout, s.dof, !s.scene.fixed_directions.empty());
+  const solver::FlatLayout layout = s.scene.flat_layout(s.dof);
   const auto n = static_cast<Eigen::Index>(s.dof);
   Random random(seed);
   for (std::size_t state = 0; state < count; ++state) {

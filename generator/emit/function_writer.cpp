@@ -105,7 +105,7 @@ class Writer {
   void collect_stores() {
     for (std::size_t i : f_.fields) {
       const Field& field = trace_.fields[i];
-      stores_[field.node].push_back({is_state_field(field) ? state_field_access(field) : solution_field_access(field), &field});
+      stores_[field.node].push_back({field_access(field), &field});
     }
     for (NodeId id : f_.carried_out) stores_[id].push_back({"state." + plan_.carried_name.at(id), nullptr});
   }
@@ -252,7 +252,7 @@ class Writer {
     for (std::size_t i : f_.fields) {
       const Field& field = trace_.fields[i];
       if (!stores_.count(field.node)) continue;
-      const std::string target = is_state_field(field) ? state_field_access(field) : solution_field_access(field);
+      const std::string target = field_access(field);
       const Node& n = graph_.node(field.node);
       lines << "  " << store_statement(target, &field, operand(field.node, kTernary), n.op == Op::constant ? &n.value : nullptr)
             << "\n";

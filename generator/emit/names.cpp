@@ -1,5 +1,7 @@
 #include "emit/names.hpp"
 
+#include "emit/function_plan.hpp"
+
 namespace sweepgen::emit {
 
 std::string input_spelling(const symbolic::Trace& trace, const symbolic::Input& input) {
@@ -45,6 +47,10 @@ std::string state_field_access(const symbolic::Field& field) {
   return "state." + field.array + "[" + std::to_string(field.body) + "][" + std::to_string(field.component) + "]";
 }
 
+std::string field_access(const symbolic::Field& field) {
+  return is_state_field(field) ? state_field_access(field) : solution_field_access(field);
+}
+
 Storage solution_storage(const std::string& array) {
   if (array == "saturated") return Storage::flag;
   if (array == "dropped_pivots" || array == "locked_joints") return Storage::count;
@@ -60,9 +66,7 @@ std::string solution_field_access(const symbolic::Field& field) {
 
 std::string store_statement(const std::string& target, const symbolic::Field* field, const std::string& value,
                             const double* constant) {
-  const Storage storage = field && field->group != "kinematics" && field->group != "articulated"
-                              ? solution_storage(field->array)
-                              : Storage::value;
+  const Storage storage = field && !is_state_field(*field) ? solution_storage(field->array) : Storage::value;
   switch (storage) {
     case Storage::flag:
       if (constant) return target + " = " + (*constant != 0 ? "true;" : "false;");

@@ -32,6 +32,7 @@ Storage solution_storage(const std::string& array);
 // Where stored values live in generated code.
 std::string state_field_access(const symbolic::Field& field);     // state.<array>[body][component]
 std::string solution_field_access(const symbolic::Field& field);  // out.<array>[...], out.<count>
+std::string field_access(const symbolic::Field& field);           // whichever of the two holds it
 
 // `target = value;` for a field (nullptr: a carried State member), converting a Scalar value
 // to the field's storage; `constant`: the value is this number (a flag is then written

@@ -92,14 +92,8 @@ std::vector<Precise> widen(const Vector& v) {
 
 }  // namespace
 
-solver::FlatLayout flat_layout(const scene::Scene& s, const model::Chain& chain) {
-  return solver::FlatLayout::of(s.layout, chain.dof(), !s.fixed_directions.empty());
-}
-
 void pack_flat(const scene::Scene& s, Problem& p) {
-  // q has the chain's dof values.
-  p.flat = solver::flat_input(p, solver::FlatLayout::of(s.layout, static_cast<std::size_t>(p.q.size()),
-                                                        !s.fixed_directions.empty()));
+  p.flat = solver::flat_input(p, s.flat_layout(static_cast<std::size_t>(p.q.size())));  // q: one value per joint
 }
 
 std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& chain, std::size_t count,

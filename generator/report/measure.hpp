@@ -12,7 +12,7 @@
 
 #include "model/chain.hpp"
 #include "scene/scene.hpp"
-#include "solver/flat_layout.hpp"
+#include "solver/solve_inputs.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/state.hpp"
 #include "spatial/spatial.hpp"
@@ -43,9 +43,6 @@ struct Problem : solver::SolveInputs<double> {
 // tests/support/generated_check.hpp).
 std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& chain, std::size_t count,
                                      unsigned long long seed);
-
-// The flat layout of the scene's generated solver.
-solver::FlatLayout flat_layout(const scene::Scene& s, const model::Chain& chain);
 
 // Fills p.flat, the generated code's flat input.
 void pack_flat(const scene::Scene& s, Problem& p);

@@ -332,6 +332,10 @@ std::string Scene::location(const std::string& element) const {
   return path.empty() ? "command line" : path;
 }
 
+solver::FlatLayout Scene::flat_layout(std::size_t dof) const {
+  return solver::FlatLayout::of(layout, dof, !fixed_directions.empty());
+}
+
 solver::SolverOptions Scene::solver_options() const {
   solver::SolverOptions options;
   options.gravity = gravity;

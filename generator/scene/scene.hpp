@@ -76,6 +76,7 @@
 #include "model/chain.hpp"
 #include "model/urdf_loader.hpp"
 #include "solver/drivers.hpp"
+#include "solver/flat_layout.hpp"
 #include "solver/policy.hpp"
 #include "solver/solver_model.hpp"
 #include "spatial/spatial.hpp"
@@ -112,6 +113,8 @@ struct Scene {
   std::string location(const std::string& element) const;
 
   solver::SolverOptions solver_options() const;
+  // Where the generated solver's flat entry points put each value, for a chain of `dof` joints.
+  solver::FlatLayout flat_layout(std::size_t dof) const;
 };
 
 // Reads and validates the scene file (structure, types, names, ranges; everything that does not

@@ -28,7 +28,9 @@ class ReferenceSolver {
   // Solver sweep for setpoints E_cstr,N (Nc entries) under `policy`.
   const Solution<Scalar>& solve(Policy policy, const ConstraintVector<Scalar>& setpoints);
   unsigned status() const;
-  // outward(), decompose() and solve() for one problem's values.
+  // outward() and decompose() for one problem's values (its drivers copied in).
+  void prepare(const SolveInputs<Scalar>& inputs);
+  // prepare() and solve() for one problem's values.
   const Solution<Scalar>& run(const SolveInputs<Scalar>& inputs, Policy policy);
 
   const KinematicsState<Scalar>& kinematics() const { return kinematics_; }
@@ -79,12 +81,17 @@ const Solution<Scalar>& ReferenceSolver<Scalar>::solve(Policy policy, const Cons
 }
 
 template <class Scalar>
-const Solution<Scalar>& ReferenceSolver<Scalar>::run(const SolveInputs<Scalar>& in, Policy policy) {
+void ReferenceSolver<Scalar>::prepare(const SolveInputs<Scalar>& in) {
   outward(in.q, in.qd);
   for (std::size_t t = 0; t < in.torques.size(); ++t) inputs_.torques[t] = in.torques[t];
   for (std::size_t e = 0; e < in.wrenches.size(); ++e) inputs_.external_forces[e] = in.wrenches[e];
   for (std::size_t k = 0; k < in.alpha.size(); ++k) inputs_.constraint_directions[k] = in.alpha[k];
   decompose();
+}
+
+template <class Scalar>
+const Solution<Scalar>& ReferenceSolver<Scalar>::run(const SolveInputs<Scalar>& in, Policy policy) {
+  prepare(in);
   return solve(policy, in.beta);
 }
 

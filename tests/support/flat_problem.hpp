@@ -15,10 +15,6 @@ struct FlatProblem : solver::SolveInputs<double> {
   std::vector<double> in;
 };
 
-inline solver::FlatLayout flat_layout(const scene::Scene& s, const model::Chain& chain) {
-  return solver::FlatLayout::of(s.layout, chain.dof(), !s.fixed_directions.empty());
-}
-
 inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene& s, const model::Chain& chain) {
   FlatProblem p;
   p.q = random.positions(chain);
@@ -31,7 +27,7 @@ inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene
     for (std::size_t k = 0; k < nc; ++k) p.alpha.push_back(random.unit_direction());
   p.beta.resize(nc);
   for (auto& b : p.beta) b = random.uniform(-3, 3);
-  p.in = solver::flat_input(p, flat_layout(s, chain));
+  p.in = solver::flat_input(p, s.flat_layout(chain.dof()));
   return p;
 }
 

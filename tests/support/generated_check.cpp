@@ -41,7 +41,7 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
   options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<Scalar>::epsilon());
   solver::ReferenceSolver<long double> reference(chain, s.layout, options);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const solver::FlatLayout layout = flat_layout(s, chain);
+  const solver::FlatLayout layout = s.flat_layout(chain.dof());
   EXPECT_EQ(variant.out_size, layout.out_size());
 
   RandomProblem random(seed);
@@ -52,14 +52,8 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
     EXPECT_EQ(p.in.size(), variant.in_size);
     for (std::size_t i = 0; i < p.in.size(); ++i) in[i] = static_cast<Scalar>(p.in[i]);
 
-    reference.outward(p.q.cast<long double>(), p.qd.cast<long double>());
-    auto& d = reference.drivers();
-    for (std::size_t t = 0; t < p.torques.size(); ++t) d.torques[t] = p.torques[t].cast<long double>();
-    for (std::size_t e = 0; e < p.wrenches.size(); ++e)
-      d.external_forces[e] = {p.wrenches[e].moment.cast<long double>(), p.wrenches[e].force.cast<long double>()};
-    for (std::size_t k = 0; k < nc; ++k)
-      d.constraint_directions[k] = {p.alpha[k].moment.cast<long double>(), p.alpha[k].force.cast<long double>()};
-    reference.decompose();
+    const solver::SolveInputs<long double> problem = p.cast<long double>();
+    reference.prepare(problem);
     const double cond = condition_number(reference.articulated().body[0].constraint_energy);
     const long double eps = std::numeric_limits<Scalar>::epsilon();
     const long double allowed = std::max(floor, eps_multiple * eps * static_cast<long double>(cond));
@@ -69,7 +63,7 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
     for (const auto& entry : variant.solves) {
       const auto policy = *solver::policy_from_name(entry.policy);
       entry.solve(in.data(), out.data());
-      const auto& r = reference.solve(policy, p.beta.cast<long double>());
+      const auto& r = reference.solve(policy, problem.beta);
       const unsigned status = static_cast<unsigned>(out[layout.status()]);
       for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " state " << state;
       const bool reference_dropped = reference.status() & solver::status_constraint_rank_deficient;
@@ -128,7 +122,7 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const solver::FlatLayout layout = flat_layout(s, chain);
+  const solver::FlatLayout layout = s.flat_layout(chain.dof());
   const std::size_t status_at = layout.status();
   RandomProblem random(5);
   const FlatProblem p = random_flat_problem(random, s, chain);
@@ -179,21 +173,12 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
 ResolveProblems resolve_problems(const std::string& scene_path, int states) {
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
-  const solver::FlatLayout layout = flat_layout(s, chain);
   ResolveProblems p;
-  p.dof = chain.dof();
-  p.constraints = s.layout.constraints;
-  p.qd_at = layout.qd();
-  p.drivers_at = layout.torque(0);
-  p.beta_at = layout.beta();
-  p.qdd_at = layout.qdd();
-  p.tau_cmd_at = layout.tau_cmd();
-  p.tau_ctrl_at = layout.tau_ctrl();
-  p.status_at = layout.status();
+  p.layout = s.flat_layout(chain.dof());
   RandomProblem random(99);
   for (int state = 0; state < states; ++state) {
     p.in.push_back(random_flat_problem(random, s, chain).in);
-    std::vector<double> beta1(p.constraints + 1);
+    std::vector<double> beta1(p.layout.constraints + 1);
     for (auto& b : beta1) b = random.uniform(-1, 1);
     p.first_beta.push_back(std::move(beta1));
   }

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "solver/flat_layout.hpp"
+
 // Defines struct `Name` describing the generated variant in namespace `ns` (e.g. panda::f64).
 #define SWEEPGEN_GENERATED_API(Name, ns)                                          \
   struct Name {                                                                   \
@@ -67,8 +69,7 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
 // Problems for check_resolve_equals_full_solve: flat inputs, a first setpoint vector (one value
 // more than there are constraints: a solve reads only its own), and where the parts of `in` are.
 struct ResolveProblems {
-  std::size_t dof = 0, constraints = 0, qd_at = 0, drivers_at = 0, beta_at = 0;
-  std::size_t qdd_at = 0, tau_cmd_at = 0, tau_ctrl_at = 0, status_at = 0;
+  solver::FlatLayout layout;
   std::vector<std::vector<double>> in, first_beta;
 };
 ResolveProblems resolve_problems(const std::string& scene_path, int states);
@@ -79,26 +80,27 @@ template <class Api>
 void check_resolve_equals_full_solve(const std::string& scene_path, int states) {
   using Scalar = typename Api::Scalar;
   const ResolveProblems p = resolve_problems(scene_path, states);
+  const solver::FlatLayout& layout = p.layout;
   std::vector<Scalar> out(Api::flat_out_size);
   for (std::size_t state = 0; state < p.in.size(); ++state) {
     const std::vector<Scalar> in(p.in[state].begin(), p.in[state].end());
     ASSERT_EQ(in.size(), static_cast<std::size_t>(Api::flat_in_size));
     typename Api::State st;
-    Api::outward(in.data(), in.data() + p.qd_at, st);
-    Api::decompose(in.data() + p.drivers_at, st);
+    Api::outward(in.data() + layout.q(), in.data() + layout.qd(), st);
+    Api::decompose(in.data() + layout.torque(0), st);
     const std::vector<Scalar> beta1(p.first_beta[state].begin(), p.first_beta[state].end());
-    const std::vector<Scalar> beta2(in.begin() + static_cast<std::ptrdiff_t>(p.beta_at), in.end());
+    const std::vector<Scalar> beta2(in.begin() + static_cast<std::ptrdiff_t>(layout.beta()), in.end());
     for (std::size_t k = 0; k < std::size(Api::flat_solves); ++k) {
       typename Api::Solution first, second;
       Api::solves[k].solve(st, beta1.data(), first);
       Api::solves[k].solve(st, beta2.data(), second);
       Api::flat_solves[k].solve(in.data(), out.data());
-      for (std::size_t i = 0; i < p.dof; ++i) {
-        ASSERT_EQ(second.qdd[i], out[p.qdd_at + i]) << Api::solves[k].policy << " joint " << i;
-        ASSERT_EQ(second.tau_cmd[i], out[p.tau_cmd_at + i]);
-        ASSERT_EQ(second.tau_ctrl[i], out[p.tau_ctrl_at + i]);
+      for (std::size_t i = 0; i < layout.dof; ++i) {
+        ASSERT_EQ(second.qdd[i], out[layout.qdd() + i]) << Api::solves[k].policy << " joint " << i;
+        ASSERT_EQ(second.tau_cmd[i], out[layout.tau_cmd() + i]);
+        ASSERT_EQ(second.tau_ctrl[i], out[layout.tau_ctrl() + i]);
       }
-      ASSERT_EQ(static_cast<Scalar>(second.status), out[p.status_at]);
+      ASSERT_EQ(static_cast<Scalar>(second.status), out[layout.status()]);
     }
   }
 }
