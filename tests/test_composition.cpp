@@ -15,6 +15,9 @@
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
+#include "support/rounding_bound.hpp"
+#include "support/skip_count.hpp"
+#include "support/state_count.hpp"
 
 namespace sweepgen {
 namespace {
@@ -22,17 +25,32 @@ namespace {
 using solver::Policy;
 using Solver = solver::ReferenceSolver<double>;
 
-constexpr int kStates = 1000;
-constexpr double kTolerance = 1e-10;
+constexpr int kStates = test::state_count(1000);  // a tenth in the sanitizer build
+// Sums of the same terms (E_conf, the composed articulated forces) in another order, relative to
+// max(1, |sum|): the terms (a track's energy with q̇ up to 2 rad/s, 1e2-1e3 on these arms) cancel
+// to a sum of order 1, so a few ulps of the terms is 1e-13..1e-12 of it. Measured worst 2.9e-12
+// (UR5, Nc = 1); no condition number enters (no solve): a flat 1e-10, 30x above it.
+constexpr double kSumTolerance = 1e-10;
+// Two solves of one problem that differ only in the order of their sums: rounding, amplified by
+// cond_s(E^A_cstr,0) in ν and all that depends on it, and by the spread of the joints'
+// articulated inertias in q̈ (not in cond_s: the wrist of the UR5 near q5 = 0). Measured worst
+// error/(eps max(1, cond_s)): 120 (printed as [rounding]); factor 1000. Ceiling 1e-6: states
+// with cond_s > 4.5e6 are counted as skipped (their share is asserted), never judged by a looser
+// bound.
+constexpr test::RoundingBound kRounding{1000, 1e-6};
 
 double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   if (a.size() == 0) return 0;
   return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
 }
 
+// cond₂ of E^A_cstr,0 with unit diagonal (docs/stability.md, cond_s): the amplification of
+// rounding in the equilibrated, pivoted solve of ν, whatever the units of each direction.
 double condition(const solver::ConstraintMatrix<double>& E) {
   if (E.rows() == 0) return 1;
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(E).singularValues();
+  if (!(E.diagonal().minCoeff() > 0)) return std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd d = E.diagonal().cwiseSqrt().cwiseInverse();
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(d.asDiagonal() * E * d.asDiagonal()).singularValues();
   return s(s.size() - 1) > 0 ? s(0) / s(s.size() - 1) : std::numeric_limits<double>::infinity();
 }
 
@@ -82,8 +100,19 @@ class Composition : public ::testing::TestWithParam<std::tuple<std::string, std:
       if (robot.name == std::get<0>(GetParam())) chain_ = test::load_bundled(robot);
     nc_ = std::get<1>(GetParam());
   }
-  double tolerance(const Solver& s) const {
-    return kTolerance * std::max(1.0, condition(s.articulated().body[0].constraint_energy) / 1e6);
+  double condition_of(const Solver& s) const { return condition(s.articulated().body[0].constraint_energy); }
+  // States a comparison may skip: with Nc > N the random directions always overdetermine the
+  // tip (every state rank-deficient). Six random unit directions, mixing moments and forces, make
+  // E^A_cstr,0 ill-conditioned in many random configurations of a 6- or 7-joint arm (measured
+  // cond_s > 4.5e6: UR5 46%, iiwa14 22%, Panda 11% of the states): at most 60%. Fewer directions
+  // leave it well conditioned almost everywhere (planar, Nc = 3: 1.2%): at most 5%.
+  double max_skipped_share() const { return nc_ > chain_.dof() ? 1.0 : nc_ == 6 ? 0.6 : 0.05; }
+  // Whether to compare: counts the state as skipped when both solves dropped a pivot or the
+  // condition puts it beyond kRounding's ceiling.
+  bool compared(test::SkipCount& skips, const Solver& a, const Solver& b) const {
+    const bool deficient = both_rank_deficient(a, b);
+    const char* reason = deficient ? "both rank-deficient" : "cond beyond the ceiling";
+    return !skips.skip(deficient || !kRounding.judged(condition_of(b)), reason);
   }
   // Both rank deficient (then both finite): nothing more to compare.
   static bool both_rank_deficient(const Solver& a, const Solver& b) {
@@ -100,6 +129,8 @@ class Composition : public ::testing::TestWithParam<std::tuple<std::string, std:
 TEST_P(Composition, ComposedSweepEqualsDecompositionPlusOriginalSolverSweep) {
   test::RandomProblem random(11);
   Solver composed(chain_, layout_for(chain_, nc_, true)), decomposed(chain_, layout_for(chain_, nc_, false));
+  test::SkipCount skips("composed vs decomposed", max_skipped_share());
+  test::WorstRatio worst("composed vs decomposed");
   for (int n = 0; n < kStates; ++n) {
     const Problem p = random_problem(random, chain_, nc_);
     prepare(composed, p);
@@ -107,8 +138,9 @@ TEST_P(Composition, ComposedSweepEqualsDecompositionPlusOriginalSolverSweep) {
     for (Policy policy : {Policy::original, Policy::saturate, Policy::saturate_exact}) {
       const auto a = composed.solve(policy, p.beta);
       const auto b = decomposed.solve(policy, p.beta);
-      if (both_rank_deficient(composed, decomposed)) continue;
-      const double tol = tolerance(decomposed);
+      if (!compared(skips, composed, decomposed)) continue;
+      const double cond = condition_of(decomposed), tol = kRounding(cond);
+      worst.add(std::max({relative(a.qdd, b.qdd), relative(a.nu, b.nu), relative(a.tau_cmd, b.tau_cmd)}), cond);
       ASSERT_LE(relative(a.qdd, b.qdd), tol) << solver::name(policy) << " state " << n;
       ASSERT_LE(relative(a.nu, b.nu), tol);
       ASSERT_LE(relative(a.tau_cmd, b.tau_cmd), tol);
@@ -117,7 +149,7 @@ TEST_P(Composition, ComposedSweepEqualsDecompositionPlusOriginalSolverSweep) {
     // composed articulated force at every body the sum of the tracks' forces.
     Eigen::VectorXd sum = Eigen::VectorXd::Zero(nc_);
     for (const auto& track : decomposed.articulated().track) sum += track[0].acceleration_energy;
-    ASSERT_LE(relative(composed.articulated().track[0][0].acceleration_energy, sum), kTolerance);
+    ASSERT_LE(relative(composed.articulated().track[0][0].acceleration_energy, sum), kSumTolerance);
     for (std::size_t i = 1; i <= chain_.dof(); ++i) {
       spatial::Force<double> total;
       for (const auto& track : decomposed.articulated().track) total += track[i].articulated_force;
@@ -125,7 +157,7 @@ TEST_P(Composition, ComposedSweepEqualsDecompositionPlusOriginalSolverSweep) {
       Eigen::Matrix<double, 6, 1> x, y;
       x << f.moment, f.force;
       y << total.moment, total.force;
-      ASSERT_LE(relative(x, y), kTolerance) << "body " << i;
+      ASSERT_LE(relative(x, y), kSumTolerance) << "body " << i;
     }
   }
 }
@@ -140,6 +172,8 @@ TEST_P(Composition, PrioritizedExternalForcesAddTheirFullEffect) {
   solver::SolverOptions weightless;
   weightless.gravity.setZero();
   Solver s(chain_, layout), without_external(chain_, layout), external_only(chain_, free_layout, weightless);
+  test::SkipCount skips("prioritised external forces", max_skipped_share());
+  test::WorstRatio worst("prioritised external forces");
   for (int n = 0; n < kStates; ++n) {
     const Problem p = random_problem(random, chain_, nc_);
     prepare(s, p);
@@ -148,8 +182,9 @@ TEST_P(Composition, PrioritizedExternalForcesAddTheirFullEffect) {
     const auto a4 = s.solve(Policy::prioritize_external, p.beta);
     const auto a3 = without_external.solve(Policy::original, p.beta);
     const auto effect = external_only.solve(Policy::original, solver::ConstraintVector<double>(0));
-    if (both_rank_deficient(s, without_external)) continue;
-    const double tol = tolerance(s);
+    if (!compared(skips, s, without_external)) continue;
+    const double cond = condition_of(s), tol = kRounding(cond);
+    worst.add(std::max(relative(a4.qdd, a3.qdd + effect.qdd), relative(a4.nu, a3.nu)), cond);
     ASSERT_LE(relative(a4.qdd, a3.qdd + effect.qdd), tol) << "state " << n;
     ASSERT_LE(relative(a4.nu, a3.nu), tol);
     for (std::size_t k = 0; k < nc_; ++k) {
@@ -172,6 +207,8 @@ TEST_P(Composition, PerDriverContributionsAddUp) {
   test::RandomProblem random(13);
   const solver::DriverLayout layout = layout_for(chain_, nc_, false);
   Solver full(chain_, layout), part(chain_, layout);
+  test::SkipCount skips("per-driver contributions", max_skipped_share());
+  test::WorstRatio worst("per-driver contributions");
   for (int n = 0; n < kStates; ++n) {
     const Problem p = random_problem(random, chain_, nc_);
     const solver::ConstraintVector<double> zero = solver::ConstraintVector<double>::Zero(nc_);
@@ -185,9 +222,11 @@ TEST_P(Composition, PerDriverContributionsAddUp) {
     }
     prepare(full, p);
     const Eigen::VectorXd qdd = full.solve(Policy::original, p.beta).qdd;
-    if (both_rank_deficient(full, part)) continue;
+    if (!compared(skips, full, part)) continue;
     // The sum carries the rounding of its six solves.
-    ASSERT_LE(relative(qdd, sum), 6 * tolerance(full)) << "state " << n;
+    const double cond = condition_of(full);
+    worst.add(relative(qdd, sum) / 6, cond);
+    ASSERT_LE(relative(qdd, sum), 6 * kRounding(cond)) << "state " << n;
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include "support/oracle_problem.hpp"
 #include "support/state_count.hpp"
+#include "support/skip_count.hpp"
 
 namespace sweepgen {
 namespace {
@@ -50,9 +51,15 @@ constexpr double kWellConditioned = 1e6;
 // Hence the fixed 1e-10 bound holds up to cond(E) ~ 4.5e4; beyond, the bound is 100·eps·cond.
 constexpr double kConditionFactor = 10;
 
+// The largest tolerance ever applied: a state whose scaled tolerance would exceed it
+// (cond(E) > 1e9) has its q̈, ν and residual left unjudged, counted and bounded in share (below);
+// there a double solve may legitimately be off by more than 1e-5, and a tolerance that kept
+// growing would accept anything.
+constexpr double kCeiling = 1e-5;
 double scaled_tolerance(double floor, LongDouble cond) {
   return std::max(floor, 10 * kEps * static_cast<double>(cond) * kConditionFactor);
 }
+bool judged(LongDouble cond) { return scaled_tolerance(0, cond) <= kCeiling; }
 
 // ---------------------------------------------------------------------------------------------
 // The oracle against finite differences and the Lagrangian.
@@ -113,7 +120,8 @@ LongDouble potential_energy(const Oracle& o, const model::Chain& chain, const Or
   return V;
 }
 
-void check_oracle(const test::OracleCase& c, test::RandomProblem& random, double& worst_fd, double& worst_algebra) {
+void check_oracle(const test::OracleCase& c, test::RandomProblem& random, double& worst_fd, double& worst_algebra,
+                  test::SkipCount& skips) {
   const Oracle o(c.chain);
   const std::size_t n = c.chain.dof();
   const test::OracleProblem p = test::draw_problem(random, c, 0);
@@ -179,9 +187,9 @@ void check_oracle(const test::OracleCase& c, test::RandomProblem& random, double
     OracleMat alpha(6, nc);
     for (std::size_t k = 0; k < nc; ++k) alpha.col(k) = test::to_six(local.unit_direction());
     const OracleVec beta = OracleVec::Random(nc);
-    if (nc > n) continue;
+    if (nc > n) continue;  // rank-deficient by construction: the KKT system has no unique solution
     const Oracle::KktSolution s = o.kkt(q, qd, tau, ext, c.chain.tip_link, alpha, beta);
-    if (s.cond > kWellConditioned) continue;
+    if (skips.skip(s.cond > kWellConditioned, "cond(E) > 1e6")) continue;
     const OracleVec lhs = M * s.qdd + o.bias(q, qd);
     const OracleVec rhs = tau + o.external_torque(q, ext) + o.jacobian(q, c.chain.tip_link).transpose() * alpha * s.nu;
     worst_algebra = std::max(worst_algebra, relative(lhs, rhs));
@@ -193,10 +201,14 @@ void check_oracle(const test::OracleCase& c, test::RandomProblem& random, double
 TEST(DenseOracle, AgreesWithFiniteDifferencesAndTheLagrangian) {
   test::RandomProblem random(11);
   double worst_fd = 0, worst_algebra = 0;
+  // KKT identities are checked where cond(E) <= 1e6 (the algebra tolerance is flat): measured
+  // none of 935 constrained solves beyond it.
+  test::SkipCount skips("oracle KKT identities", 0.05);
   for (const auto& c : test::bundled_cases(true))
-    for (int s = 0; s < test::state_count(50); ++s) check_oracle(c, random, worst_fd, worst_algebra);
+    for (int s = 0; s < test::state_count(50); ++s) check_oracle(c, random, worst_fd, worst_algebra, skips);
   test::RandomChainGenerator generator(12);
-  for (int s = 0; s < test::state_count(300); ++s) check_oracle(test::random_case(generator), random, worst_fd, worst_algebra);
+  for (int s = 0; s < test::state_count(300); ++s)
+    check_oracle(test::random_case(generator), random, worst_fd, worst_algebra, skips);
   std::cout << "[oracle] max finite-difference error " << worst_fd << ", max algebraic error " << worst_algebra << "\n";
   RecordProperty("max_finite_difference_error", std::to_string(worst_fd));
   RecordProperty("max_algebraic_error", std::to_string(worst_algebra));
@@ -217,7 +229,7 @@ struct Worst {
 
 // One random state: the solver (double, policy original) against the oracle's KKT solve.
 void compare_state(const test::OracleCase& c, solver::ReferenceSolver<double>& reference, std::size_t nc,
-                   test::RandomProblem& random, Worst& worst) {
+                   test::RandomProblem& random, Worst& worst, test::SkipCount& skips) {
   const Oracle o(c.chain);
   const test::OracleProblem p = test::draw_problem(random, c, nc);
   const solver::Solution<double>& sol = test::solve(reference, p, solver::Policy::original);
@@ -261,6 +273,7 @@ void compare_state(const test::OracleCase& c, solver::ReferenceSolver<double>& r
   worst.max_cond = std::max(worst.max_cond, kkt.cond);
   if (!well_conditioned) ++worst.ill_conditioned;
   const std::string cond = " cond(E)=" + std::to_string(static_cast<double>(kkt.cond));
+  if (skips.skip(!judged(kkt.cond), "cond(E) > 1e9")) return;
 
   // (b) q̈ and ν.
   const double tolerance = scaled_tolerance(kAgreementTolerance, kkt.cond);
@@ -303,10 +316,12 @@ void report(const std::string& what, const Worst& w) {
 TEST(DenseOracle, ReferenceSolverMatchesKktOnBundledRobots) {
   test::RandomProblem random(21);
   Worst worst;
+  // Random unit directions: E^A_cstr,0 beyond cond 1e9 in few states (measured: 141 of 16000, 0.9%).
+  test::SkipCount skips("dense oracle, bundled robots", 0.05);
   for (const auto& c : test::bundled_cases(true))
     for (std::size_t nc : {0u, 1u, 3u, 6u}) {
       solver::ReferenceSolver<double> reference(c.chain, test::oracle_layout(c, nc));
-      for (int s = 0; s < test::state_count(1000); ++s) compare_state(c, reference, nc, random, worst);
+      for (int s = 0; s < test::state_count(1000); ++s) compare_state(c, reference, nc, random, worst, skips);
     }
   report("bundled", worst);
 }
@@ -315,11 +330,13 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomChains) {
   test::RandomProblem random(31);
   test::RandomChainGenerator generator(32);
   Worst worst;
+  // Random chains (1-8 joints, any axes): E^A_cstr,0 beyond cond 1e9 in few states (measured: 3 of 4000).
+  test::SkipCount skips("dense oracle, random chains", 0.05);
   for (int k = 0; k < test::state_count(1000); ++k) {
     const test::OracleCase c = test::random_case(generator);
     for (std::size_t nc : {0u, 1u, 3u, 6u}) {
       solver::ReferenceSolver<double> reference(c.chain, test::oracle_layout(c, nc));
-      compare_state(c, reference, nc, random, worst);
+      compare_state(c, reference, nc, random, worst, skips);
     }
   }
   report("random_chains", worst);

@@ -83,6 +83,16 @@ void check_against_referee(const report::StabilityCase& c, const std::vector<Rec
   std::map<std::string, Record> worst;
   std::map<std::string, double> ratio;
   std::map<std::string, int> count, deficient, borderline, beyond_range;
+  // Random states (nominal, fast, huge_force) that lost a constraint direction although the
+  // referee locked no joint (a mass model singular by design, e.g. coaxial_massless, locks one in
+  // every state): the referee runs the same templated code, so a change that made every state
+  // rank-deficient would pass the status check; their share is bounded instead, in double (float
+  // loses directions far more often: arm_micro in every state, its E entries span 1e-30...1e10).
+  // Measured: none in the bundled scenes and most family cases; arm_micro fast 4 of 10 (at
+  // 100 rad/s on a 1e-3-scaled arm); thin_rods every state, by design (its rods carry no inertia
+  // about their axes, so E^A_cstr,0 is singular in any configuration): at most half, thin_rods
+  // exempt.
+  std::map<std::string, int> dropped_at_random;
   for (const Record& r : records) {
     const std::string where = c.name + " " + r.kind + " cond_s(E) " + std::to_string(r.cond_E) + " rho_D " +
                               std::to_string(r.rho_D);
@@ -102,6 +112,8 @@ void check_against_referee(const report::StabilityCase& c, const std::vector<Rec
       EXPECT_EQ(r.status, r.exact_status) << where;
     if (r.exact_status != 0 || r.status != 0) {
       ++deficient[r.kind];
+      const bool locked = r.exact_status & solver::status_joint_inertia_singular;
+      if (!locked && (r.kind == "nominal" || r.kind == "fast" || r.kind == "huge_force")) ++dropped_at_random[r.kind];
       continue;
     }
     const double e = std::max({r.qdd, r.tau, r.nu});
@@ -110,6 +122,11 @@ void check_against_referee(const report::StabilityCase& c, const std::vector<Rec
     w.tau = std::max(w.tau, r.tau);
     w.nu = std::max(w.nu, r.nu);
     ratio[r.kind] = std::max(ratio[r.kind], e / (eps * r.kappa()));
+  }
+  if (eps == kEps && c.name != "thin_rods") {
+    for (const auto& [kind, dropped] : dropped_at_random)
+      EXPECT_LE(dropped, 0.5 * count[kind])
+          << c.name << " " << kind << ": random states that dropped a direction " << dropped << " of " << count[kind];
   }
   for (const auto& [kind, w] : worst) {
     std::printf("[%s] %s %s: %d states, %d rank-deficient (%d at the tolerance), %d beyond the scalar's range; full "
@@ -362,16 +379,16 @@ Drift rk4_drift(EnergyProbe& probe, Eigen::VectorXd q, Eigen::VectorXd qd, doubl
 //    at 2 s (where the order test holds): RK4's energy error accumulates at most linearly in time
 //    (5x at 10 s), x3 for the rounding of the free-fall phase. Measured: chain_30 1.5e-7 against
 //    the bound 9.7e-7; chain_100 1.5e-6 against 4.5e-6 (printed).
-//  - The sanitizer build (SWEEPGEN_TEST_STATE_DIVISOR > 1) simulates 2.5 s instead of 10: the same
+//  - The sanitizer build (SWEEPGEN_TEST_STATE_DIVISOR > 1) simulates 2 s instead of 10: the same
 //    code paths under ASan/UBSan, the order test unchanged (it stops at 2 s), the size bound scaled
-//    by the same formula (10 s / 2 s becomes 2.5 s / 2 s). 10 s took 136 s there, 2.5 s a quarter.
+//    by the same formula (10 s / 2 s becomes 2 s / 2 s). 10 s took 136 s there, 2 s a fifth.
 constexpr double kDriftMargin = 3;
 
 TEST(EnergyDrift, Rk4LongChainsConverge) {
   test::TempDir dir;
   std::vector<std::string> chains = {"chain_30"};
   if (test::stability_full()) chains.insert(chains.end(), {"chain_100", "chain_300"});
-  const double h = 1e-3, seconds = test::kStateDivisor > 1 ? 2.5 : 10, converged_until = 2;
+  const double h = 1e-3, seconds = test::kStateDivisor > 1 ? 2 : 10, converged_until = 2;
   const long steps = std::lround(seconds / h);
   for (const std::string& name : chains) {
     const report::StabilityCase c = report::family_stability_case(name, dir.path());
