@@ -89,6 +89,7 @@
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
+#include "support/skip_count.hpp"
 
 namespace sweepgen {
 namespace {
@@ -159,6 +160,8 @@ double condition_number(const solver::ConstraintMatrix<double>& E) {
 
 // 1e-9 up to cond 1e6, then proportional to the condition number.
 double tolerance(double cond) { return 1e-9 * std::max(1.0, cond / 1e6); }
+// Its ceiling: beyond cond 1e9 a state is counted (SkipCount), not judged by a tolerance above 1e-6.
+constexpr double kToleranceCeiling = 1e-6;
 
 std::string robot_name(const testing::TestParamInfo<std::size_t>& info) {
   return test::bundled_robots()[info.param].name;
@@ -414,6 +417,10 @@ void compare_with_kdl(const std::string& label, const model::Chain& chain, const
   double max_ratio_ours_ld = 0;  // sweepgen's q̈ error against long double / tolerance
   double max_qdd_ours_ld = 0, max_qdd_kdl_ld = 0;            // q̈ error against a long double solve
   int beyond = 0, rank_deficient = 0, total = 0, constrained = 0, not_realising = 0;
+  // States compared on finiteness only: a dropped pivot (below) or cond beyond the tolerance's
+  // ceiling. Nc = 6 on the 3-DOF planar robot drops pivots in every state (a quarter of its
+  // states); the arms drop none and exceed cond 1e9 in at most 2.3% (UR5: 91 of 4000): at most 30%.
+  test::SkipCount skips("ReferenceVsKdl " + label, 0.3);
   for (std::size_t nc : {0u, 1u, 3u, 6u}) {
     KDL::ChainHdSolver_Vereshchagin hd(kdl, root_acceleration(), static_cast<unsigned>(nc));
     for (int s = 0; s < states; ++s, ++total) {
@@ -436,7 +443,9 @@ void compare_with_kdl(const std::string& label, const model::Chain& chain, const
       // whatever singular values pass its absolute cut-off, two different policies for an
       // ill-posed problem (issue 2, item 5). Every other state is compared in full.
       EXPECT_TRUE(sol.qdd.allFinite() && sol.nu.allFinite() && sol.tau_cmd.allFinite());
-      const auto compared = [unique_nu](double error) { return unique_nu ? error : 0.0; };
+      const bool judged = unique_nu && tol <= kToleranceCeiling;
+      skips.skip(!judged, unique_nu ? "cond > 1e9" : "dropped a pivot");
+      const auto compared = [judged](double error) { return judged ? error : 0.0; };
       const double e_qdd = compared(relative_error(sol.qdd, theirs.qdd));
       const double e_nu = compared(relative_error(sol.nu, -theirs.nu));
       // The joint torques J^T α ν of the constraint wrench.

@@ -15,6 +15,7 @@
 
 #include "support/run_command.hpp"
 #include "support/temp_dir.hpp"
+#include "support/skip_count.hpp"
 
 namespace sweepgen {
 namespace {
@@ -121,7 +122,8 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_LE(number(generated[6]), 1e-9) << "generated double τcmd error";
   EXPECT_LE(number(generated[7]), 1e-9) << "generated double constraint residual";
   EXPECT_LE(number(rows["reference double"][4]), 1e-9);
-  EXPECT_LE(number(rows["generated float"][4]), 1e-2);
+  // Generated float: its maximum here runs over states beyond float's domain (cond up to 1e6);
+  // its accuracy is asserted per state inside the domain in StabilityReportOnTwoCases.
 
   // KDL: measured (it agrees with the reference on this scene, with the tip and a load behind
   // the fixed tool joint, rotor inertia and gravity along -y), or a row saying why not.
@@ -228,7 +230,10 @@ TEST(Report, StabilityReportOnTwoCases) {
     return static_cast<std::size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin());
   };
   std::map<std::string, int> rows;  // "case policy variant scalar" -> states
-  int checked = 0, planar_checked = 0;
+  int checked[2] = {0, 0}, planar_checked = 0;  // generated double, float states judged
+  // The full-rank generated states of arm_micro (near-singular by design) and planar_nc2 beyond
+  // the scalars' domains: measured 28 of 88 (32%); at most 80%.
+  test::SkipCount skips("stability report, generated states beyond their scalar's domain", 0.8);
   while (std::getline(csv, line)) {
     const auto f = split_csv(line);
     ASSERT_EQ(f.size(), columns.size()) << line;
@@ -247,13 +252,21 @@ TEST(Report, StabilityReportOnTwoCases) {
     }
     const bool full_rank = f[column("representable")] == "1" && f[column("status")] == "0" &&
                            f[column("referee_status")] == "0";
-    if (f[column("variant")] != "generated" || f[column("scalar")] != "double" || !full_rank) continue;
+    if (f[column("variant")] != "generated" || !full_rank) continue;
+    // Each scalar inside its domain (docs/stability.md; tests/generated/scene_test.cpp.in):
+    // error ≤ 100 eps κ where κ ≤ 1e8 in double (ceiling 2.2e-6) and κ ≤ 1e3 in float (ceiling
+    // 1.2e-2); states beyond are counted.
+    const bool single = f[column("scalar")] == "float";
+    const double kappa = number(f[column("kappa")]);
+    if (skips.skip(kappa > (single ? 1e3 : 1e8), single ? "float, kappa > 1e3" : "double, kappa > 1e8")) continue;
+    const double eps = single ? std::numeric_limits<float>::epsilon() : std::numeric_limits<double>::epsilon();
     const double error = std::max({number(f[column("rel_err_qdd")]), number(f[column("rel_err_tau_cmd")]),
                                    number(f[column("rel_err_nu")])});
-    EXPECT_LE(error, 100 * std::numeric_limits<double>::epsilon() * number(f[column("kappa")])) << line;
-    ++checked;
+    EXPECT_LE(error, 100 * eps * kappa) << line;
+    ++checked[single];
   }
-  EXPECT_GT(checked, 0) << "no full-rank generated double state";
+  EXPECT_GT(checked[0], 0) << "no full-rank generated double state inside its domain";
+  EXPECT_GT(checked[1], 0) << "no full-rank generated float state inside its domain";
   EXPECT_GT(planar_checked, 0) << "no planar_nc2 generated double state with status 0";
   for (const char* c : {"planar_nc2", "arm_micro"})
     for (const char* policy : {"pivoted_ldlt", "damped"})

@@ -52,11 +52,16 @@ double scaled_condition_number(const solver::ConstraintMatrix<Precise>& E) {
   return condition_number(S);
 }
 
-// cond_2 of the joint-space inertia M(q) without new dynamics code: with q̇ = 0, no gravity, no
-// constraint and no external force the solver's q̈ is linear in τ, so column j of M^-1 is
-// q̈(τ = e_j) − q̈(τ = 0); cond(M) = cond(M^-1). `options`: the referee's (its joint-inertia
-// tolerance decides which joints are locked). Infinite when a joint is locked: M^-1 is then
-// singular (that joint's q̈ is 0 for every τ).
+
+template <class Vector>
+std::vector<Precise> widen(const Vector& v) {
+  std::vector<Precise> w(static_cast<std::size_t>(v.size()));
+  for (std::size_t i = 0; i < w.size(); ++i) w[i] = static_cast<Precise>(v[static_cast<Eigen::Index>(i)]);
+  return w;
+}
+
+}  // namespace
+
 double inertia_condition_number(const model::Chain& chain, const solver::JointVector<Precise>& q,
                                 solver::SolverOptions options) {
   options.gravity.setZero();
@@ -82,15 +87,6 @@ double inertia_condition_number(const model::Chain& chain, const solver::JointVe
       Eigen::JacobiSVD<Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>>(M_inv).singularValues();
   return sv(n - 1) > 0 ? static_cast<double>(sv(0) / sv(n - 1)) : std::numeric_limits<double>::infinity();
 }
-
-template <class Vector>
-std::vector<Precise> widen(const Vector& v) {
-  std::vector<Precise> w(static_cast<std::size_t>(v.size()));
-  for (std::size_t i = 0; i < w.size(); ++i) w[i] = static_cast<Precise>(v[static_cast<Eigen::Index>(i)]);
-  return w;
-}
-
-}  // namespace
 
 void pack_flat(const scene::Scene& s, Problem& p) {
   p.flat = solver::flat_input(p, s.flat_layout(static_cast<std::size_t>(p.q.size())));  // q: one value per joint

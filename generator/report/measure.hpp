@@ -75,6 +75,13 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
                                      const std::vector<Problem>& problems, const solver::SolverOptions& options);
 
+// cond_2 of the joint-space inertia M(q), in Precise, without new dynamics code: with q̇ = 0, no
+// gravity, no constraint and no external force the solver's q̈ is linear in τ, so column j of
+// M^-1 is q̈(τ = e_j) − q̈(τ = 0). `options`: the referee's (its joint-inertia tolerance decides
+// which joints are locked). Infinite when a joint is locked (M^-1 singular there).
+double inertia_condition_number(const model::Chain& chain, const solver::JointVector<Precise>& q,
+                                solver::SolverOptions options);
+
 // One variant's answer for one state, widened.
 struct Outcome {
   std::vector<Precise> qdd, tau_cmd, nu;

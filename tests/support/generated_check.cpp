@@ -8,41 +8,77 @@
 #include <iostream>
 #include <limits>
 
+#include "report/measure.hpp"
 #include "report/relative_error.hpp"
+#include "report/stability_errors.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/flat_problem.hpp"
+#include "support/skip_count.hpp"
 
 namespace sweepgen::test {
 namespace {
 
-inline double condition_number(const solver::ConstraintMatrix<long double>& E) {
+// cond_2 of E^A_cstr,0 with unit diagonal (docs/stability.md, cond_s).
+double scaled_condition(const solver::ConstraintMatrix<long double>& E) {
   if (E.rows() == 0) return 1;
-  const Eigen::MatrixXd Ed = E.cast<double>();
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(Ed).singularValues();
+  const Eigen::VectorXd d = E.diagonal().cast<double>();
+  if (!(d.minCoeff() > 0)) return std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd inv = d.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd S = inv.asDiagonal() * E.cast<double>() * inv.asDiagonal();
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(S).singularValues();
   return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : std::numeric_limits<double>::infinity();
+}
+
+// κ = max(1, cond_s(E^A_cstr,0), 1 / min_i ρ_i) of the state prepared in `reference`
+// (report/stability_errors.hpp, docs/stability.md): the amplification of rounding any solver of
+// a given precision suffers on it.
+double kappa(const solver::ReferenceSolver<long double>& reference) {
+  double min_rho = 1;
+  for (std::size_t i = 1; i <= reference.dof(); ++i)
+    min_rho = std::min(min_rho, static_cast<double>(solver::relative_joint_inertia(reference.model().joints[i],
+                                                                                     reference.articulated().body[i])));
+  return report::kappa(scaled_condition(reference.articulated().body[0].constraint_energy), min_rho);
 }
 
 }  // namespace
 
-// Compares every flat solve of the variant with ReferenceSolver<long double> on `states` random
-// problems. The relative error of q̈, τcmd and ν must stay below
-//     max(floor, eps_multiple * eps * cond(E^A_cstr,0)):
-// a fixed floor where the constraint is well conditioned, growing with the condition number
-// beyond, since rounding in ν is amplified by it in any solver of that precision. Where the
-// reference drops a constraint pivot the generated solve must report
-// constraint_rank_deficient too (the dropped direction makes ν non-unique) and stay finite.
+// Per state and flat solve (generated_check.hpp): the generated solve against
+//  (1) ReferenceSolver<Scalar>, the operations it was traced from: they differ by constant folding
+//      and the compiler's order only, so by a few roundings amplified like any rounding:
+//      ≤ kSameOperations eps κ;
+//  (2) ReferenceSolver<long double>, the answer: ≤ domain.accuracy eps κ (a sanity bound: the
+//      stability suite judges the same operations against binary128 with scale-aware errors).
+// Both inside the scalar's domain, κ ≤ domain.max_kappa; states beyond it are counted (their
+// share asserted), not judged by a tolerance that would keep growing. Where the reference drops a
+// constraint pivot the generated solve must report constraint_rank_deficient too (the dropped
+// direction makes ν non-unique) and stay finite.
 template <class Scalar>
 ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const std::string& scene_path, int states,
-                                     long double floor, long double eps_multiple, unsigned seed) {
+                                     const Domain& domain, unsigned seed) {
+  // (1) in double: measured worst 1.1 eps κ over the bundled scenes (printed as "same
+  // operations"); 40 as in tests/test_emitter.cpp (kEmittedErrorFactor, where FMA contraction
+  // adds to the folding: 13.5 measured there). In float the generated code's constants (the
+  // robot's transforms and inertias, folded in double and rounded once) are more accurate than
+  // the float reference's, computed in float from the rounded model: the two differ by the float
+  // reference's own error: measured worst 166 eps κ (planar_nc2, its prismatic joint), factor
+  // 1000 (ceiling inside float's domain κ ≤ 1e3: 0.12; measured differences ≤ 5.5e-5).
+  const long double kSameOperations = sizeof(Scalar) == sizeof(double) ? 40 : 1000;
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
   solver::SolverOptions options = s.solver_options();
-  // The generated code's pivot tolerance, so both make the same rank decisions.
+  // The generated code's tolerances, so that the answer makes the same rank decisions.
   options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<Scalar>::epsilon());
+  options.joint_inertia_tolerance = options.joint_inertia_tolerance_for(std::numeric_limits<Scalar>::epsilon());
   solver::ReferenceSolver<long double> reference(chain, s.layout, options);
+  solver::ReferenceSolver<Scalar> traced(chain, s.layout, s.solver_options());
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   const solver::FlatLayout layout = s.flat_layout(chain.dof());
   EXPECT_EQ(variant.out_size, layout.out_size());
+  const long double eps = std::numeric_limits<Scalar>::epsilon();
+  const std::string name = scene_path.substr(scene_path.find_last_of('/') + 1) +
+                           (sizeof(Scalar) == 8 ? " double" : " float");
+  SkipCount outside(name + ": states with kappa > " + std::to_string(static_cast<int>(domain.max_kappa)),
+                    domain.max_outside_share);
 
   RandomProblem random(seed);
   ErrorSummary summary;
@@ -54,16 +90,19 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
 
     const solver::SolveInputs<long double> problem = p.cast<long double>();
     reference.prepare(problem);
-    const double cond = condition_number(reference.articulated().body[0].constraint_energy);
-    const long double eps = std::numeric_limits<Scalar>::epsilon();
-    const long double allowed = std::max(floor, eps_multiple * eps * static_cast<long double>(cond));
+    traced.prepare(p.cast<Scalar>());
+    const double k = kappa(reference);
     ++summary.states;
-    if (cond > 1e6) ++summary.ill_conditioned;
+    // Outside the domain the solves still run and must stay finite and make the reference's rank
+    // decisions; only their errors are not judged.
+    const bool inside = !outside.skip(!(k <= domain.max_kappa), "outside the domain");
+    const long double same_allowed = kSameOperations * eps * k, accuracy_allowed = domain.accuracy * eps * k;
 
     for (const auto& entry : variant.solves) {
       const auto policy = *solver::policy_from_name(entry.policy);
       entry.solve(in.data(), out.data());
       const auto& r = reference.solve(policy, problem.beta);
+      const auto& t = traced.solve(policy, p.beta.template cast<Scalar>());
       const unsigned status = static_cast<unsigned>(out[layout.status()]);
       for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " state " << state;
       const bool reference_dropped = reference.status() & solver::status_constraint_rank_deficient;
@@ -72,7 +111,7 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
         // Rounding may flip a pivot that sits at the tolerance; a kept pivot has
         // d_k / E_kk >= 1 / cond, so that can only happen where cond * tolerance is near 1.
         ++summary.borderline;
-        EXPECT_GE(cond * options.pivot_tolerance, 0.1)
+        EXPECT_GE(k * options.pivot_tolerance, 0.1)
             << entry.policy << " state " << state << ": rank decisions differ on a well-conditioned constraint";
         continue;
       }
@@ -84,27 +123,37 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
         return std::vector<long double>(out.begin() + offset, out.begin() + offset + count);
       };
       const auto vec = [](const auto& v) { return std::vector<long double>(v.data(), v.data() + v.size()); };
-      const long double e_qdd = report::relative_error<long double>(slice(layout.qdd(), n), vec(r.qdd));
-      const long double e_tau = report::relative_error<long double>(slice(layout.tau_cmd(), n), vec(r.tau_cmd));
-      const long double e_nu = report::relative_error<long double>(slice(layout.nu(), nc), vec(r.nu));
-      if (cond <= 1e6) {
-        summary.qdd = std::max(summary.qdd, e_qdd);
-        summary.tau_cmd = std::max(summary.tau_cmd, e_tau);
-        summary.nu = std::max(summary.nu, e_nu);
-      }
-      summary.worst_ratio = std::max(summary.worst_ratio, std::max({e_qdd, e_tau, e_nu}) / allowed);
-      EXPECT_LE(e_qdd, allowed) << entry.policy << " state " << state << " cond " << cond;
-      EXPECT_LE(e_tau, allowed) << entry.policy << " state " << state << " cond " << cond;
-      EXPECT_LE(e_nu, allowed) << entry.policy << " state " << state << " cond " << cond;
+      const auto error = [&](const auto& answer) {
+        return std::max({report::relative_error<long double>(slice(layout.qdd(), n), vec(answer.qdd)),
+                         report::relative_error<long double>(slice(layout.tau_cmd(), n), vec(answer.tau_cmd)),
+                         report::relative_error<long double>(slice(layout.nu(), nc), vec(answer.nu))});
+      };
+      if (!inside) continue;
+      const long double e_same = error(t), e_accuracy = error(r);
+      // κ leaves out cond(M(q)): q̈ near a wrist singularity of the UR5 is large and its rounding
+      // with it. Where the error exceeds eps κ times the factor, the state's κ is widened by
+      // cond(M) (report::inertia_condition_number, binary128, n + 1 solves: only for those states).
+      double k_accuracy = k;
+      if (e_accuracy > accuracy_allowed)
+        k_accuracy = std::max(k, report::inertia_condition_number(chain, problem.q.cast<report::Precise>(), options));
+      summary.same_operations = std::max(summary.same_operations, e_same / (eps * k));
+      summary.accuracy = std::max(summary.accuracy, e_accuracy / (eps * k_accuracy));
+      summary.largest_difference = std::max(summary.largest_difference, e_same);
+      summary.largest_error = std::max(summary.largest_error, e_accuracy);
+      EXPECT_LE(e_same, same_allowed) << entry.policy << " state " << state << " kappa " << k;
+      EXPECT_LE(e_accuracy, domain.accuracy * eps * k_accuracy)
+          << entry.policy << " state " << state << " kappa " << k << ", with cond(M) " << k_accuracy;
       if (::testing::Test::HasFailure()) return summary;
     }
   }
-  std::cout << scene_path.substr(scene_path.find_last_of('/') + 1) << " " << (sizeof(Scalar) == 8 ? "double" : "float")
-            << ": max relative error (cond <= 1e6) qdd " << static_cast<double>(summary.qdd) << ", tau_cmd "
-            << static_cast<double>(summary.tau_cmd) << ", nu " << static_cast<double>(summary.nu) << "; states "
-            << summary.states << ", cond > 1e6: " << summary.ill_conditioned
-            << ", rank-deficient solves: " << summary.rank_deficient << " (+" << summary.borderline << " at the tolerance)"
-            << ", worst error/tolerance " << static_cast<double>(summary.worst_ratio) << "\n";
+  std::cout << name << ": " << summary.states << " states, " << outside.skipped() << " with kappa > "
+            << domain.max_kappa << "; inside: max difference from ReferenceSolver<" << (sizeof(Scalar) == 8 ? "double" : "float")
+            << "> " << static_cast<double>(summary.largest_difference) << " (same operations: max "
+            << static_cast<double>(summary.same_operations) << " eps kappa, allowed " << static_cast<double>(kSameOperations)
+            << "), max error against long double " << static_cast<double>(summary.largest_error) << ", "
+            << static_cast<double>(summary.accuracy) << " eps kappa (allowed "
+            << static_cast<double>(domain.accuracy) << "); rank-deficient solves: " << summary.rank_deficient << " (+"
+            << summary.borderline << " at the tolerance)\n";
   return summary;
 }
 
@@ -185,10 +234,10 @@ ResolveProblems resolve_problems(const std::string& scene_path, int states) {
   return p;
 }
 
-template ErrorSummary check_against_reference<double>(const FlatVariant<double>&, const std::string&, int, long double,
-                                                      long double, unsigned);
-template ErrorSummary check_against_reference<float>(const FlatVariant<float>&, const std::string&, int, long double,
-                                                     long double, unsigned);
+template ErrorSummary check_against_reference<double>(const FlatVariant<double>&, const std::string&, int,
+                                                      const Domain&, unsigned);
+template ErrorSummary check_against_reference<float>(const FlatVariant<float>&, const std::string&, int, const Domain&,
+                                                     unsigned);
 template void check_bad_inputs<double>(const FlatVariant<double>&, const std::string&, bool, unsigned);
 template void check_bad_inputs<float>(const FlatVariant<float>&, const std::string&, bool, unsigned);
 
