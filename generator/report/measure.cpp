@@ -11,6 +11,22 @@
 namespace sweepgen::report {
 namespace {
 
+// Truth::tau_constraint_terms: each direction's share of Jᵀ α ν (T1), propagated rigidly from
+// the tip like solver/commanded_torque.hpp's sum, in absolute value.
+std::vector<Precise> constraint_torque_terms(const solver::ReferenceSolver<Precise>& reference,
+                                             const solver::ConstraintVector<Precise>& nu) {
+  const std::size_t n = reference.dof();
+  std::vector<Precise> terms(n, Precise(0));
+  for (Eigen::Index k = 0; k < nu.size(); ++k) {
+    spatial::Force<Precise> f = reference.articulated().body[n].constraint_force[static_cast<std::size_t>(k)] * nu[k];
+    for (std::size_t i = n; i >= 1; --i) {
+      terms[i - 1] += abs(spatial::dot(f, reference.model().joints[i].S));
+      f = reference.kinematics().body[i].X.apply_transpose(f);
+    }
+  }
+  return terms;
+}
+
 class Random {
  public:
   explicit Random(unsigned long long seed) : rng_(seed) {}
@@ -152,6 +168,7 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
             widen(r.tau_cmd),
             widen(r.nu),
             {},
+            {},
             condition_number(E),
             scaled_condition_number(E),
             1,
@@ -160,6 +177,7 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
     for (std::size_t i = 1; i <= chain.dof(); ++i)
       t.min_relative_D = std::min(t.min_relative_D, static_cast<double>(solver::relative_joint_inertia(
                                                         reference.model().joints[i], reference.articulated().body[i])));
+    t.tau_constraint_terms = constraint_torque_terms(reference, r.nu);
     // The same state with α = 0: every pivot is 0, so ν = 0 and q̈ is the free motion.
     for (std::size_t k = 0; k < p.alpha.size(); ++k) d.constraint_directions[k] = spatial::Force<Precise>{};
     if (!p.alpha.empty()) {

@@ -53,6 +53,10 @@ struct Truth {
   // q̈ of the same state without the constraint (α = 0): the constraint's share q̈ − q̈_free can
   // cancel most of it, and rounding is relative to the larger of the two (docs/stability.md).
   std::vector<Precise> qdd_free;
+  // Per joint, Σ_k |S_iᵀ f_k,i| with f_k the rigid inward propagation of direction k's force
+  // F_cstr,N,k ν_k: the terms τcmd − τff = Jᵀ α ν sums (T1). Opposed directions with large
+  // multipliers cancel there, and rounding is relative to the terms (docs/stability.md).
+  std::vector<Precise> tau_constraint_terms;
   double cond = 1;  // cond_2(E^A_cstr,0), 1 when Nc = 0
   // cond_2 of E^A_cstr,0 with its diagonal scaled to 1 (each direction by 1/sqrt(E_kk)): the
   // condition number the relative pivot test sees, invariant under the units of each direction.

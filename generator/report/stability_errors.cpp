@@ -34,7 +34,7 @@ StateJudgement judge(const Outcome& outcome, const Truth& truth, const Problem& 
   StateJudgement j;
   const std::vector<Precise> tau_ff(problem.tau_ff.data(), problem.tau_ff.data() + problem.tau_ff.size());
   j.qdd = joint_relative_error(outcome.qdd, truth.qdd, chain, {truth.qdd_free});
-  j.tau = joint_relative_error(outcome.tau_cmd, truth.tau_cmd, chain, {tau_ff});
+  j.tau = joint_relative_error(outcome.tau_cmd, truth.tau_cmd, chain, {tau_ff, truth.tau_constraint_terms});
   j.nu = vector_relative_error(outcome.nu, truth.nu);
   j.cond_E = truth.cond_scaled;
   j.rho_D = truth.min_relative_D;

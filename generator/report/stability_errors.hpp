@@ -32,7 +32,8 @@ inline double kappa(double cond_s, double min_rho_D) {
 // One variant's answer for one state, judged against the referee's.
 struct StateJudgement {
   double qdd = 0, tau = 0, nu = 0;  // relative errors: q̈ against max(|q̈|, |q̈_free|), τcmd
-                                    // against max(|τcmd|, |τff|), ν against |ν|
+                                    // against max(|τcmd|, |τff|, Truth::tau_constraint_terms),
+                                    // ν against |ν|
   double cond_E = 1, rho_D = 1;     // cond_s(E^A_cstr,0), min_i ρ_i (solver/joint_inertia.hpp)
   double cond_M = 1;                // cond_2 of the referee's M(q) (inf where it locks a joint)
   // The variant's own constraint residual (measure.hpp, constraint_residual): whether its Ẍ_tip
