@@ -26,7 +26,7 @@ using report::Precise;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kEpsFloat = std::numeric_limits<float>::epsilon();
 // Full-rank states: relative error (q̈ against max(|q̈|, |q̈_free|), τcmd against
-// max(|τcmd|, |τff|), ν against |ν|; report/stability_errors.hpp) at most
+// max(|τcmd|, |τff|, its constraint terms), ν against |ν|; report/stability_errors.hpp) at most
 // kErrorFactor · eps · κ,  κ = max(1, cond_s(E^A_cstr,0), 1 / min_i ρ_i):
 //  - ν solves E ν = r: a backward-stable solve loses eps · cond(E) relatively; the pivoted
 //    LDLᵀ is invariant under scaling each direction, so the condition number that counts is
@@ -34,10 +34,21 @@ constexpr double kEpsFloat = std::numeric_limits<float>::epsilon();
 //  - every 1 / D_i amplifies the rounding of the entries of M^A_i it is read from by 1 / ρ_i
 //    (solver/joint_inertia.hpp);
 //  - each of those passes through O(1) further operations per body (q̈, τcmd recursions).
-// Measured worst error/(eps κ) over all cases and kinds: 12 (planar_nc2, κ ≈ 4, 47 eps; the
-// printed lines below). kErrorFactor = 100 leaves 8x headroom and still fails for an error
+// Measured worst error/(eps κ) over all cases and kinds: 8.6 (planar_nc2 fast, κ ≈ 4; the
+// printed lines below). kErrorFactor = 100 leaves 11x headroom and still fails for an error
 // 100x above rounding.
 constexpr double kErrorFactor = 100;
+// The largest tolerance applied: a state whose kErrorFactor · eps · κ exceeds it (double:
+// κ > 4.5e11, mostly the near-singular states δ ≤ 1e-8; float: κ > 8.4e3, float's domain ends far
+// earlier) is counted ("beyond the tolerance's ceiling") and its errors are not judged, only its
+// status and finiteness. In double, at most half the random states (nominal, fast, huge_force)
+// of a case may lie there (measured: mass_ratio_light_tool 3 of 10, none in the bundled scenes),
+// except in the two cases ill-conditioned by design (below).
+double ceiling(double eps) { return eps == kEps ? 1e-2 : 1e-1; }
+// thin_rods: its rods carry no inertia about their axes, so E^A_cstr,0 is singular in any
+// configuration; arm_micro: random unit directions mixing moments and forces on an arm a
+// thousandth of the size put κ beyond 4.5e11 in 6 to 9 of 10 random states.
+bool ill_conditioned_by_design(const std::string& name) { return name == "thin_rods" || name == "arm_micro"; }
 
 // One state's judgement (report/stability_errors.hpp) with its kind and whether the referee's
 // decision is borderline.
@@ -90,9 +101,10 @@ void check_against_referee(const report::StabilityCase& c, const std::vector<Rec
   // loses directions far more often: arm_micro in every state, its E entries span 1e-30...1e10).
   // Measured: none in the bundled scenes and most family cases; arm_micro fast 4 of 10 (at
   // 100 rad/s on a 1e-3-scaled arm); thin_rods every state, by design (its rods carry no inertia
-  // about their axes, so E^A_cstr,0 is singular in any configuration): at most half, thin_rods
-  // exempt.
+  // about their axes, so E^A_cstr,0 is singular in any configuration): at most half, except in
+  // the cases ill-conditioned by design.
   std::map<std::string, int> dropped_at_random;
+  std::map<std::string, int> beyond_ceiling;  // full rank, κ beyond the tolerance's ceiling
   for (const Record& r : records) {
     const std::string where = c.name + " " + r.kind + " cond_s(E) " + std::to_string(r.cond_E) + " rho_D " +
                               std::to_string(r.rho_D);
@@ -117,22 +129,30 @@ void check_against_referee(const report::StabilityCase& c, const std::vector<Rec
       continue;
     }
     const double e = std::max({r.qdd, r.tau, r.nu});
+    if (kErrorFactor * eps * r.kappa() > ceiling(eps)) {
+      ++beyond_ceiling[r.kind];
+      continue;
+    }
     EXPECT_LE(e, kErrorFactor * eps * r.kappa()) << where << " qdd " << r.qdd << " tau " << r.tau << " nu " << r.nu;
     w.qdd = std::max(w.qdd, r.qdd);
     w.tau = std::max(w.tau, r.tau);
     w.nu = std::max(w.nu, r.nu);
     ratio[r.kind] = std::max(ratio[r.kind], e / (eps * r.kappa()));
   }
-  if (eps == kEps && c.name != "thin_rods") {
+  if (eps == kEps && !ill_conditioned_by_design(c.name)) {
+    for (const std::string random_kind : {"nominal", "fast", "huge_force"})
+      EXPECT_LE(beyond_ceiling[random_kind], 0.5 * count[random_kind])
+          << c.name << " " << random_kind << ": states beyond the tolerance's ceiling";
     for (const auto& [kind, dropped] : dropped_at_random)
       EXPECT_LE(dropped, 0.5 * count[kind])
           << c.name << " " << kind << ": random states that dropped a direction " << dropped << " of " << count[kind];
   }
   for (const auto& [kind, w] : worst) {
-    std::printf("[%s] %s %s: %d states, %d rank-deficient (%d at the tolerance), %d beyond the scalar's range; full "
-                "rank: max rel. error qdd %.2e tau_cmd %.2e nu %.2e, max error/(eps kappa) %.2f; max cond_s(E) %.2e, "
-                "min rho_D %.2e\n",
+    std::printf("[%s] %s %s: %d states, %d rank-deficient (%d at the tolerance), %d beyond the scalar's range, %d "
+                "beyond the tolerance's ceiling; full rank: max rel. error qdd %.2e tau_cmd %.2e nu %.2e, max "
+                "error/(eps kappa) %.2f; max cond_s(E) %.2e, min rho_D %.2e\n",
                 label, c.name.c_str(), kind.c_str(), count[kind], deficient[kind], borderline[kind], beyond_range[kind],
+                beyond_ceiling[kind],
                 w.qdd, w.tau, w.nu, ratio[kind], w.cond_E, w.rho_D);
   }
 }
