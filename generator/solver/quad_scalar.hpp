@@ -164,3 +164,12 @@ struct NumTraits<sweepgen::solver::Quad> : GenericNumTraits<sweepgen::solver::Qu
   static int digits10() { return FLT128_DIG; }
 };
 }  // namespace Eigen
+
+// The referee, ReferenceSolver<Quad>, is compiled once, in reference_solver_quad.cpp of
+// sweepgen_measure (which links quadmath): a translation unit that includes this header does not
+// instantiate the sweeps in binary128 again (3-4 s of compile each).
+#include "solver/reference_solver.hpp"
+
+namespace sweepgen::solver {
+extern template class ReferenceSolver<Quad>;
+}  // namespace sweepgen::solver
