@@ -278,17 +278,6 @@ const std::vector<EmitterCase>& emitter_cases() {
   return cases;
 }
 
-// The generated f64 flat solve of `policy`. The wrapper of compiled_solver.hpp names the original
-// policy's only; the others are external functions of the generated source, looked up by their
-// Itanium C++ ABI names (g++ and clang++): <solver>::f64::solve_<policy>_flat(const double*, double*).
-report::FlatSolve<double> generated_flat_solve(const report::CompiledSolver& compiled, const std::string& solver_namespace,
-                                               solver::Policy policy) {
-  if (policy == solver::Policy::original) return compiled.solve_f64;
-  const std::string function = std::string("solve_") + solver::name(policy) + "_flat";
-  const std::string mangled = "_ZN" + std::to_string(solver_namespace.size()) + solver_namespace + "3f64" +
-                              std::to_string(function.size()) + function + "EPKdPd";
-  return reinterpret_cast<report::FlatSolve<double>>(compiled.library->symbol(mangled));
-}
 
 template <class Vector>
 std::vector<report::Precise> precise(const Vector& v) {
@@ -370,7 +359,7 @@ TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
   const double eps = std::numeric_limits<double>::epsilon();
   for (const solver::Policy policy : c.scene.policies) {
     const std::string where = c.name + " " + solver::name(policy);
-    const auto generated = report::measure_generated<double>(generated_flat_solve(compiled, c.name, policy), "double",
+    const auto generated = report::measure_generated<double>(compiled.solve_f64_of.at(policy), "double",
                                                              n, nc, problems, untimed);
     solver::ReferenceSolver<double> reference(c.chain, c.scene.layout, c.scene.solver_options());
     Worst worst;

@@ -45,7 +45,9 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   std::vector<io::OutputFile> files;
   for (const auto& file : emitted.files) files.push_back({(build_dir / file.name).string(), file.text});
   const std::string wrapper = (build_dir / "report_wrapper.cpp").string();
-  files.push_back({wrapper, wrapper_source(stem + ".hpp", s.solver, true)});
+  std::vector<std::string> policies;
+  for (const solver::Policy policy : s.policies) policies.push_back(solver::name(policy));
+  files.push_back({wrapper, wrapper_source(stem + ".hpp", s.solver, true, policies)});
   io::write_files_atomically(files);
 
   // 2. Compile it with the system compiler into a shared library.
@@ -71,7 +73,10 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   progress.step(3, "loading " + library + " (dlopen)");
   compiled.library = std::make_unique<SharedLibrary>(library);
   const SharedLibrary& loaded = *compiled.library;
-  compiled.solve_f64 = reinterpret_cast<FlatSolve<double>>(loaded.symbol("report_solve_f64"));
+  for (const solver::Policy policy : s.policies)
+    compiled.solve_f64_of[policy] =
+        reinterpret_cast<FlatSolve<double>>(loaded.symbol(std::string("report_solve_f64_") + solver::name(policy)));
+  compiled.solve_f64 = compiled.solve_f64_of.at(solver::Policy::original);
   compiled.solve_f32 = reinterpret_cast<FlatSolve<float>>(loaded.symbol("report_solve_f32"));
   const auto in_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_in_size"))();
   const auto out_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_out_size"))();

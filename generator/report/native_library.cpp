@@ -67,13 +67,15 @@ std::string tail_of_file(const std::string& path, std::size_t max_lines) {
   return text;
 }
 
-std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float) {
+std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float,
+                           const std::vector<std::string>& policies) {
   std::ostringstream s;
-  s << "// Written by `sweepgen report`: C entry points around the original policy's flat solve, for dlsym().\n"
+  s << "// Written by `sweepgen report`: C entry points around the flat solves, for dlsym().\n"
     << "#include \"" << header_name << "\"\n\n"
-    << "extern \"C\" {\n"
-    << "void report_solve_f64(const double* in, double* out) { " << solver_namespace
-    << "::f64::solve_original_flat(in, out); }\n";
+    << "extern \"C\" {\n";
+  for (const std::string& policy : policies)
+    s << "void report_solve_f64_" << policy << "(const double* in, double* out) { " << solver_namespace << "::f64::solve_"
+      << policy << "_flat(in, out); }\n";
   if (with_float)
     s << "void report_solve_f32(const float* in, float* out) { " << solver_namespace
       << "::f32::solve_original_flat(in, out); }\n";

@@ -18,12 +18,14 @@ std::string command_line(const std::vector<std::string>& argv);
 // The last `max_lines` lines of a text file ("" if unreadable).
 std::string tail_of_file(const std::string& path, std::size_t max_lines = 30);
 
-// The C++ source of the wrapper: extern "C" entry points around the original policy's flat
-// solve of `solver_namespace` (f64, and f32 when `with_float`) plus the flat sizes:
-//   void report_solve_f64(const double* in, double* out);
+// The C++ source of the wrapper: extern "C" entry points around the flat solves of
+// `solver_namespace` (f64 for each of `policies`, the original one in f32 when `with_float`) plus
+// the flat sizes:
+//   void report_solve_f64_<policy>(const double* in, double* out);
 //   void report_solve_f32(const float* in, float* out);
 //   int report_flat_in_size(void);  int report_flat_out_size(void);
-std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float);
+std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float,
+                           const std::vector<std::string>& policies);
 
 // The compile command for `sources` into the shared library `output`.
 std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
