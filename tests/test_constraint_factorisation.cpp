@@ -5,9 +5,10 @@
 // diagonal entry).
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <random>
 
+#include "report/condition_number.hpp"
 #include "solver/constraint_multipliers.hpp"
 #include "support/skip_count.hpp"
 
@@ -46,14 +47,6 @@ Matrix random_energy(std::mt19937_64& random, int n, int rank) {
   return E;
 }
 
-// cond_2 of E with its diagonal scaled to 1 (what both rules see).
-double scaled_condition(const Matrix& E) {
-  const Eigen::VectorXd d = E.diagonal().cwiseSqrt().cwiseInverse();
-  const Eigen::MatrixXd Es = d.asDiagonal() * Eigen::MatrixXd(E) * d.asDiagonal();
-  const Eigen::VectorXd mu = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Es).eigenvalues();
-  return mu.maxCoeff() / mu.minCoeff();
-}
-
 // Errors in the equilibrated coordinates d_j ν_j, d_j = sqrt(E_jj) (what a backward-stable solve
 // of the equilibrated system bounds, and invariant under the units of each direction): multipliers
 // of directions eight orders of magnitude apart are judged each against its own scale.
@@ -75,7 +68,7 @@ TEST(ConstraintFactorisation, FullRankPivotedIsExactAndDampedIsBiasedByItsDampin
   for (int trial = 0; trial < 500; ++trial) {
     const int n = 1 + trial % 6;
     const Matrix E = random_energy(random, n, n);
-    const double cond = scaled_condition(E);
+    const double cond = report::scaled_condition_number(E);
     if (skips.skip(cond > 1e8, "cond_s > 1e8")) continue;  // keep the damped bias (~tol cond) well below 1
     Vector nu_true(n);
     for (int i = 0; i < n; ++i) nu_true[i] = entry(random);
@@ -138,7 +131,7 @@ TEST(ConstraintFactorisation, ScalingTheDirectionsScalesTheMultipliersOnly) {
   for (int trial = 0; trial < 300; ++trial) {
     const int n = 2 + trial % 5, rank = trial % 3 == 0 ? n - 1 : n;
     const Matrix E = random_energy(random, n, rank);
-    if (skips.skip(rank == n && scaled_condition(E) > 1e6, "full rank, cond_s > 1e6")) continue;
+    if (skips.skip(rank == n && report::scaled_condition_number(E) > 1e6, "full rank, cond_s > 1e6")) continue;
     Vector r(n), c(n);
     for (int i = 0; i < n; ++i) r[i] = entry(random), c[i] = std::pow(10.0, exponent(random));
     if (rank < n) r = E * r;  // consistent

@@ -67,7 +67,6 @@
 // robot), it keeps the problem consistent so that q̈ is unique and comparable.
 #include <gtest/gtest.h>
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -83,6 +82,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "report/condition_number.hpp"
 #include "report/relative_error.hpp"
 #include "report/kdl_chain.hpp"
 #include "report/kdl_convention.hpp"
@@ -147,15 +147,6 @@ Eigen::VectorXd stack(const Motion<double>& m) {
   Eigen::VectorXd v(6);
   v << m.angular, m.linear;
   return v;
-}
-
-double condition_number(const solver::ConstraintMatrix<double>& E) {
-  if (E.rows() == 0) return 1;
-  const Eigen::MatrixXd m = E;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(m);
-  const auto& s = svd.singularValues();
-  const double smin = s[s.size() - 1];
-  return smin > 0 ? s[0] / smin : std::numeric_limits<double>::infinity();
 }
 
 // 1e-9 up to cond 1e6, then proportional to the condition number.
@@ -354,7 +345,7 @@ TEST_P(ReferenceVsKdl, TranslationChecks) {
       Eigen::Matrix<double, 6, 1> a_stacked;
       a_stacked << from_kdl(a.vel), from_kdl(a.rot);
       // KDL's own rounding grows with cond(E^A_cstr,0) like its q̈ (tol(c) above).
-      const double cond = condition_number(ours->articulated().body[0].constraint_energy);
+      const double cond = report::condition_number(ours->articulated().body[0].constraint_energy);
       beta_residual = std::max(beta_residual, relative_error(theirs.alfa.data.transpose() * a_stacked, p.beta) / tolerance(cond));
     }
   }
@@ -430,7 +421,7 @@ void compare_with_kdl(const std::string& label, const model::Chain& chain, const
       const auto& sol = ours->solution();
       const KdlRun theirs = run_kdl(kdl, hd, p, body_poses(ours->kinematics()).R);
 
-      const double cond = condition_number(ours->articulated().body[0].constraint_energy);
+      const double cond = report::condition_number(ours->articulated().body[0].constraint_energy);
       const double tol = tolerance(cond);
       const bool unique_nu = sol.dropped_pivots == 0;
       beyond += cond > 1e6 ? 1 : 0;

@@ -15,6 +15,7 @@
 
 #include "support/run_command.hpp"
 #include "support/temp_dir.hpp"
+#include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
 
 namespace sweepgen {
@@ -258,7 +259,9 @@ TEST(Report, StabilityReportOnTwoCases) {
     // 1.2e-2); states beyond are counted.
     const bool single = f[column("scalar")] == "float";
     const double kappa = number(f[column("kappa")]);
-    if (skips.skip(kappa > (single ? 1e3 : 1e8), single ? "float, kappa > 1e3" : "double, kappa > 1e8")) continue;
+    if (skips.skip(kappa > (single ? test::kFloatMaxKappa : test::kDoubleMaxKappa),
+                   single ? "float, kappa > 1e3" : "double, kappa > 1e8"))
+      continue;
     const double eps = single ? std::numeric_limits<float>::epsilon() : std::numeric_limits<double>::epsilon();
     const double error = std::max({number(f[column("rel_err_qdd")]), number(f[column("rel_err_tau_cmd")]),
                                    number(f[column("rel_err_nu")])});

@@ -15,6 +15,7 @@
 #include "report/stability_errors.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/reference_solver.hpp"
+#include "support/rounding_bound.hpp"
 #include "support/stability_cases.hpp"
 #include "support/state_count.hpp"
 #include "support/temp_dir.hpp"
@@ -44,7 +45,7 @@ constexpr double kErrorFactor = 100;
 // status and finiteness. In double, at most half the random states (nominal, fast, huge_force)
 // of a case may lie there (measured: mass_ratio_light_tool 3 of 10, none in the bundled scenes),
 // except in the two cases ill-conditioned by design (below).
-double ceiling(double eps) { return eps == kEps ? 1e-2 : 1e-1; }
+test::RoundingBound rounding_bound(double eps) { return {kErrorFactor, eps == kEps ? 1e-2 : 1e-1, eps}; }
 // thin_rods: its rods carry no inertia about their axes, so E^A_cstr,0 is singular in any
 // configuration; arm_micro: random unit directions mixing moments and forces on an arm a
 // thousandth of the size put κ beyond 4.5e11 in 6 to 9 of 10 random states.
@@ -92,6 +93,7 @@ class Stability : public testing::TestWithParam<std::string> {};
 void check_against_referee(const report::StabilityCase& c, const std::vector<Record>& records, double eps,
                            const char* label) {
   std::map<std::string, Record> worst;
+  const test::RoundingBound bound = rounding_bound(eps);
   std::map<std::string, double> ratio;
   std::map<std::string, int> count, deficient, borderline, beyond_range;
   // Random states (nominal, fast, huge_force) that lost a constraint direction although the
@@ -129,11 +131,11 @@ void check_against_referee(const report::StabilityCase& c, const std::vector<Rec
       continue;
     }
     const double e = std::max({r.qdd, r.tau, r.nu});
-    if (kErrorFactor * eps * r.kappa() > ceiling(eps)) {
+    if (!bound.judged(r.kappa())) {
       ++beyond_ceiling[r.kind];
       continue;
     }
-    EXPECT_LE(e, kErrorFactor * eps * r.kappa()) << where << " qdd " << r.qdd << " tau " << r.tau << " nu " << r.nu;
+    EXPECT_LE(e, bound(r.kappa())) << where << " qdd " << r.qdd << " tau " << r.tau << " nu " << r.nu;
     w.qdd = std::max(w.qdd, r.qdd);
     w.tau = std::max(w.tau, r.tau);
     w.nu = std::max(w.nu, r.nu);

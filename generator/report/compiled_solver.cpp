@@ -76,7 +76,6 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   for (const solver::Policy policy : s.policies)
     compiled.solve_f64_of[policy] =
         reinterpret_cast<FlatSolve<double>>(loaded.symbol(std::string("report_solve_f64_") + solver::name(policy)));
-  compiled.solve_f64 = compiled.solve_f64_of.at(solver::Policy::original);
   compiled.solve_f32 = reinterpret_cast<FlatSolve<float>>(loaded.symbol("report_solve_f32"));
   const auto in_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_in_size"))();
   const auto out_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_out_size"))();

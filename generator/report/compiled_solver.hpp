@@ -1,6 +1,6 @@
-// Steps 1–3 of `sweepgen report` (plain and --stability): a scene's generated solver (policy
-// original in double and float, every other policy of the scene in double) written with a C wrapper, compiled by the system compiler into a
-// shared library and loaded into this process.
+// Steps 1–3 of `sweepgen report` (plain and --stability): a scene's generated solver (every policy
+// of the scene in double, the original one in float too) written with a C wrapper, compiled by the
+// system compiler into a shared library and loaded into this process.
 #pragma once
 
 #include <filesystem>
@@ -29,9 +29,8 @@ struct CompileProgress {
 struct CompiledSolver {
   std::vector<std::string> command;  // the compile command, for the record
   std::unique_ptr<SharedLibrary> library;
-  FlatSolve<double> solve_f64 = nullptr;  // policy original
-  FlatSolve<float> solve_f32 = nullptr;   // policy original
   std::map<solver::Policy, FlatSolve<double>> solve_f64_of;  // every policy of the scene
+  FlatSolve<float> solve_f32 = nullptr;                      // policy original
 };
 
 // Generates `s` (a report_scene) into `build_dir`, compiles it with `cxx` and loads it. Throws

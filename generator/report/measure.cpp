@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "report/condition_number.hpp"
 #include "report/relative_error.hpp"
 #include "solver/joint_inertia.hpp"
 #include "solver/reference_solver.hpp"
@@ -48,26 +49,6 @@ template <class Vector>
 void append(std::vector<double>& flat, const Vector& v) {
   flat.insert(flat.end(), v.data(), v.data() + v.size());
 }
-
-// cond_2 in Precise: measures condition numbers up to ~1e30, far beyond what double can.
-double condition_number(const solver::ConstraintMatrix<Precise>& E) {
-  if (E.rows() == 0) return 1;
-  using Matrix = Eigen::Matrix<Precise, Eigen::Dynamic, Eigen::Dynamic>;
-  const Eigen::Matrix<Precise, Eigen::Dynamic, 1> sv = Eigen::JacobiSVD<Matrix>(Matrix(E)).singularValues();
-  return sv(sv.size() - 1) > Precise(0) ? static_cast<double>(sv(0) / sv(sv.size() - 1))
-                                         : std::numeric_limits<double>::infinity();
-}
-
-// cond_2 of diag(E)^-1/2 E diag(E)^-1/2 (infinite when a diagonal entry is 0).
-double scaled_condition_number(const solver::ConstraintMatrix<Precise>& E) {
-  solver::ConstraintMatrix<Precise> S = E;
-  for (Eigen::Index k = 0; k < E.rows(); ++k)
-    if (!(E(k, k) > Precise(0))) return std::numeric_limits<double>::infinity();
-  for (Eigen::Index r = 0; r < E.rows(); ++r)
-    for (Eigen::Index c = 0; c < E.cols(); ++c) S(r, c) = E(r, c) / sqrt(E(r, r) * E(c, c));
-  return condition_number(S);
-}
-
 
 template <class Vector>
 std::vector<Precise> widen(const Vector& v) {
@@ -171,12 +152,9 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
             {},
             condition_number(E),
             scaled_condition_number(E),
-            1,
+            static_cast<double>(solver::min_relative_joint_inertia(reference.model(), reference.articulated())),
             inertia_condition_number(chain, p.q.cast<Precise>(), options),
             reference.status()};
-    for (std::size_t i = 1; i <= chain.dof(); ++i)
-      t.min_relative_D = std::min(t.min_relative_D, static_cast<double>(solver::relative_joint_inertia(
-                                                        reference.model().joints[i], reference.articulated().body[i])));
     t.tau_constraint_terms = constraint_torque_terms(reference, r.nu);
     // The same state with α = 0: every pivot is 0, so ν = 0 and q̈ is the free motion.
     for (std::size_t k = 0; k < p.alpha.size(); ++k) d.constraint_directions[k] = spatial::Force<Precise>{};

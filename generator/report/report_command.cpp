@@ -108,7 +108,8 @@ int run_report(const ReportOptions& options) {
   detail("reference double (ReferenceSolver<double>)...");
   results.push_back(measure_reference_double(s, chain, problems, timing));
   detail("generated double...");
-  results.push_back(measure_generated<double>(compiled.solve_f64, "double", n, nc, problems, timing));
+  results.push_back(
+      measure_generated<double>(compiled.solve_f64_of.at(solver::Policy::original), "double", n, nc, problems, timing));
   detail("generated float...");
   results.push_back(measure_generated<float>(compiled.solve_f32, "float", n, nc, problems, timing));
   detail("KDL ChainHdSolver_Vereshchagin...");

@@ -49,7 +49,7 @@ std::vector<StabilityRow> measure_stability_case(const StabilityCase& c, const S
         compile_scene_solver(s, c.chain, options.build_dir / name, options.cxx, options.progress(name));
     const std::vector<VariantResult> results = {
         measure_reference_double(s, c.chain, problems, untimed),
-        measure_generated<double>(compiled.solve_f64, "double", n, nc, problems, untimed),
+        measure_generated<double>(compiled.solve_f64_of.at(solver::Policy::original), "double", n, nc, problems, untimed),
         measure_generated<float>(compiled.solve_f32, "float", n, nc, problems, untimed)};
     for (const VariantResult& result : results) {
       const double largest =

@@ -32,4 +32,16 @@ Scalar relative_joint_inertia(const JointModel<Scalar>& joint, const BodyArticul
   return scale > Scalar(0) ? body.D / scale : Scalar(0);
 }
 
+// min_i ρ_i over the chain's joints (1 for none): the worst amplification 1 / ρ_i of rounding in
+// q̈ (docs/stability.md, κ).
+template <class Scalar>
+Scalar min_relative_joint_inertia(const SolverModel<Scalar>& model, const ArticulatedState<Scalar>& art) {
+  Scalar smallest(1);
+  for (std::size_t i = 1; i <= model.dof(); ++i) {
+    const Scalar rho = relative_joint_inertia(model.joints[i], art.body[i]);
+    if (rho < smallest) smallest = rho;
+  }
+  return smallest;
+}
+
 }  // namespace sweepgen::solver

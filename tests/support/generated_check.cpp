@@ -2,12 +2,12 @@
 // (generated_check.hpp).
 #include "support/generated_check.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
 
+#include "report/condition_number.hpp"
 #include "report/measure.hpp"
 #include "report/relative_error.hpp"
 #include "report/stability_errors.hpp"
@@ -18,26 +18,12 @@
 namespace sweepgen::test {
 namespace {
 
-// cond_2 of E^A_cstr,0 with unit diagonal (docs/stability.md, cond_s).
-double scaled_condition(const solver::ConstraintMatrix<long double>& E) {
-  if (E.rows() == 0) return 1;
-  const Eigen::VectorXd d = E.diagonal().cast<double>();
-  if (!(d.minCoeff() > 0)) return std::numeric_limits<double>::infinity();
-  const Eigen::VectorXd inv = d.cwiseSqrt().cwiseInverse();
-  const Eigen::MatrixXd S = inv.asDiagonal() * E.cast<double>() * inv.asDiagonal();
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(S).singularValues();
-  return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : std::numeric_limits<double>::infinity();
-}
-
 // κ = max(1, cond_s(E^A_cstr,0), 1 / min_i ρ_i) of the state prepared in `reference`
 // (report/stability_errors.hpp, docs/stability.md): the amplification of rounding any solver of
 // a given precision suffers on it.
 double kappa(const solver::ReferenceSolver<long double>& reference) {
-  double min_rho = 1;
-  for (std::size_t i = 1; i <= reference.dof(); ++i)
-    min_rho = std::min(min_rho, static_cast<double>(solver::relative_joint_inertia(reference.model().joints[i],
-                                                                                     reference.articulated().body[i])));
-  return report::kappa(scaled_condition(reference.articulated().body[0].constraint_energy), min_rho);
+  return report::kappa(report::scaled_condition_number(reference.articulated().body[0].constraint_energy),
+                       static_cast<double>(solver::min_relative_joint_inertia(reference.model(), reference.articulated())));
 }
 
 }  // namespace

@@ -12,6 +12,11 @@
 
 namespace sweepgen::test {
 
+// Each scalar's domain of validity (docs/stability.md, "Float: domain of validity"): the κ up to
+// which the tests judge its results against a multiple of eps κ.
+constexpr double kDoubleMaxKappa = 1e8;
+constexpr double kFloatMaxKappa = 1e3;
+
 struct RoundingBound {
   double factor;   // multiple of eps c; each use derives it
   double ceiling;  // the largest tolerance ever applied
