@@ -17,8 +17,9 @@
 
 namespace sweepgen::report {
 
-// The scene as the report measures it: the original policy, in double and float.
-scene::Scene report_scene(scene::Scene s);
+// The scene as the report measures it: in double and float, with `policies` (original first: the
+// float entry point is the original policy's).
+scene::Scene report_scene(scene::Scene s, std::vector<solver::Policy> policies = {solver::Policy::original});
 
 // What each step says as it starts: `step` 1 generate, 2 compile, 3 load; `detail` for results.
 struct CompileProgress {
@@ -28,16 +29,19 @@ struct CompileProgress {
 
 struct CompiledSolver {
   std::vector<std::string> command;  // the compile command, for the record
+  bool reused = false;               // the library in build_dir was already built from the same sources and command
   std::unique_ptr<SharedLibrary> library;
   std::map<solver::Policy, FlatSolve<double>> solve_f64_of;  // every policy of the scene
   FlatSolve<float> solve_f32 = nullptr;                      // policy original
 };
 
-// Generates `s` (a report_scene) into `build_dir`, compiles it with `cxx` and loads it. Throws
-// io::IoError when the compiler cannot be run or fails (its output in build_dir/compile.log),
-// dlopen() fails, or the library's flat sizes do not match the scene.
+// Generates `s` (a report_scene) into `build_dir`, compiles it with `cxx` for `isa` and loads it.
+// When build_dir already holds a library built from byte-identical sources with the same
+// command, it is loaded as it is (a rerun of the report does not recompile). Throws io::IoError
+// when the compiler cannot be run or fails (its output in build_dir/compile.log), dlopen()
+// fails, or the library's flat sizes do not match the scene.
 CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& chain,
                                     const std::filesystem::path& build_dir, const std::string& cxx,
-                                    const CompileProgress& progress);
+                                    const CompileProgress& progress, Isa isa = Isa::baseline);
 
 }  // namespace sweepgen::report

@@ -13,4 +13,10 @@ std::string png_terminal(const std::string& work_dir, int width, int height);
 // PNG to `png_path`; throws io::IoError with the log's tail otherwise.
 void run_gnuplot(const std::string& script_path, const std::string& png_path, const std::string& work_dir);
 
+// Writes `script_stem`.gp (the `body` of set commands and one plot command, drawn into
+// `out_stem`.png and again into `out_stem`.svg) and runs it; throws io::IoError when gnuplot
+// fails or either file is missing or not what it should be.
+void draw_png_and_svg(const std::string& body, const std::string& out_stem, const std::string& script_stem,
+                      const std::string& work_dir, int width, int height);
+
 }  // namespace sweepgen::report

@@ -59,6 +59,16 @@ std::vector<Precise> widen(const Vector& v) {
 
 }  // namespace
 
+double clock_overhead_ns() {
+  std::vector<double> empty(1001);
+  for (double& ns : empty) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto stop = std::chrono::steady_clock::now();
+    ns = std::chrono::duration<double, std::nano>(stop - start).count();
+  }
+  return quantile(empty, 0.5);
+}
+
 double inertia_condition_number(const model::Chain& chain, const solver::JointVector<Precise>& q,
                                 solver::SolverOptions options) {
   options.gravity.setZero();
@@ -137,12 +147,13 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
 }
 
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
-                                     const std::vector<Problem>& problems, const solver::SolverOptions& options) {
+                                     const std::vector<Problem>& problems, const solver::SolverOptions& options,
+                                     solver::Policy policy, bool with_cond_M) {
   solver::ReferenceSolver<Precise> reference(chain, s.layout, options);
   std::vector<Truth> truth;
   truth.reserve(problems.size());
   for (const Problem& p : problems) {
-    const auto& r = reference.run(p.cast<Precise>(), solver::Policy::original);
+    const auto& r = reference.run(p.cast<Precise>(), policy);
     auto& d = reference.drivers();
     const auto& E = reference.articulated().body[0].constraint_energy;
     Truth t{widen(r.qdd),
@@ -153,14 +164,14 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
             condition_number(E),
             scaled_condition_number(E),
             static_cast<double>(solver::min_relative_joint_inertia(reference.model(), reference.articulated())),
-            inertia_condition_number(chain, p.q.cast<Precise>(), options),
+            with_cond_M ? inertia_condition_number(chain, p.q.cast<Precise>(), options) : NAN,
             reference.status()};
     t.tau_constraint_terms = constraint_torque_terms(reference, r.nu);
     // The same state with α = 0: every pivot is 0, so ν = 0 and q̈ is the free motion.
     for (std::size_t k = 0; k < p.alpha.size(); ++k) d.constraint_directions[k] = spatial::Force<Precise>{};
     if (!p.alpha.empty()) {
       reference.decompose();
-      t.qdd_free = widen(reference.solve(solver::Policy::original, p.beta.cast<Precise>()).qdd);
+      t.qdd_free = widen(reference.solve(policy, p.beta.cast<Precise>()).qdd);
     } else {
       t.qdd_free = t.qdd;
     }
@@ -190,25 +201,21 @@ Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
   return outcome;
 }
 
-// ReferenceSolver<Scalar> on the states (inputs rounded to Scalar outside the timed loop).
+// ReferenceSolver<Scalar> on the states (inputs rounded to Scalar outside the timed calls).
 template <class Scalar>
 VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
-                                const TimingOptions& timing, const char* scalar_name) {
+                                const TimingOptions& timing, const char* scalar_name, solver::Policy policy) {
   solver::ReferenceSolver<Scalar> reference(chain, s.layout, s.solver_options());
   const solver::FlatLayout layout{chain.dof(), s.layout.constraints};
-  // Results go to a plain buffer inside the timed loop (as the generated code's do), widened after.
+  // Results go to a plain buffer in the timed calls (as the generated code's do), widened after.
   std::vector<Scalar> out(problems.size() * layout.out_size());
   std::vector<solver::SolveInputs<Scalar>> inputs;
   for (const Problem& p : problems) inputs.push_back(p.template cast<Scalar>());
-  const auto run_all = [&] {
-    Scalar* o = out.data();
-    for (const auto& p : inputs) {
-      const auto& solution = reference.run(p, solver::Policy::original);
-      solver::flat_output(solution, reference.status(), layout, o);
-      o += layout.out_size();
-    }
+  const auto call = [&](std::size_t state) {
+    const auto& solution = reference.run(inputs[state], policy);
+    solver::flat_output(solution, reference.status(), layout, out.data() + state * layout.out_size());
   };
-  VariantResult result{"reference", scalar_name, "", time_passes(problems.size(), timing, run_all), {}};
+  VariantResult result{"reference", scalar_name, "", time_calls(problems.size(), timing, call), {}};
   for (std::size_t state = 0; state < problems.size(); ++state)
     result.outcomes.push_back(outcome_of(out.data() + state * layout.out_size(), layout));
   return result;
@@ -216,13 +223,20 @@ VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain
 }  // namespace
 
 VariantResult measure_reference_double(const scene::Scene& s, const model::Chain& chain,
-                                       const std::vector<Problem>& problems, const TimingOptions& timing) {
-  return measure_reference<double>(s, chain, problems, timing, "double");
+                                       const std::vector<Problem>& problems, const TimingOptions& timing,
+                                       solver::Policy policy) {
+  return measure_reference<double>(s, chain, problems, timing, "double", policy);
+}
+
+VariantResult measure_reference_precise(const scene::Scene& s, const model::Chain& chain,
+                                        const std::vector<Problem>& problems, const TimingOptions& timing,
+                                        solver::Policy policy) {
+  return measure_reference<Precise>(s, chain, problems, timing, "binary128", policy);
 }
 
 VariantResult measure_reference_float(const scene::Scene& s, const model::Chain& chain,
                                       const std::vector<Problem>& problems, const TimingOptions& timing) {
-  return measure_reference<float>(s, chain, problems, timing, "float");
+  return measure_reference<float>(s, chain, problems, timing, "float", solver::Policy::original);
 }
 
 template <class Scalar>
@@ -234,12 +248,8 @@ VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name
   std::vector<Scalar> in(problems.size() * in_size), out(problems.size() * out_size);
   for (std::size_t state = 0; state < problems.size(); ++state)
     for (std::size_t i = 0; i < in_size; ++i) in[state * in_size + i] = static_cast<Scalar>(problems[state].flat[i]);
-  const auto run_all = [&] {
-    const Scalar* i = in.data();
-    Scalar* o = out.data();
-    for (std::size_t state = 0; state < problems.size(); ++state, i += in_size, o += out_size) solve(i, o);
-  };
-  VariantResult result{"generated", scalar_name, "", time_passes(problems.size(), timing, run_all), {}};
+  const auto call = [&](std::size_t state) { solve(in.data() + state * in_size, out.data() + state * out_size); };
+  VariantResult result{"generated", scalar_name, "", time_calls(problems.size(), timing, call), {}};
   for (std::size_t state = 0; state < problems.size(); ++state)
     result.outcomes.push_back(outcome_of(out.data() + state * out_size, layout));
   return result;
@@ -264,40 +274,6 @@ Precise constraint_residual(const Outcome& o, const Problem& p) {
     worst = std::max(worst, abs(projection - static_cast<Precise>(p.beta[static_cast<Eigen::Index>(k)])));
   }
   return worst / scale;
-}
-
-Summary summarize(const VariantResult& result, const std::vector<Problem>& problems, const std::vector<Truth>& truth) {
-  Summary summary;
-  summary.states = problems.size();
-  summary.ns_median = quantile(result.ns_per_solve, 0.5);
-  summary.ns_p90 = quantile(result.ns_per_solve, 0.9);
-  std::vector<Precise> qdd_errors;
-  for (std::size_t state = 0; state < result.outcomes.size(); ++state) {
-    const Outcome& o = result.outcomes[state];
-    const Problem& p = problems[state];
-    const Truth& t = truth[state];
-    const Precise e_qdd = relative_error<Precise>(o.qdd, t.qdd);
-    if (!(t.cond <= kIllConditioned)) {
-      ++summary.ill_conditioned_states;
-      summary.ill_conditioned_max_rel_err_qdd = std::max(summary.ill_conditioned_max_rel_err_qdd, e_qdd);
-      continue;
-    }
-    if (o.rank_deficient)
-      ++summary.rank_deficient_well_conditioned;
-    else
-      summary.max_rel_err_qdd_full_rank = std::max(summary.max_rel_err_qdd_full_rank, e_qdd);
-    qdd_errors.push_back(e_qdd);
-    summary.max_rel_err_qdd = std::max(summary.max_rel_err_qdd, e_qdd);
-    summary.max_rel_err_tau = std::max(summary.max_rel_err_tau, relative_error<Precise>(o.tau_cmd, t.tau_cmd));
-    summary.max_constraint_residual = std::max(summary.max_constraint_residual, constraint_residual(o, p));
-  }
-  summary.median_rel_err_qdd = quantile(qdd_errors, 0.5);
-  if (qdd_errors.empty()) {
-    const Precise nan = std::numeric_limits<Precise>::quiet_NaN();
-    summary.max_rel_err_qdd = summary.max_rel_err_tau = summary.max_constraint_residual = nan;
-  }
-  if (summary.ill_conditioned_states == 0) summary.ill_conditioned_max_rel_err_qdd = 0;
-  return summary;
 }
 
 }  // namespace sweepgen::report

@@ -73,11 +73,14 @@ struct Truth {
 // "what should this scalar's solver have returned", rank decisions included), or the band
 // around its decisions (0.5, 2).
 solver::SolverOptions with_tolerance_factor(const scene::Scene& s, double factor, double eps);
-// `options`: the solver options the referee runs with (default: the scene's).
+// `options`: the solver options the referee runs with (default: the scene's); `policy`: the
+// solver policy it answers for (τcmd, q̈ and ν differ by policy; the condition numbers do not).
+// Without `with_cond_M`, Truth::cond_M stays NaN (it costs n + 1 more binary128 solves a state).
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
                                      const std::vector<Problem>& problems);
 std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& chain,
-                                     const std::vector<Problem>& problems, const solver::SolverOptions& options);
+                                     const std::vector<Problem>& problems, const solver::SolverOptions& options,
+                                     solver::Policy policy = solver::Policy::original, bool with_cond_M = true);
 
 // cond_2 of the joint-space inertia M(q), in Precise, without new dynamics code: with q̇ = 0, no
 // gravity, no constraint and no external force the solver's q̈ is linear in τ, so column j of
@@ -94,37 +97,51 @@ struct Outcome {
   unsigned status = 0;                        // every status bit the variant reported
 };
 
-// One row of the report.
+// One variant's measurements on a state set.
 struct VariantResult {
-  std::string variant;  // "reference", "generated", "kdl"
-  std::string scalar;   // "double", "float"
+  std::string variant;  // "reference", "generated", "kdl", "dense_kkt"
+  std::string scalar;   // "double", "float", "binary128"
   std::string note;     // why there are no numbers (empty when measured)
-  std::vector<double> ns_per_solve;  // one entry per timed repetition
-  std::vector<Outcome> outcomes;     // one per state
+  std::vector<double> ns_per_call;  // one entry per timed call (every state, every timed pass)
+  std::vector<Outcome> outcomes;    // one per state
 };
 
 struct TimingOptions {
-  int repetitions = 20;  // timed passes over the whole state set (after one warm-up pass)
+  int repetitions = 20;  // timed passes over the whole state set (after one untimed pass)
 };
 
-// Times `run_all` (one pass over `states` states): one warm-up pass, then `repetitions` timed
-// passes; returns nanoseconds per solve of each pass.
-template <class RunAll>
-std::vector<double> time_passes(std::size_t states, const TimingOptions& timing, RunAll&& run_all) {
-  run_all();
+// The cost of one steady_clock::now() pair with nothing between them (the median of many), in ns:
+// what time_calls subtracts from each call.
+double clock_overhead_ns();
+
+// Calls `call(state)` for every state once untimed (the pass that fills the outcomes), then
+// `repetitions` timed passes, timing each call alone; returns one time per timed call in ns, the
+// clock's own cost subtracted (never below 0). Per-call times give the median and the tail (p99,
+// max) a real-time loop sees; a pass-average would hide the tail.
+template <class Call>
+std::vector<double> time_calls(std::size_t states, const TimingOptions& timing, Call&& call) {
+  for (std::size_t state = 0; state < states; ++state) call(state);
+  const double overhead = timing.repetitions > 0 ? clock_overhead_ns() : 0;
   std::vector<double> ns;
-  for (int r = 0; r < timing.repetitions; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    run_all();
-    const auto stop = std::chrono::steady_clock::now();
-    ns.push_back(std::chrono::duration<double, std::nano>(stop - start).count() / static_cast<double>(states));
-  }
+  ns.reserve(states * static_cast<std::size_t>(std::max(timing.repetitions, 0)));
+  for (int r = 0; r < timing.repetitions; ++r)
+    for (std::size_t state = 0; state < states; ++state) {
+      const auto start = std::chrono::steady_clock::now();
+      call(state);
+      const auto stop = std::chrono::steady_clock::now();
+      ns.push_back(std::max(0.0, std::chrono::duration<double, std::nano>(stop - start).count() - overhead));
+    }
   return ns;
 }
 
-// ReferenceSolver<double>: outward + decompose + solve(original) per state.
+// ReferenceSolver<double>: outward + decompose + solve(policy) per state.
 VariantResult measure_reference_double(const scene::Scene& s, const model::Chain& chain,
-                                       const std::vector<Problem>& problems, const TimingOptions& timing);
+                                       const std::vector<Problem>& problems, const TimingOptions& timing,
+                                       solver::Policy policy = solver::Policy::original);
+// ReferenceSolver<Precise>, the referee itself: its time per call (its error is 0 by definition).
+VariantResult measure_reference_precise(const scene::Scene& s, const model::Chain& chain,
+                                        const std::vector<Problem>& problems, const TimingOptions& timing,
+                                        solver::Policy policy);
 // ReferenceSolver<float> (inputs rounded to float): the operations of the generated float code
 // (the generated code is the traced reference; tests/generated/ check them against each other).
 VariantResult measure_reference_float(const scene::Scene& s, const model::Chain& chain,
@@ -139,18 +156,6 @@ template <class Scalar>
 VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name, std::size_t dof,
                                 std::size_t constraints, const std::vector<Problem>& problems,
                                 const TimingOptions& timing);
-
-// The error statistics of one variant (README, "sweepgen report").
-struct Summary {
-  double ns_median = 0, ns_p90 = 0;
-  Precise max_rel_err_qdd = 0, median_rel_err_qdd = 0, max_rel_err_tau = 0, max_constraint_residual = 0;
-  std::size_t states = 0;                  // all states
-  std::size_t ill_conditioned_states = 0;  // cond(E^A_cstr,0) > kIllConditioned
-  Precise ill_conditioned_max_rel_err_qdd = 0;
-  std::size_t rank_deficient_well_conditioned = 0;  // the variant dropped a pivot where cond <= 1e6
-  Precise max_rel_err_qdd_full_rank = 0;            // max q̈ error over the other well-conditioned states
-};
-Summary summarize(const VariantResult& result, const std::vector<Problem>& problems, const std::vector<Truth>& truth);
 
 // How far a variant's tip acceleration misses the constraint it was asked to meet:
 // max_k |α_kᵀ Ẍ_tip − β_k| / max(1, ‖β‖∞, ‖Ẍ_tip‖∞) (0 when Nc = 0; infinite when Ẍ_tip is not

@@ -85,10 +85,26 @@ std::string wrapper_source(const std::string& header_name, const std::string& so
   return s.str();
 }
 
+std::string isa_name(Isa isa) { return isa == Isa::x86_64_v3 ? "x86-64-v3" : "x86-64"; }
+
+bool cpu_supports(Isa isa) {
+  if (isa == Isa::baseline) return true;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2");
+#else
+  return false;
+#endif
+}
+
 std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
-                                         const std::string& include_dir, const std::string& output) {
-  std::vector<std::string> argv = {compiler, "-std=c++17", "-O3", "-march=native", "-shared", "-fPIC",
-                                   "-I" + include_dir};
+                                         const std::string& include_dir, const std::string& output, Isa isa) {
+  std::vector<std::string> argv = {compiler, "-std=c++17"};
+  if (isa == Isa::x86_64_v3)
+    argv.insert(argv.end(), {"-O3", "-march=x86-64-v3"});
+  else
+    argv.push_back("-O2");
+  argv.insert(argv.end(), {"-shared", "-fPIC", "-I" + include_dir});
   argv.insert(argv.end(), sources.begin(), sources.end());
   argv.push_back("-o");
   argv.push_back(output);

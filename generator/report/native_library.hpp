@@ -27,9 +27,17 @@ std::string tail_of_file(const std::string& path, std::size_t max_lines = 30);
 std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float,
                            const std::vector<std::string>& policies);
 
-// The compile command for `sources` into the shared library `output`.
+// Instruction sets the report compiles generated code for: the x86-64 baseline (SSE2, what a
+// default build deploys) and x86-64-v3 (AVX2, FMA, BMI2; Haswell and Zen or newer).
+enum class Isa { baseline, x86_64_v3 };
+std::string isa_name(Isa isa);  // "x86-64", "x86-64-v3"
+// Whether this CPU runs `isa` (baseline: always).
+bool cpu_supports(Isa isa);
+
+// The compile command for `sources` into the shared library `output`: -O2 for the baseline,
+// -O3 -march=x86-64-v3 for v3 (the flag pairs the benchmarks quote).
 std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
-                                         const std::string& include_dir, const std::string& output);
+                                         const std::string& include_dir, const std::string& output, Isa isa);
 
 // A dlopen()ed shared library, closed on destruction. Throws io::IoError with dlerror()'s text.
 class SharedLibrary {

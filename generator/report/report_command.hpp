@@ -1,6 +1,7 @@
-// `sweepgen report`: generate a scene's solver, compile it with the system compiler, load it
-// into this process and measure it (run time and error against a long double reference)
-// next to the reference solver and KDL. README, "sweepgen report".
+// `sweepgen report`: for each scene, generate its solver, compile it with the system compiler in
+// every variant the scene can use, load it into this process and measure it on named families
+// of states next to the reference solver, KDL and a dense KKT solve: error against a binary128
+// referee and time per call (report/study.hpp). README, "sweepgen report".
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -10,11 +11,13 @@
 namespace sweepgen::report {
 
 struct ReportOptions {
-  std::string scene;  // scene file, or
+  std::vector<std::string> scenes;  // scene files (none: every bundled scene and kStiffCases), or
   std::string urdf;   // a URDF for the default scene (with root / tip)
   std::string root;
   std::string tip;
-  std::size_t states = 1000;
+  std::vector<std::string> family_cases;  // synthetic robots of `sweepgen family` studied like scenes
+  std::size_t states = 40;  // per state family
+  bool quick = false;       // a report in seconds: fewer states and passes; without --scene only the Panda
   std::string out;  // empty: "report", or "stability" with --stability
   // --stability (report/stability_command.hpp) and its options
   bool stability = false;
@@ -22,9 +25,13 @@ struct ReportOptions {
   std::size_t states_per_kind = 10;
   bool full = false;
   unsigned long long seed = 1;
-  int repetitions = 20;
+  int repetitions = 10;
   std::string cxx = "c++";
 };
+
+// The family cases a full default report adds: the stiff mass ratios (docs/stability.md).
+inline const std::vector<std::string> kStiffCases = {"mass_ratio_alternating", "mass_ratio_light_tool",
+                                                     "mass_ratio_heavy_tool"};
 
 void add_report_command(CLI::App& app, ReportOptions& options);
 

@@ -12,14 +12,14 @@
 #include "report/relative_error.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
-#include "support/dense_dynamics.hpp"
+#include "report/dense_dynamics.hpp"
 #include "support/random_chain.hpp"
 #include "support/random_problem.hpp"
 
 namespace sweepgen::test {
 
 using LongDouble = long double;
-using Oracle = DenseDynamics<LongDouble>;
+using Oracle = report::DenseDynamics<LongDouble>;
 using OracleVec = Oracle::Vec;
 using OracleMat = Oracle::Mat;
 

@@ -1,5 +1,5 @@
-// An independent dense rigid-body dynamics oracle for the tests, templated on the scalar
-// (the tests use long double).
+// An independent dense rigid-body dynamics oracle, templated on the scalar: the tests use it in
+// long double, `sweepgen report` in double as its "dense KKT" row.
 //
 // It shares nothing with generator/solver: no spatial transforms, no articulated bodies. Every
 // quantity is computed in the base (root link) frame with classical vectors:
@@ -31,7 +31,7 @@
 
 #include "model/chain.hpp"
 
-namespace sweepgen::test {
+namespace sweepgen::report {
 
 template <class Scalar>
 class DenseDynamics {
@@ -265,6 +265,17 @@ class DenseDynamics {
   // i.e. M q̈ + b = τ + Σ J_i^T F_ext,i + J_tip^T α ν. Solved by full-pivot LU.
   KktSolution kkt(const Vec& q, const Vec& qd, const Vec& tau, const std::vector<ExternalWrench>& ext,
                   const std::string& tip, const Mat& alpha, const Vec& beta) const {
+    KktSolution s = solve_kkt(q, qd, tau, ext, tip, alpha, beta);
+    const Mat Jc = alpha.transpose() * jacobian(q, tip);
+    // (Eigen 3.4's triangular solve binds a reference to the null data of an empty right-hand
+    // side, undefined behaviour that UBSan reports: no solve for Nc = 0.)
+    s.E = alpha.cols() > 0 ? Mat(Jc * mass_matrix(q).ldlt().solve(Jc.transpose())) : Mat(0, 0);
+    s.cond = condition(s.E);
+    return s;
+  }
+  // The same system without E and its condition number: q̈ and ν only.
+  KktSolution solve_kkt(const Vec& q, const Vec& qd, const Vec& tau, const std::vector<ExternalWrench>& ext,
+                        const std::string& tip, const Mat& alpha, const Vec& beta) const {
     const Eigen::Index nc = alpha.cols();
     const Mat M = mass_matrix(q);
     const Mat Jc = alpha.transpose() * jacobian(q, tip);
@@ -279,10 +290,7 @@ class DenseDynamics {
     KktSolution s;
     s.qdd = x.head(n_);
     s.nu = x.tail(nc);
-    // (Eigen 3.4's triangular solve binds a reference to the null data of an empty right-hand
-    // side, undefined behaviour that UBSan reports: no solve for Nc = 0.)
-    s.E = nc > 0 ? Mat(Jc * M.ldlt().solve(Jc.transpose())) : Mat(0, 0);
-    s.cond = condition(s.E);
+    s.cond = 1;
     return s;
   }
 
@@ -361,4 +369,4 @@ class DenseDynamics {
   std::map<std::string, LinkData> links_;
 };
 
-}  // namespace sweepgen::test
+}  // namespace sweepgen::report

@@ -1,0 +1,83 @@
+// `sweepgen report`: one scene studied. Its state families (extreme_states.hpp) go through every
+// variant of a solver the scene can use, side by side, each judged state by state against the
+// binary128 referee of the problem it solves (stability_errors.hpp), and timed call by call
+// (README, "sweepgen report").
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/chain.hpp"
+#include "scene/scene.hpp"
+
+namespace sweepgen::report {
+
+struct StudyOptions {
+  std::size_t states_per_family = 40;  // per random family; the near-singular sweep has 6 per δ
+  int repetitions = 10;                // timed passes over the states (binary128: 1)
+  unsigned long long seed = 1;
+  std::string cxx = "c++";
+  std::filesystem::path build_dir;  // the scene's generated code: build_dir/<variant>/
+  std::function<void(const std::string& what)> progress;  // one line per step
+};
+
+// Error statistics of one variant on one family of states (or on all of them).
+struct FamilyErrors {
+  std::string family;
+  std::size_t states = 0;  // in the family
+  // States where neither the variant nor its referee dropped a direction, locked a joint or
+  // returned a value that is not finite (a saturating policy's clamp does not count): the errors
+  // are rounding only there; the quantiles run over these.
+  std::size_t judged = 0;
+  double median = NAN, p99 = NAN, max = NAN;  // StateJudgement::error() over the judged states
+  double max_residual = NAN;                  // constraint_residual over the judged states
+  std::size_t status_raised = 0;              // states where the variant raised a status bit
+};
+
+// One judged state of one variant.
+struct StatePoint {
+  std::string family;
+  double kappa = 1;                    // StateJudgement::kappa()
+  double qdd = 0, tau = 0, nu = 0;     // StateJudgement's relative errors
+  double residual = 0;                 // constraint_residual
+  unsigned status = 0, referee_status = 0;
+  bool judged = false;                 // counted in FamilyErrors::judged
+  double error() const { return std::max({qdd, tau, nu}); }
+};
+
+struct VariantStudy {
+  std::string name;    // e.g. "generated double original x86-64"
+  std::string solves;  // what it solves and how, one line
+  std::string scalar;  // double, float, binary128
+  std::string note;    // why it has no numbers (empty when measured)
+  bool referee = false;  // the binary128 referee itself: timed, error 0 by definition
+  double ns_median = NAN, ns_p99 = NAN, ns_max = NAN;  // per call, after a warm-up pass
+  std::vector<FamilyErrors> families;                  // SceneStudy::families order
+  FamilyErrors all;                                    // every family together
+  std::vector<StatePoint> states;                      // every state, in study order
+};
+
+struct SceneStudy {
+  std::string name;    // the scene's solver namespace
+  std::string source;  // the scene file (or what the scene was made from)
+  std::size_t dof = 0, constraints = 0;
+  std::vector<std::pair<std::string, std::size_t>> families;  // name, states
+  std::string singular_note;  // where the near-singular sweep starts, or why there is none
+  std::vector<VariantStudy> variants;
+  double float_domain_kappa = NAN;  // generated float meets kFloatGoal below this κ (NaN: no float row)
+  std::string recommendation;       // one sentence
+};
+
+// The accuracy a float solve has to reach for its state to count as inside float's domain.
+constexpr double kFloatGoal = 1e-4;
+
+// Studies one scene; `label` names it in progress lines. Throws io::IoError when the compiler or
+// dlopen() fails.
+SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const StudyOptions& options);
+
+}  // namespace sweepgen::report

@@ -1,0 +1,261 @@
+#include "report/study_output.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "report/gnuplot.hpp"
+#include "report/text_format.hpp"
+
+namespace sweepgen::report {
+namespace {
+
+// Log axes take no zeros: exact answers are drawn at this floor (the captions say so).
+constexpr double kPlotFloor = 1e-20;
+
+std::string ns(double value) { return format("%.0f", value); }
+std::string share(std::size_t part, std::size_t whole) {
+  return whole == 0 ? "-" : format("%.1f%%", 100.0 * static_cast<double>(part) / static_cast<double>(whole));
+}
+
+std::vector<std::string> summary_cells(const VariantStudy& v) {
+  if (!v.note.empty()) return {v.name, v.scalar, v.note};
+  if (v.referee) return {v.name, v.scalar, ns(v.ns_median), ns(v.ns_p99), ns(v.ns_max), "0 (referee)", "", "", "", ""};
+  return {v.name,
+          v.scalar,
+          ns(v.ns_median),
+          ns(v.ns_p99),
+          ns(v.ns_max),
+          scientific(v.all.median),
+          scientific(v.all.p99),
+          scientific(v.all.max),
+          scientific(v.all.max_residual),
+          share(v.all.status_raised, v.all.states)};
+}
+
+const std::vector<std::string>& summary_header() {
+  static const std::vector<std::string> header = {"variant",     "scalar",     "ns_median", "ns_p99",
+                                                  "ns_max",      "err_median", "err_p99",   "err_max",
+                                                  "max_residual", "status"};
+  return header;
+}
+
+std::vector<std::string> csv_fields(const SceneStudy& s, const VariantStudy& v, const FamilyErrors& e) {
+  const bool timed = v.note.empty();
+  return {s.name,
+          v.name,
+          v.scalar,
+          e.family,
+          std::to_string(e.states),
+          std::to_string(e.judged),
+          v.referee ? "0" : scientific(e.median),
+          v.referee ? "0" : scientific(e.p99),
+          v.referee ? "0" : scientific(e.max),
+          v.referee ? "0" : scientific(e.max_residual),
+          std::to_string(e.status_raised),
+          timed ? format("%.1f", v.ns_median) : "",
+          timed ? format("%.1f", v.ns_p99) : "",
+          timed ? format("%.1f", v.ns_max) : "",
+          v.note,
+          v.solves};
+}
+
+double floored(double error) { return std::max(error, kPlotFloor); }
+
+// The variants drawn: measured ones with errors (the referee has none).
+std::vector<const VariantStudy*> drawn(const SceneStudy& s) {
+  std::vector<const VariantStudy*> variants;
+  for (const VariantStudy& v : s.variants)
+    if (v.note.empty() && !v.referee && v.all.judged > 0) variants.push_back(&v);
+  return variants;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  io::write_files_atomically({{path.string(), text}});
+}
+
+// Error on the nominal family (median, whiskers to p99) against time per call (median, whiskers
+// to p99): the states a controller meets; the κ figure shows the others.
+std::string time_figure(const SceneStudy& s, const std::filesystem::path& work_dir) {
+  std::ostringstream data;
+  data << std::setprecision(17);
+  std::vector<std::string> series;
+  int index = 0;
+  for (const VariantStudy* v : drawn(s)) {
+    const FamilyErrors& e = v->families.front();
+    data << v->ns_median << " " << floored(e.median) << " " << v->ns_median << " " << v->ns_p99 << " "
+         << floored(e.median) << " " << floored(e.p99) << "\n\n\n";
+    series.push_back("'' index " + std::to_string(index) + " using 1:2:3:4:5:6 with xyerrorbars pointtype " +
+                     std::to_string(5 + index % 9) + " pointsize 1.5 linewidth 1.5 title " + gnuplot_string(v->name));
+    ++index;
+  }
+  const std::filesystem::path data_path = work_dir / (s.name + "_time.dat");
+  write_text(data_path, data.str());
+  series.front().replace(0, 2, gnuplot_string(data_path.string()));
+  std::ostringstream plot;
+  plot << "set title " << gnuplot_string(s.name + ": error on " + drawn(s).front()->families.front().family +
+                                         " states against time per solve (" + std::to_string(s.dof) +
+                                         " joints, Nc = " + std::to_string(s.constraints) + ")")
+       << " noenhanced\n"
+       << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid xtics ytics mxtics\n"
+       << "set key outside right top noenhanced\n"
+       << "set xlabel 'time per solve [ns]: median, whisker to p99'\n"
+       << "set ylabel 'error vs binary128: median, whisker to p99'\n"
+       << "set offsets graph 0.1, graph 0.1, graph 0.3, graph 0.3\n"
+       << "plot ";
+  for (std::size_t k = 0; k < series.size(); ++k) plot << (k ? ", \\\n     " : "") << series[k];
+  plot << "\n";
+  return plot.str();
+}
+
+// Error of every judged state against κ, per variant, with ε κ of double and float and the
+// shaded domain where float meets kFloatGoal.
+std::string kappa_figure(const SceneStudy& s, const std::filesystem::path& work_dir) {
+  std::ostringstream plot;
+  plot << "set title " << gnuplot_string(s.name + ": error against kappa, every judged state") << " noenhanced\n"
+       << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key outside right top noenhanced\n"
+       << "set xlabel 'kappa = max(1, cond_s(E^A_{cstr,0}), 1/min rho_i)'\n"
+       << "set ylabel 'error vs binary128 (floor " << kPlotFloor << ")'\n"
+       << "set yrange [" << kPlotFloor / 10 << ":*]\n";
+  if (std::isfinite(s.float_domain_kappa))
+    plot << "set object 1 rect from graph 0, graph 0 to first " << std::setprecision(6) << s.float_domain_kappa
+         << ", graph 1 fillcolor rgb '#e8f0e0' fillstyle solid noborder behind\n"
+         << "set label 1 'float domain (error <= " << kFloatGoal << ")' at graph 0.02, graph 0.04\n";
+  std::vector<std::string> series;
+  int type = 1;
+  for (const VariantStudy* v : drawn(s)) {
+    std::ostringstream data;
+    data << std::setprecision(17);
+    for (const StatePoint& p : v->states)
+      if (p.judged) data << p.kappa << " " << floored(p.error()) << "\n";
+    std::string file = v->name;
+    std::replace(file.begin(), file.end(), ' ', '_');
+    const std::filesystem::path data_path = work_dir / (s.name + "_kappa_" + file + ".dat");
+    write_text(data_path, data.str());
+    series.push_back(gnuplot_string(data_path.string()) + " using 1:2 with points pointtype " + std::to_string(type++) +
+                     " title " + gnuplot_string(v->name));
+  }
+  series.push_back("x * " + format("%.17g", std::numeric_limits<double>::epsilon()) +
+                   " with lines dashtype 2 linecolor rgb 'black' title 'eps_double kappa'");
+  series.push_back("x * " + format("%.17g", std::numeric_limits<float>::epsilon()) +
+                   " with lines dashtype 3 linecolor rgb 'black' title 'eps_float kappa'");
+  plot << "plot ";
+  for (std::size_t k = 0; k < series.size(); ++k) plot << (k ? ", \\\n     " : "") << series[k];
+  plot << "\n";
+  return plot.str();
+}
+
+std::string markdown_row(const std::vector<std::string>& cells) {
+  std::string row = "|";
+  for (const std::string& c : cells) row += " " + c + " |";
+  return row + "\n";
+}
+
+}  // namespace
+
+void print_study(const SceneStudy& study, std::ostream& out) {
+  out << "\n== " << study.name << " (" << study.source << "): " << study.dof << " joints, Nc = " << study.constraints
+      << "\nstates:";
+  for (const auto& [family, count] : study.families) out << " " << family << " " << count << ";";
+  out << " " << study.singular_note << "\n";
+  std::vector<std::vector<std::string>> table = {summary_header()};
+  for (const VariantStudy& v : study.variants) table.push_back(summary_cells(v));
+  print_aligned(table, out);
+  out << "recommendation: " << study.recommendation << "\n";
+}
+
+std::string report_csv(const std::vector<SceneStudy>& studies) {
+  std::string text = csv_line({"scene", "variant", "scalar", "family", "states", "judged", "err_median", "err_p99",
+                               "err_max", "max_residual", "status_raised", "ns_median", "ns_p99", "ns_max", "note",
+                               "solves"});
+  for (const SceneStudy& s : studies)
+    for (const VariantStudy& v : s.variants) {
+      if (!v.note.empty() || v.referee) {
+        FamilyErrors none;
+        none.family = "all";
+        text += csv_line(csv_fields(s, v, none));
+        continue;
+      }
+      for (const FamilyErrors& e : v.families) text += csv_line(csv_fields(s, v, e));
+      text += csv_line(csv_fields(s, v, v.all));
+    }
+  return text;
+}
+
+std::string states_csv(const std::vector<SceneStudy>& studies) {
+  std::string text = csv_line({"scene", "variant", "family", "kappa", "err_qdd", "err_tau", "err_nu", "residual",
+                               "status", "referee_status", "judged"});
+  for (const SceneStudy& s : studies)
+    for (const VariantStudy& v : s.variants)
+      for (const StatePoint& p : v.states)
+        text += csv_line({s.name, v.name, p.family, format("%.17g", p.kappa), format("%.17g", p.qdd),
+                          format("%.17g", p.tau), format("%.17g", p.nu), format("%.17g", p.residual),
+                          std::to_string(p.status), std::to_string(p.referee_status), p.judged ? "1" : "0"});
+  return text;
+}
+
+std::vector<std::string> draw_figures(const std::vector<SceneStudy>& studies, const std::filesystem::path& dir,
+                                      const std::filesystem::path& work_dir) {
+  std::vector<std::string> written;
+  for (const SceneStudy& s : studies) {
+    if (drawn(s).empty()) continue;
+    for (const auto& [suffix, body] : {std::pair<std::string, std::string>{"_time", time_figure(s, work_dir)},
+                                       std::pair<std::string, std::string>{"_kappa", kappa_figure(s, work_dir)}}) {
+      const std::string stem = s.name + suffix;
+      draw_png_and_svg(body, (dir / stem).string(), (work_dir / stem).string(), work_dir.string(), 1000, 650);
+      written.push_back(stem + ".png");
+      written.push_back(stem + ".svg");
+    }
+  }
+  return written;
+}
+
+std::string report_markdown(const std::vector<SceneStudy>& studies, const std::string& command,
+                            const std::string& setup) {
+  std::ostringstream md;
+  md << "# sweepgen report\n\n"
+     << "Made by `" << command << "`. " << setup << "\n\n"
+     << "Errors are against `ReferenceSolver<binary128>` solving the same problem (policy, factorisation, the "
+        "scalar's tolerances), scale-invariant and per state the largest of q̈, τcmd and ν "
+        "(docs/stability.md, \"Errors and condition numbers\"); quantiles run over the states where neither the "
+        "variant nor its referee dropped a direction, locked a joint or returned a value that is not finite "
+        "(`judged` in report.csv; a saturating policy's clamp is judged), `status` is the share of states where "
+        "the variant raised any status bit. Times are per call (the clock's own cost subtracted), after one "
+        "untimed pass; exact answers are drawn at 1e-20 on the log axes.\n\n"
+     << "## Recommendations\n\n";
+  for (const SceneStudy& s : studies) md << "- **" << s.name << "**: " << s.recommendation << ".\n";
+  for (const SceneStudy& s : studies) {
+    md << "\n## " << s.name << "\n\n`" << s.source << "`, " << s.dof << " joints, Nc = " << s.constraints
+       << ". States:";
+    for (const auto& [family, count] : s.families) md << " " << family << " " << count << ";";
+    md << " " << s.singular_note << ".\n\n";
+    md << markdown_row(summary_header()) << markdown_row(std::vector<std::string>(summary_header().size(), "---"));
+    for (const VariantStudy& v : s.variants) {
+      std::vector<std::string> cells = summary_cells(v);
+      cells.resize(summary_header().size());
+      md << markdown_row(cells);
+    }
+    md << "\nMaximum error per family (share of states with a status raised):\n\n";
+    std::vector<std::string> header{"variant"};
+    for (const auto& [family, count] : s.families) header.push_back(family);
+    md << markdown_row(header) << markdown_row(std::vector<std::string>(header.size(), "---"));
+    for (const VariantStudy& v : s.variants) {
+      if (!v.note.empty() || v.referee) continue;
+      std::vector<std::string> cells{v.name};
+      for (const FamilyErrors& e : v.families)
+        cells.push_back(scientific(e.max) + " (" + share(e.status_raised, e.states) + ")");
+      md << markdown_row(cells);
+    }
+    md << "\nWhat each row solves:\n\n";
+    for (const VariantStudy& v : s.variants) md << "- " << v.name << ": " << v.solves << "\n";
+    if (!drawn(s).empty())
+      md << "\n![" << s.name << ": error against time](" << s.name << "_time.png)\n\n![" << s.name
+         << ": error against kappa](" << s.name << "_kappa.png)\n";
+  }
+  return md.str();
+}
+
+}  // namespace sweepgen::report
