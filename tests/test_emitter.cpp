@@ -180,7 +180,7 @@ TEST(Emitter, LiteralsRoundTrip) {
 // fixed links are lumped (panda: link8, hand, locked fingers); every policy; the damped
 // factorisation, expose: all and check_inputs: false once each. Each is generated, compiled by
 // the system compiler and loaded as `sweepgen report` does (report/compiled_solver.hpp: its
-// flags, -O3 -march=native, are fixed; ~0.4–2.5 s of CPU per scene) and its double solve of every
+// baseline flags, -O2 for x86-64; ~0.3–2 s of CPU per scene) and its double solve of every
 // policy of the scene is run on random states against ReferenceSolver<double>. (The float code is
 // compiled too, the wrapper needs it, but not run here: generated_scene_tests checks the bundled
 // scenes' float solvers.)
@@ -314,16 +314,16 @@ std::vector<std::vector<report::Precise>> inverse_dynamics_terms(const test::Ora
 // operations in the same order but for
 //  - the trace's constant folding (x·1, x + 0, products of constants: a rounding dropped or
 //    moved) and
-//  - the compiler's contraction of a·b + c into one FMA (-march=native; g++ contracts by
-//    default), which drops the rounding of a·b;
+//  - the compiler's contraction of a·b + c into one FMA (where the target has FMA, as the
+//    report's x86-64-v3 build does; g++ contracts by default), which drops the rounding of a·b;
 // each such site perturbs one intermediate by at most one rounding, as each of the reference's
 // own operations does. To first order the outputs move by Σ over the sites of (sensitivity to
 // that intermediate) · (its perturbation): the sum that bounds the reference's own rounding
 // error has a term for every operation, this one for the few differing sites only, so it is at
 // most that bound, which test_stability asserts as 100 eps κ (kErrorFactor; measured <= 12).
-// Measured here: <= 14 eps κ (planar_nc1_fixed prioritize_external, the printed lines; built with
-// -ffp-contract=off by hand, planar_nc1_fixed is bit-identical and the rest <= 7.1: folding and
-// FMA are the whole difference). 40 leaves ~3x headroom and stays below the reference's own
+// Measured here (x86-64 baseline, no FMA; the printed lines): <= 6.3 eps κ (random_nc3
+// saturate), planar_nc1_fixed bit-identical: folding is the whole difference. Built with FMA
+// (-march=native, an earlier revision) the worst was 14 eps κ. 40 leaves ~3x headroom and stays below the reference's own
 // bound; a flipped sign or a dropped term is O(1) relative, ~1e13 times the tolerance. Absolute
 // ceiling: the states compared have κ <= kIllConditioned = 1e6, so the tolerance never exceeds
 // 40 · 2.2e-16 · 1e6 ≈ 9e-9; the states beyond are counted, printed, and at most
