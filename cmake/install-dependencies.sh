@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev         # tests and benchmarks
   liborocos-kdl-dev libkdl-parser-dev   # test oracle and the optional KDL row of `sweepgen report`
   gnuplot-nox valgrind                  # reports, instruction counts
+  pybind11-dev python3-dev python3-numpy # the Python modules (README, "Python")
   clang libclang-rt-14-dev              # second compiler, sanitizers and fuzzing
 )
 

@@ -1,0 +1,159 @@
+# The generated solver as a Python module (README, "Python"): pybind11 and NumPy.
+#
+# sweepgen_find_python()
+#   Finds what the modules need: a Python 3 interpreter that imports NumPy, its development files
+#   (Development.Module) and pybind11 (CONFIG). Sets SWEEPGEN_PYTHON_FOUND, SWEEPGEN_PYTHON_EXECUTABLE
+#   (the interpreter the modules are built for and imported by) and, when something is missing,
+#   SWEEPGEN_PYTHON_MISSING (what, for a message). Without -DPython3_EXECUTABLE it takes the first of
+#   `python3` on PATH and /usr/bin/python3 that imports NumPy: a pyenv or virtual-environment
+#   interpreter with NumPy is used, one without it (a pyenv shim first on PATH) does not hide the
+#   system interpreter. Debian 12: pybind11-dev python3-dev python3-numpy. A macro: call it at
+#   directory scope, before sweepgen_add_python_module().
+#
+# sweepgen_add_python_module(<name> SCENE <scene.yaml> [OUTPUT_DIR <dir>] [EXPOSE all|outputs])
+# sweepgen_add_python_module(<name> SOLVER <target>)
+#   Builds the extension module <name> (`import <name>`) of a scene's generated solver: with SCENE
+#   from a new sweepgen_add_solver(<name>_solver ...) library, with SOLVER from an existing one.
+#   The library is made position-independent and linked into the module, so the generated source is
+#   compiled once for C++ and Python alike. The binding is one source for all scenes
+#   (python/module.cpp); the scene's namespace, scalars and flat layout are read from the generated
+#   header at build time into <binary dir>/sweepgen_python/<name>/sweepgen_module_scene.hpp.
+#   The module lands in the target's LIBRARY_OUTPUT_DIRECTORY (set it to collect several).
+
+function(_sweepgen_python_with_numpy out)
+  find_program(_sweepgen_path_python3 NAMES python3 NO_CACHE)
+  foreach(candidate ${_sweepgen_path_python3} /usr/bin/python3)
+    if(EXISTS "${candidate}")
+      execute_process(COMMAND "${candidate}" -c "import numpy" RESULT_VARIABLE failed OUTPUT_QUIET ERROR_QUIET)
+      if(NOT failed)
+        set(${out} "${candidate}" PARENT_SCOPE)
+        return()
+      endif()
+    endif()
+  endforeach()
+  set(${out} "" PARENT_SCOPE)
+endfunction()
+
+macro(sweepgen_find_python)
+  if(NOT DEFINED Python3_EXECUTABLE)
+    _sweepgen_python_with_numpy(_sweepgen_python)
+    if(_sweepgen_python)
+      set(Python3_EXECUTABLE "${_sweepgen_python}" CACHE FILEPATH "Python interpreter of the sweepgen Python modules")
+    endif()
+  endif()
+  find_package(Python3 QUIET COMPONENTS Interpreter Development.Module NumPy)
+  set(SWEEPGEN_PYTHON_FOUND FALSE)
+  set(SWEEPGEN_PYTHON_MISSING "")
+  if(NOT Python3_Interpreter_FOUND OR NOT Python3_NumPy_FOUND)
+    set(SWEEPGEN_PYTHON_MISSING "a Python 3 interpreter with NumPy (Debian: python3-numpy)")
+  elseif(NOT Python3_Development.Module_FOUND)
+    set(SWEEPGEN_PYTHON_MISSING "the Python headers of ${Python3_EXECUTABLE} (Debian: python3-dev)")
+  else()
+    find_package(pybind11 CONFIG QUIET)
+    if(pybind11_FOUND)
+      set(SWEEPGEN_PYTHON_FOUND TRUE)
+      set(SWEEPGEN_PYTHON_EXECUTABLE "${Python3_EXECUTABLE}")
+    else()
+      set(SWEEPGEN_PYTHON_MISSING "pybind11 (Debian: pybind11-dev)")
+    endif()
+  endif()
+endmacro()
+
+function(sweepgen_add_python_module name)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SCENE;SOLVER;OUTPUT_DIR;EXPOSE" "")
+  if(arg_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "sweepgen_add_python_module(${name}): unknown arguments ${arg_UNPARSED_ARGUMENTS}")
+  endif()
+  if(NOT name MATCHES "^[A-Za-z_][A-Za-z0-9_]*$")
+    message(FATAL_ERROR "sweepgen_add_python_module(${name}): the module name must be a Python identifier")
+  endif()
+  if(NOT COMMAND pybind11_add_module OR NOT TARGET Python3::Module)
+    message(FATAL_ERROR "sweepgen_add_python_module(${name}): call sweepgen_find_python() first (and check "
+                        "SWEEPGEN_PYTHON_FOUND)")
+  endif()
+  if(arg_SCENE AND NOT arg_SOLVER)
+    set(solver ${name}_solver)
+    set(forwarded SCENE "${arg_SCENE}")
+    if(arg_OUTPUT_DIR)
+      list(APPEND forwarded OUTPUT_DIR "${arg_OUTPUT_DIR}")
+    endif()
+    if(arg_EXPOSE)
+      list(APPEND forwarded EXPOSE ${arg_EXPOSE})
+    endif()
+    sweepgen_add_solver(${solver} ${forwarded})
+  elseif(arg_SOLVER AND NOT arg_SCENE AND NOT arg_OUTPUT_DIR AND NOT arg_EXPOSE)
+    set(solver ${arg_SOLVER})
+  else()
+    message(FATAL_ERROR "sweepgen_add_python_module(${name}): give SCENE (with optional OUTPUT_DIR, EXPOSE) "
+                        "or SOLVER")
+  endif()
+  # The generated library goes into a shared object: position-independent code.
+  set_property(TARGET ${solver} PROPERTY POSITION_INDEPENDENT_CODE ON)
+
+  # sweepgen_add_solver() puts <target>.hpp in the library's include directory.
+  get_target_property(solver_include ${solver} INTERFACE_INCLUDE_DIRECTORIES)
+  list(GET solver_include 0 solver_include)
+  set(header "${solver_include}/${solver}.hpp")
+  set(scene_dir "${CMAKE_CURRENT_BINARY_DIR}/sweepgen_python/${name}")
+  add_custom_command(
+    OUTPUT "${scene_dir}/sweepgen_module_scene.hpp"
+    COMMAND ${CMAKE_COMMAND} "-DSWEEPGEN_SCENE_HEADER=${header}"
+            "-DSWEEPGEN_MODULE_SCENE=${scene_dir}/sweepgen_module_scene.hpp"
+            -P "${CMAKE_CURRENT_FUNCTION_LIST_FILE}"
+    DEPENDS "${header}" "${CMAKE_CURRENT_FUNCTION_LIST_FILE}"
+    COMMENT "sweepgen: reading the scene of Python module ${name} from ${solver}.hpp"
+    VERBATIM)
+
+  # The binding: installed next to this file (python/module.cpp), or in the source tree.
+  get_filename_component(here "${CMAKE_CURRENT_FUNCTION_LIST_FILE}" DIRECTORY)
+  set(source "${here}/python/module.cpp")
+  if(NOT EXISTS "${source}")
+    set(source "${here}/../python/module.cpp")
+  endif()
+  # NO_EXTRAS: without pybind11's link-time optimisation (the generated library is compiled
+  # without it; LTO took as long, 6.9 s against 6.5 s per module here, for no measured gain).
+  pybind11_add_module(${name} MODULE NO_EXTRAS "${source}" "${scene_dir}/sweepgen_module_scene.hpp")
+  target_include_directories(${name} PRIVATE "${scene_dir}")
+  target_compile_definitions(${name} PRIVATE SWEEPGEN_MODULE_NAME=${name})
+  target_compile_features(${name} PRIVATE cxx_std_17)
+  target_link_libraries(${name} PRIVATE ${solver})
+endfunction()
+
+# Script mode (the custom command above): reads the generated header SWEEPGEN_SCENE_HEADER and
+# writes SWEEPGEN_MODULE_SCENE, which python/module.cpp includes. The header's outer namespace is
+# the scene's, `namespace f64 {` / `namespace f32 {` the scalars it has, and the comment above
+# flat_in_size states the flat layout ("in = [...]", "out = [...]").
+if(CMAKE_SCRIPT_MODE_FILE AND DEFINED SWEEPGEN_SCENE_HEADER)
+  cmake_policy(VERSION 3.25)
+  file(STRINGS "${SWEEPGEN_SCENE_HEADER}" namespaces REGEX "^namespace [A-Za-z_][A-Za-z0-9_:]* {$")
+  if(NOT namespaces)
+    message(FATAL_ERROR "${SWEEPGEN_SCENE_HEADER}: no namespace line; not a sweepgen-generated header?")
+  endif()
+  list(GET namespaces 0 scene_namespace)
+  string(REGEX REPLACE "^namespace (.*) {$" "\\1" scene_namespace "${scene_namespace}")
+  set(has_f64 0)
+  set(has_f32 0)
+  if("namespace f64 {" IN_LIST namespaces)
+    set(has_f64 1)
+  endif()
+  if("namespace f32 {" IN_LIST namespaces)
+    set(has_f32 1)
+  endif()
+  file(READ "${SWEEPGEN_SCENE_HEADER}" text)
+  foreach(part in out)
+    set(flat_${part} "see ${SWEEPGEN_SCENE_HEADER}")
+    if(text MATCHES "[ (]${part} = \\[([^]]*)\\]")
+      string(REGEX REPLACE "[\n/ ]+" " " flat_${part} "${CMAKE_MATCH_1}")
+    endif()
+  endforeach()
+  file(CONFIGURE OUTPUT "${SWEEPGEN_MODULE_SCENE}" CONTENT [[
+// Written by cmake/SweepgenAddPythonModule.cmake from @SWEEPGEN_SCENE_HEADER@.
+#pragma once
+#include "@SWEEPGEN_SCENE_HEADER@"
+#define SWEEPGEN_MODULE_SCENE @scene_namespace@
+#define SWEEPGEN_MODULE_HAS_F64 @has_f64@
+#define SWEEPGEN_MODULE_HAS_F32 @has_f32@
+#define SWEEPGEN_MODULE_FLAT_IN "@flat_in@"
+#define SWEEPGEN_MODULE_FLAT_OUT "@flat_out@"
+]] @ONLY)
+endif()

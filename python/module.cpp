@@ -1,0 +1,461 @@
+// The Python module of one generated scene solver (README, "Python"), built by
+// sweepgen_add_python_module() (cmake/SweepgenAddPythonModule.cmake). One source for every scene:
+// the module name comes from SWEEPGEN_MODULE_NAME, everything else from the generated header
+// through sweepgen_module_scene.hpp, which the CMake function writes per module:
+//   SWEEPGEN_MODULE_SCENE      the scene's C++ namespace (the scene's `solver:` entry)
+//   SWEEPGEN_MODULE_HAS_F64/32 whether the header has namespace f64 / f32 (the scene's `scalars:`)
+//   SWEEPGEN_MODULE_FLAT_IN/OUT the flat layout as the header's comment states it
+// Only the generated API common to every scene is bound: dof, constraints, checks_inputs, Status,
+// and per scalar outward, decompose (through drivers_from_flat), the solves and flat_solves
+// tables and the Solution members nu (when constraints > 0), qdd, tau_ctrl, tau_cmd,
+// tip_acceleration, saturated, dropped_pivots, locked_joints and status. What `expose: all` adds
+// to State and Solution is not bound.
+//
+// Every array argument is 1-D (one state, or shared by every row) or 2-D (K, width) (one row per
+// state); a call with any 2-D argument is batched, loops in C++ with the GIL released, and returns
+// (K, ...) arrays.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sweepgen_module_scene.hpp"
+
+namespace py = pybind11;
+namespace scene = SWEEPGEN_MODULE_SCENE;
+
+namespace {
+
+constexpr int dof = scene::dof;
+constexpr int constraints = scene::constraints;
+
+// The Status flags by name (the generated header's enum Status), for Python and for messages.
+struct Flag {
+  const char* name;
+  unsigned value;
+};
+constexpr Flag kFlags[] = {
+    {"constraint_rank_deficient", scene::status_constraint_rank_deficient},
+    {"saturated", scene::status_saturated},
+    {"not_finite", scene::status_not_finite},
+    {"joint_inertia_singular", scene::status_joint_inertia_singular},
+};
+
+std::string flag_names(unsigned status) {
+  std::string names;
+  for (const Flag& flag : kFlags)
+    if (status & flag.value) names += (names.empty() ? "" : "|") + std::string(flag.name);
+  return names.empty() ? "ok" : names;
+}
+
+std::string shape_text(const py::array& a) {
+  std::string text = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) text += (d ? ", " : "") + std::to_string(a.shape(d));
+  return text + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// One array argument: `width` values per row, 1-D (one row, shared by every row of a batched
+// call) or 2-D (K rows).
+template <class Scalar>
+struct Rows {
+  const char* name = "";
+  py::ssize_t width = 0;
+  py::array_t<Scalar, py::array::c_style> array;  // empty for an absent argument of width 0
+  bool batched = false;
+  py::ssize_t rows = 1;
+
+  const Scalar* row(py::ssize_t k) const {
+    static const Scalar none{};  // what an empty argument points to (the generated code reads nothing)
+    if (width == 0) return &none;
+    return array.data() + (batched ? k * width : 0);
+  }
+};
+
+// `object` as Rows: real numbers (integers and floats; converted to Scalar), shape (width,) or
+// (K, width); None only where width is 0. ValueError naming the argument otherwise.
+template <class Scalar>
+Rows<Scalar> rows_of(const py::handle& object, const char* name, py::ssize_t width) {
+  Rows<Scalar> r;
+  r.name = name;
+  r.width = width;
+  const std::string expected = "expected shape (" + std::to_string(width) + ",) or (K, " + std::to_string(width) + ")";
+  if (object.is_none()) {
+    if (width != 0) throw py::value_error(std::string(name) + ": required, " + expected);
+    return r;
+  }
+  const py::array any = py::array::ensure(object);
+  if (!any) throw py::value_error(std::string(name) + ": not convertible to an array, " + expected);
+  const char kind = any.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::value_error(std::string(name) + ": expected real numbers, got dtype " +
+                          py::str(any.dtype()).cast<std::string>());
+  if (!(any.ndim() == 1 || any.ndim() == 2) || any.shape(any.ndim() - 1) != width)
+    throw py::value_error(std::string(name) + ": " + expected + ", got " + shape_text(any));
+  r.array = py::array_t<Scalar, py::array::c_style | py::array::forcecast>::ensure(any);
+  if (!r.array)
+    throw py::value_error(std::string(name) + ": not convertible to " +
+                          py::str(py::dtype::of<Scalar>()).cast<std::string>());
+  r.batched = any.ndim() == 2;
+  r.rows = r.batched ? any.shape(0) : 1;
+  return r;
+}
+
+// Rows of a call: the common K of its 2-D arguments (1-D ones are shared); `batched` when any is 2-D.
+struct Batch {
+  bool batched = false;
+  py::ssize_t rows = 1;
+};
+
+template <class Scalar>
+Batch batch_of(std::initializer_list<const Rows<Scalar>*> arguments, Batch batch = {}) {
+  const char* first = nullptr;
+  for (const Rows<Scalar>* a : arguments) {
+    if (!a->batched) continue;
+    if (batch.batched && a->rows != batch.rows)
+      throw py::value_error(std::string(a->name) + ": " + std::to_string(a->rows) + " rows, but " +
+                            (first ? first : "the state") + " has " + std::to_string(batch.rows));
+    if (!batch.batched) first = a->name;
+    batch = {true, a->rows};
+  }
+  return batch;
+}
+
+// Runs body(k) for every row, without the GIL when batched (body touches no Python object).
+template <class Body>
+void for_each_row(const Batch& batch, Body&& body) {
+  std::optional<py::gil_scoped_release> release;
+  if (batch.batched) release.emplace();
+  for (py::ssize_t k = 0; k < batch.rows; ++k) body(k);
+}
+
+template <class T>
+py::array_t<T> array_of(const Batch& batch, py::ssize_t width) {
+  return batch.batched ? py::array_t<T>({batch.rows, width}) : py::array_t<T>({width});
+}
+
+// The results of the structured solves: arrays allocated before the loop (with the GIL), filled
+// row by row through raw pointers (without it).
+template <class Scalar>
+class Results {
+ public:
+  explicit Results(const Batch& batch)
+      : batch_(batch),
+        qdd_(array_of<Scalar>(batch, dof)),
+        tau_cmd_(array_of<Scalar>(batch, dof)),
+        tau_ctrl_(array_of<Scalar>(batch, dof)),
+        nu_(array_of<Scalar>(batch, constraints)),
+        tip_acceleration_(array_of<Scalar>(batch, 6)),
+        saturated_(array_of<bool>(batch, dof)),
+        dropped_pivots_(batch.rows),
+        locked_joints_(batch.rows),
+        status_(batch.rows),
+        to_{qdd_.mutable_data(),      tau_cmd_.mutable_data(),        tau_ctrl_.mutable_data(),
+            nu_.mutable_data(),       tip_acceleration_.mutable_data(), saturated_.mutable_data(),
+            dropped_pivots_.mutable_data(), locked_joints_.mutable_data(), status_.mutable_data()} {}
+
+  template <class Solution>
+  void write(py::ssize_t k, const Solution& s) {
+    std::copy_n(s.qdd, dof, to_.qdd + k * dof);
+    std::copy_n(s.tau_cmd, dof, to_.tau_cmd + k * dof);
+    std::copy_n(s.tau_ctrl, dof, to_.tau_ctrl + k * dof);
+    if constexpr (constraints > 0) std::copy_n(s.nu, constraints, to_.nu + k * constraints);
+    std::copy_n(s.tip_acceleration, 6, to_.tip_acceleration + k * 6);
+    std::copy_n(s.saturated, dof, to_.saturated + k * dof);
+    to_.dropped_pivots[k] = s.dropped_pivots;
+    to_.locked_joints[k] = s.locked_joints;
+    to_.status[k] = s.status;
+  }
+
+  unsigned status(py::ssize_t k) const { return to_.status[k]; }
+
+  // {qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, saturated, dropped_pivots, locked_joints,
+  // status}: (K, ...) arrays when batched, else 1-D arrays and Python ints.
+  py::dict dict() const {
+    const auto per_row = [&](const auto& values) -> py::object {
+      if (batch_.batched) return values;
+      return py::int_(values.at(0));
+    };
+    py::dict d;
+    d["qdd"] = qdd_;
+    d["tau_cmd"] = tau_cmd_;
+    d["tau_ctrl"] = tau_ctrl_;
+    d["nu"] = nu_;
+    d["tip_acceleration"] = tip_acceleration_;
+    d["saturated"] = saturated_;
+    d["dropped_pivots"] = per_row(dropped_pivots_);
+    d["locked_joints"] = per_row(locked_joints_);
+    d["status"] = per_row(status_);
+    return d;
+  }
+
+ private:
+  struct Pointers {
+    Scalar *qdd, *tau_cmd, *tau_ctrl, *nu, *tip_acceleration;
+    bool* saturated;
+    std::int32_t *dropped_pivots, *locked_joints;
+    std::uint32_t* status;
+  };
+  Batch batch_;
+  py::array_t<Scalar> qdd_, tau_cmd_, tau_ctrl_, nu_, tip_acceleration_;
+  py::array_t<bool> saturated_;
+  py::array_t<std::int32_t> dropped_pivots_, locked_joints_;
+  py::array_t<std::uint32_t> status_;
+  Pointers to_;
+};
+
+// SolverStatusError (a RuntimeError), created at import.
+py::handle status_error;
+
+// Raises SolverStatusError for the first row whose status has a bit of `mask`, carrying
+// status, index (None for an unbatched call), policy and result.
+template <class StatusOf>
+void raise_on_status(unsigned mask, const Batch& batch, StatusOf&& status_of, const std::string& function,
+                     const std::string& policy, const py::object& result) {
+  if (mask == 0) return;
+  py::ssize_t first = -1, flagged = 0;
+  for (py::ssize_t k = 0; k < batch.rows; ++k)
+    if (status_of(k) & mask) {
+      if (first < 0) first = k;
+      ++flagged;
+    }
+  if (first < 0) return;
+  const unsigned status = status_of(first);
+  std::string message = function + " (policy " + policy + "): status " + std::to_string(status) + " (" +
+                        flag_names(status) + ")";
+  if (batch.batched)
+    message += " at row " + std::to_string(first) + " (" + std::to_string(flagged) + " of " +
+               std::to_string(batch.rows) + " rows flagged)";
+  message += "; raise_on_status = " + std::to_string(mask);
+  py::object error = py::reinterpret_borrow<py::object>(status_error)(message);
+  error.attr("status") = status;
+  error.attr("index") = batch.batched ? py::object(py::int_(first)) : py::object(py::none());
+  error.attr("policy") = policy;
+  error.attr("result") = result;
+  PyErr_SetObject(status_error.ptr(), error.ptr());
+  throw py::error_already_set();
+}
+
+// Index of `policy` in a generated table ({policy, function} entries); ValueError listing them.
+template <class Table>
+std::size_t policy_index(const Table& table, const std::string& policy) {
+  std::string known;
+  for (std::size_t k = 0; k < std::size(table); ++k) {
+    if (policy == table[k].policy) return k;
+    known += (k ? ", " : "") + std::string(table[k].policy);
+  }
+  throw py::value_error("policy: '" + policy + "' is not a policy of this scene (" + known + ")");
+}
+
+// One scalar variant of the generated code (namespace f64 or f32): types, sizes, entry points.
+#define SWEEPGEN_MODULE_VARIANT(Name, tag)                                                               \
+  struct Name {                                                                                          \
+    using Scalar = scene::tag::Scalar;                                                                   \
+    using State = scene::tag::State;                                                                     \
+    using Solution = scene::tag::Solution;                                                               \
+    static constexpr const char* name = #tag;                                                            \
+    static constexpr int flat_in_size = scene::tag::flat_in_size;                                        \
+    static constexpr int flat_out_size = scene::tag::flat_out_size;                                      \
+    static constexpr const auto& solves = scene::tag::solves;                                            \
+    static constexpr const auto& flat_solves = scene::tag::flat_solves;                                  \
+    static void outward(const Scalar* q, const Scalar* qd, State& s) { scene::tag::outward(q, qd, s); } \
+    static void decompose(const Scalar* drivers, State& s) {                                             \
+      scene::tag::decompose(scene::tag::drivers_from_flat(drivers), s);                                  \
+    }                                                                                                    \
+  }
+
+// The flat input between q, qd and beta: the drivers (SWEEPGEN_MODULE_FLAT_IN).
+template <class Api>
+constexpr int drivers_size = Api::flat_in_size - 2 * dof - constraints;
+
+// outward() and decompose() results of one state or of K (a batched outward()).
+template <class Api>
+struct StateBatch {
+  std::vector<typename Api::State> states;
+  bool batched = false;
+  bool decomposed = false;
+
+  Batch batch() const { return {batched, static_cast<py::ssize_t>(states.size())}; }
+  const typename Api::State& at(py::ssize_t k) const { return states[batched ? static_cast<std::size_t>(k) : 0]; }
+};
+
+template <class Api>
+void bind_variant(py::module_& module, const char* doc) {
+  using Scalar = typename Api::Scalar;
+  using State = StateBatch<Api>;
+  constexpr py::ssize_t n_drivers = drivers_size<Api>;
+  py::module_ m = module.def_submodule(Api::name, doc);
+  const std::string prefix = module.attr("__name__").cast<std::string>() + "." + Api::name + ".";
+
+  py::list policies;
+  for (const auto& entry : Api::solves) policies.append(entry.policy);
+  const std::string default_policy = Api::solves[0].policy;
+  m.attr("dof") = dof;
+  m.attr("constraints") = constraints;
+  m.attr("drivers_size") = n_drivers;
+  m.attr("flat_in_size") = Api::flat_in_size;
+  m.attr("flat_out_size") = Api::flat_out_size;
+  m.attr("policies") = py::tuple(policies);
+  m.attr("dtype") = py::dtype::of<Scalar>();
+
+  py::class_<State>(m, "State",
+                    "outward() (and decompose()) results of one state, or of K states for 2-D q and qd. Opaque: "
+                    "made by outward(), completed by decompose(), read by solve_state().")
+      .def_property_readonly("batched", [](const State& s) { return s.batched; })
+      .def_property_readonly("decomposed", [](const State& s) { return s.decomposed; })
+      .def("__len__", [](const State& s) { return s.states.size(); });
+
+  m.def(
+      "outward",
+      [](const py::object& q, const py::object& qd) {
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", dof), qd_rows = rows_of<Scalar>(qd, "qd", dof);
+        const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows});
+        State state;
+        state.batched = batch.batched;
+        state.states.resize(static_cast<std::size_t>(batch.rows));
+        for_each_row(batch, [&](py::ssize_t k) { Api::outward(q_rows.row(k), qd_rows.row(k), state.states[k]); });
+        return state;
+      },
+      py::arg("q"), py::arg("qd"),
+      "Outward sweep: everything that depends on q, qd only. q, qd: (dof,) or (K, dof). Returns a State.");
+
+  m.def(
+      "decompose",
+      [](State& state, const py::object& drivers) {
+        const Rows<Scalar> d = rows_of<Scalar>(drivers, "drivers", n_drivers);
+        if (d.batched && !state.batched)
+          throw py::value_error("drivers: 2-D drivers need a batched state (outward() of 2-D q, qd)");
+        const Batch batch = batch_of<Scalar>({&d}, state.batch());
+        for_each_row(batch, [&](py::ssize_t k) { Api::decompose(d.row(k), state.states[k]); });
+        state.decomposed = true;
+      },
+      py::arg("state"), py::arg("drivers") = py::none(),
+      "Decomposition over the drivers, in place. drivers: (drivers_size,) or (K, drivers_size), the flat "
+      "input after q and qd, without beta (module flat_in_layout); None when drivers_size is 0.");
+
+  m.def(
+      "solve_state",
+      [prefix](const State& state, const py::object& beta, const std::string& policy, unsigned mask) {
+        const Rows<Scalar> b = rows_of<Scalar>(beta, "beta", constraints);
+        if (!state.decomposed) throw py::value_error("state: decompose() has not run on it");
+        const auto solve = Api::solves[policy_index(Api::solves, policy)].solve;
+        const Batch batch = batch_of<Scalar>({&b}, state.batched ? state.batch() : Batch{});
+        Results<Scalar> results(batch);
+        for_each_row(batch, [&](py::ssize_t k) {
+          typename Api::Solution solution;
+          solve(state.at(k), b.row(k), solution);
+          results.write(k, solution);
+        });
+        const py::dict result = results.dict();
+        raise_on_status(mask, batch, [&](py::ssize_t k) { return results.status(k); }, prefix + "solve_state", policy,
+                        result);
+        return result;
+      },
+      py::arg("state"), py::arg("beta") = py::none(), py::kw_only(), py::arg("policy") = default_policy,
+      py::arg("raise_on_status") = 0u,
+      "The solver sweep (the re-solve): a decomposed State and setpoints beta, (constraints,) or (K, "
+      "constraints) (None when constraints is 0); a single state with K setpoint rows solves it K times. "
+      "Returns a dict of arrays (see solve()).");
+
+  m.def(
+      "solve",
+      [prefix](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
+         const std::string& policy, unsigned mask) {
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", dof), qd_rows = rows_of<Scalar>(qd, "qd", dof),
+                           d = rows_of<Scalar>(drivers, "drivers", n_drivers),
+                           b = rows_of<Scalar>(beta, "beta", constraints);
+        const auto solve = Api::solves[policy_index(Api::solves, policy)].solve;
+        const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows, &d, &b});
+        Results<Scalar> results(batch);
+        for_each_row(batch, [&](py::ssize_t k) {
+          typename Api::State state;
+          typename Api::Solution solution;
+          Api::outward(q_rows.row(k), qd_rows.row(k), state);
+          Api::decompose(d.row(k), state);
+          solve(state, b.row(k), solution);
+          results.write(k, solution);
+        });
+        const py::dict result = results.dict();
+        raise_on_status(mask, batch, [&](py::ssize_t k) { return results.status(k); }, prefix + "solve", policy,
+                        result);
+        return result;
+      },
+      py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),
+      py::arg("policy") = default_policy, py::arg("raise_on_status") = 0u,
+      "outward + decompose + solve_<policy>. q, qd: (dof,); drivers: (drivers_size,); beta: (constraints,); "
+      "each also (K, width) for K states (1-D ones shared by every row). Returns a dict: qdd, tau_cmd, "
+      "tau_ctrl (dof), nu (constraints), tip_acceleration (6), saturated (dof, bool), dropped_pivots, "
+      "locked_joints, status (ints; (K,) arrays when batched). raise_on_status: a mask of Status flags; "
+      "a row with any of them raises SolverStatusError.");
+
+  m.def(
+      "solve_flat",
+      [prefix](const py::object& in, const std::string& policy, unsigned mask) {
+        const Rows<Scalar> in_rows = rows_of<Scalar>(in, "in", Api::flat_in_size);
+        const auto solve = Api::flat_solves[policy_index(Api::flat_solves, policy)].solve;
+        const Batch batch = batch_of<Scalar>({&in_rows});
+        py::array_t<Scalar> out = array_of<Scalar>(batch, Api::flat_out_size);
+        Scalar* out_data = out.mutable_data();
+        for_each_row(batch, [&](py::ssize_t k) { solve(in_rows.row(k), out_data + k * Api::flat_out_size); });
+        const auto status_of = [&](py::ssize_t k) {
+          return static_cast<unsigned>(out_data[k * Api::flat_out_size + Api::flat_out_size - 1]);
+        };
+        raise_on_status(mask, batch, status_of, prefix + "solve_flat", policy, out);
+        return out;
+      },
+      py::arg("in"), py::kw_only(), py::arg("policy") = default_policy, py::arg("raise_on_status") = 0u,
+      "The generated flat entry point: in (flat_in_size,) or (K, flat_in_size) -> out (flat_out_size,) or "
+      "(K, flat_out_size), layouts in the module's flat_in_layout and flat_out_layout (status last).");
+}
+
+#if SWEEPGEN_MODULE_HAS_F64
+SWEEPGEN_MODULE_VARIANT(F64, f64);
+#endif
+#if SWEEPGEN_MODULE_HAS_F32
+SWEEPGEN_MODULE_VARIANT(F32, f32);
+#endif
+
+}  // namespace
+
+PYBIND11_MODULE(SWEEPGEN_MODULE_NAME, m) {
+  const std::string name = PYBIND11_TOSTRING(SWEEPGEN_MODULE_NAME);
+  m.doc() = "The sweepgen-generated solver " PYBIND11_TOSTRING(SWEEPGEN_MODULE_SCENE)
+            " (README, \"Python\"): submodules f64 and/or f32 with outward, decompose, solve_state, solve and "
+            "solve_flat. Flat input: [" SWEEPGEN_MODULE_FLAT_IN "]; the drivers are the part after q and qd, "
+            "without beta.";
+  m.attr("dof") = dof;
+  m.attr("constraints") = constraints;
+  m.attr("checks_inputs") = scene::checks_inputs;
+  m.attr("flat_in_layout") = SWEEPGEN_MODULE_FLAT_IN;
+  m.attr("flat_out_layout") = SWEEPGEN_MODULE_FLAT_OUT;
+
+  py::dict flags;
+  flags["ok"] = static_cast<unsigned>(scene::status_ok);
+  for (const Flag& flag : kFlags) flags[flag.name] = flag.value;
+  m.attr("Status") = py::module_::import("enum").attr("IntFlag")("Status", flags, py::arg("module") = name);
+
+  const py::module_ builtins = py::module_::import("builtins");
+  py::dict members;
+  members["__module__"] = name;
+  members["__doc__"] =
+      "A solve returned a status with a flag of raise_on_status. Attributes: status (int), index (the first "
+      "flagged row of a batched call, else None), policy, result (what the call would have returned).";
+  py::object error = builtins.attr("type")("SolverStatusError", py::make_tuple(builtins.attr("RuntimeError")), members);
+  m.attr("SolverStatusError") = error;
+  status_error = error.release();  // lives as long as the process, like the module
+
+  py::list scalars;
+#if SWEEPGEN_MODULE_HAS_F64
+  bind_variant<F64>(m, "double arithmetic");
+  scalars.append("f64");
+#endif
+#if SWEEPGEN_MODULE_HAS_F32
+  bind_variant<F32>(m, "float arithmetic");
+  scalars.append("f32");
+#endif
+  m.attr("scalars") = py::tuple(scalars);
+}

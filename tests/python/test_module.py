@@ -1,0 +1,327 @@
+"""The Python modules of the bundled scenes (python/module.cpp, README "Python") against `sweepgen solve`.
+
+Run by ctest (tests/python/CMakeLists.txt) with the interpreter the modules were built for and
+  PYTHONPATH              the directory of the modules
+  SWEEPGEN_EXECUTABLE     the generator (its `solve` runs ReferenceSolver<double>, the oracle)
+  SWEEPGEN_PROBLEMS       python_test_problems (problems.cpp): random problems of a scene with their
+                          flat input, kappa and `sweepgen solve` line
+  SWEEPGEN_PYTHON_SCENES  module=scene.yaml pairs, comma-separated
+
+Per module and scalar (f64, f32):
+  - constants: sizes, policies and Status flags equal the scene's (python_test_problems prints
+    them from the scene and sweepgen's solver/state.hpp);
+  - every policy's single solve() against the oracle on STATES random problems, every output
+    (qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, status flags, saturated joints), within the
+    bounds derived at FACTORS;
+  - batched solve(), solve_flat() single and batched, and a batched or broadcast
+    outward/decompose/solve_state equal the single solve() bit for bit (one compiled code path);
+  - outward + decompose once, solve_state with a first beta, then with the problem's beta, equals
+    a full solve with the latter bit for bit;
+  - bad shapes, dtypes, policies and call order raise ValueError naming the argument;
+  - raise_on_status raises SolverStatusError carrying the status, row, policy and result.
+"""
+
+import importlib
+import json
+import os
+import subprocess
+import sys
+import unittest
+
+import numpy as np
+
+STATES = 16
+SEED = 2024
+
+# The error measure of tests/generated (report/relative_error.hpp): ||a - b||_inf / max(1, ||b||_inf),
+# per output vector, judged against factor * eps * kappa with kappa = max(1, cond_s(E^A_cstr,0),
+# 1 / min rho_i) of the state (docs/stability.md; python_test_problems computes it with the
+# binary128 referee), only inside each scalar's domain of validity (tests/support/rounding_bound.hpp:
+# kDoubleMaxKappa, kFloatMaxKappa). States beyond it are counted, their share asserted.
+#   f64 vs `sweepgen solve` (ReferenceSolver<double>): the generated code is the reference's traced
+#     operations, differing by constant folding and the compiler's order only, so by a few roundings
+#     amplified like any rounding: 40 eps kappa, the factor tests/support/generated_check.cpp derives
+#     for the same comparison (kSameOperations; measured there 1.1). Ceiling inside kappa <= 1e8:
+#     8.9e-7. The share beyond 1e8 is at most 5%, as there (measured 2.3% for Panda Nc = 6).
+#   f32 vs the same double oracle: float's own error against the exact answer, <= 100 eps_f kappa
+#     (generated_check's float accuracy factor), plus the double oracle's, <= 100 eps_d kappa (the
+#     stability suite's factor); judged for kappa <= 1e3 (ceiling 1.2e-2). Six random directions
+#     on a 7-joint arm are nearly always beyond 1e3 (tests/generated: Panda Nc = 6, 1000 of 1000),
+#     so there the share is not bounded; the unit-axis directions (python_test_problems `axes`)
+#     are mostly within it (25% allowed; on the Panda 3 of 40 states beyond, 1 of the 16 here), and
+#     Nc = 0 has no directions (5% allowed; tests/generated: 0 of 1000 beyond). With 16 states a
+#     5% share allows none.
+EPS = {"f64": float(np.finfo(np.float64).eps), "f32": float(np.finfo(np.float32).eps)}
+MAX_KAPPA = {"f64": 1e8, "f32": 1e3}
+FACTORS = {"f64": 40 * EPS["f64"], "f32": 100 * EPS["f32"] + 100 * EPS["f64"]}
+
+
+def max_share_beyond(scalar, directions, constraints):
+    if scalar == "f32" and directions == "random" and constraints > 0:
+        return 1.0
+    return 0.25 if scalar == "f32" and directions == "axes" else 0.05
+
+
+# Module key, `sweepgen solve` key, and the oracle's vectors whose size also scales the error: the
+# tip acceleration sums the joint terms S_i qdd_i carried to the tip (S5; angular parts |qdd_i|,
+# linear parts |qdd_i| times the distance to the tip, under 1.2 m on the Panda), which cancel
+# where the constraint holds the tip still while the arm moves fast (measured: |qdd| 131 for
+# |Xdd_tip| 2.5, error 62 eps kappa relative to Xdd_tip, 1.2 relative to qdd).
+OUTPUTS = [("qdd", "qdd", ()), ("tau_cmd", "tau_cmd", ()), ("tau_ctrl", "tau_ctrl", ()), ("nu", "nu", ()),
+           ("tip_acceleration", "xdd_tip", ("qdd",))]
+CLI_FLAGS = ["constraint_rank_deficient", "saturated", "not_finite"]  # what `sweepgen solve` prints
+
+
+def relative_error(a, b, also=()):
+    """||a - b||_inf / max(1, ||b||_inf, ||c||_inf for c in also): `also`, the terms b is the sum of
+    (where they cancel, rounding is relative to them, not to b; report::joint_relative_error)."""
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    if a.shape != b.shape or not np.all(np.isfinite(a)):
+        return np.inf
+    if a.size == 0:
+        return 0.0
+    scale = max([1.0, float(np.max(np.abs(b)))] + [float(np.max(np.abs(c))) for c in also])
+    return float(np.max(np.abs(a - b)) / scale)
+
+
+def results_equal(a, b):
+    """Two solve results bit for bit: same keys, same values, dtypes and shapes."""
+    if a.keys() != b.keys():
+        return False
+    return all(np.array_equal(np.asarray(a[k]), np.asarray(b[k])) and np.asarray(a[k]).dtype == np.asarray(b[k]).dtype
+               for k in a)
+
+
+def row(result, k):
+    """Row k of a batched result, as an unbatched one (ints for the per-row counts)."""
+    return {key: (int(value[k]) if value.ndim == 1 else value[k]) for key, value in result.items()}
+
+
+class ProblemSet:
+    """Random problems of a scene (constraint directions random or the unit axes) and the oracle's
+    answers, computed once per test class."""
+
+    def __init__(self, scene_path, directions):
+        self.directions = directions
+        extra = ["axes"] if directions == "axes" else []
+        lines = subprocess.run([os.environ["SWEEPGEN_PROBLEMS"], scene_path, str(STATES), str(SEED), *extra],
+                               check=True, capture_output=True, text=True).stdout.splitlines()
+        self.info = json.loads(lines[0])
+        problems = [json.loads(line) for line in lines[1:]]
+        self.flat = np.array([p["in"] for p in problems], dtype=np.float64)
+        self.kappa = np.array([p["kappa"] for p in problems])
+        self.dof, self.nc = self.info["dof"], self.info["constraints"]
+        self.oracle = {}  # policy -> one `sweepgen solve` answer per problem
+        cli_input = "".join(json.dumps(dict(p["cli"], policy=policy)) + "\n"
+                            for policy in self.info["policies"] for p in problems)
+        answers = subprocess.run([os.environ["SWEEPGEN_EXECUTABLE"], "solve", "--urdf", self.info["urdf"],
+                                  *self.info["cli_args"], "--input", "-"],
+                                 input=cli_input, check=True, capture_output=True, text=True).stdout.splitlines()
+        for i, policy in enumerate(self.info["policies"]):
+            self.oracle[policy] = [json.loads(a) for a in answers[i * len(problems):(i + 1) * len(problems)]]
+
+    def split(self, flat):
+        """q, qd, drivers, beta of flat inputs (1-D or 2-D): the module's flat_in_layout."""
+        n, nc = self.dof, self.nc
+        return flat[..., :n], flat[..., n:2 * n], flat[..., 2 * n:flat.shape[-1] - nc], flat[..., flat.shape[-1] - nc:]
+
+
+class ModuleTest:
+    """Tests of one module; subclassed per scene below (STEM, SCENE)."""
+
+    STEM = SCENE = None
+
+    @classmethod
+    def setUpClass(cls):
+        cls.m = importlib.import_module(cls.STEM)
+        cls.data = ProblemSet(cls.SCENE, "random")
+        cls.problem_sets = [cls.data] + ([ProblemSet(cls.SCENE, "axes")] if cls.data.nc > 0 else [])
+
+    def variants(self):
+        return [(name, getattr(self.m, name)) for name in self.m.scalars]
+
+    def test_constants(self):
+        info, m = self.data.info, self.m
+        self.assertEqual(m.scalars, ("f64", "f32"))  # both bundled scenes emit double and float
+        self.assertEqual((m.dof, m.constraints, m.checks_inputs), (info["dof"], info["constraints"], True))
+        for flag, value in info["status"].items():
+            self.assertEqual(int(getattr(m.Status, flag)), value, flag)
+        self.assertTrue(m.flat_in_layout.startswith("q (dof), qd (dof), "), m.flat_in_layout)
+        self.assertTrue(m.flat_out_layout.startswith("qdd (dof), tau_cmd (dof), tau_ctrl (dof), "), m.flat_out_layout)
+        for name, v in self.variants():
+            self.assertEqual(v.flat_in_size, info["flat_in_size"], name)
+            self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + 6 + 1, name)
+            self.assertEqual(v.drivers_size, info["flat_in_size"] - 2 * info["dof"] - info["constraints"], name)
+            self.assertEqual(list(v.policies), info["policies"], name)
+            self.assertEqual(v.dtype, np.dtype(np.float64 if name == "f64" else np.float32), name)
+
+    def test_single_solves_match_sweepgen_solve(self):
+        for d in self.problem_sets:
+            for name, v in self.variants():
+                self.check_against_oracle(d, name, v)
+
+    def check_against_oracle(self, d, name, v):
+        """Every policy's single solve() of each problem of `d` against `sweepgen solve`."""
+        what = f"{self.STEM}.{name}" + (f", {d.directions} directions" if d.nc > 0 else "")
+        beyond = 0
+        worst = 0.0  # max error / (eps kappa) over the judged outputs
+        for k in range(STATES):
+            inside = d.kappa[k] <= MAX_KAPPA[name]
+            beyond += not inside
+            q, qd, drivers, beta = d.split(d.flat[k])
+            for policy in v.policies:
+                r = v.solve(q, qd, drivers, beta, policy=policy)
+                answer = d.oracle[policy][k]
+                where = f"{what}: {policy} state {k} (kappa {d.kappa[k]:.3g})"
+                for key, _, _ in OUTPUTS:
+                    self.assertTrue(np.all(np.isfinite(r[key])), where + " " + key)
+                if not inside:
+                    continue
+                flags = {f for f in CLI_FLAGS if r["status"] & int(getattr(self.m.Status, f))}
+                oracle_flags = set() if answer["status"] == "ok" else set(answer["status"].split(","))
+                # Inside the domain no pivot is dropped and no joint locked: a kept pivot has
+                # d_k / E_kk >= 1 / (4 cond_s) (equilibration leaves E_kk in [1, 4)), a kept joint
+                # rho_i > 1000 eps, and 4 kappa * 1000 eps < 1 there for both scalars; so flags and
+                # results are compared in full.
+                self.assertEqual(flags, oracle_flags, where)
+                self.assertEqual((r["dropped_pivots"], r["locked_joints"]), (0, 0), where)
+                saturated = [j for j, s in zip(d.info["joints"], r["saturated"]) if s]
+                self.assertEqual(saturated, answer["saturated_joints"], where)
+                for key, cli_key, terms in OUTPUTS:
+                    error = relative_error(r[key], answer[cli_key], [answer[t] for t in terms])
+                    worst = max(worst, error / (EPS[name] * max(1.0, d.kappa[k])))
+                    self.assertLessEqual(error, FACTORS[name] * max(1.0, d.kappa[k]), f"{where} {key}")
+        share = max_share_beyond(name, d.directions, d.nc)
+        print(f"[rounding] {what} vs sweepgen solve: max error/(eps kappa) {worst:.3g} "
+              f"(allowed {FACTORS[name] / EPS[name]:.3g})", file=sys.stderr)
+        print(f"[skips] {what}: {beyond} of {STATES} states with kappa > {MAX_KAPPA[name]:.0e}, "
+              f"at most {100 * share:.0f}% allowed", file=sys.stderr)
+        self.assertLessEqual(beyond, share * STATES, what)
+
+    def test_batched_and_flat_calls_equal_single_solves(self):
+        d = self.data
+        for name, v in self.variants():
+            flat = d.flat.astype(v.dtype)
+            q, qd, drivers, beta = d.split(flat)
+            for policy in v.policies:
+                batched = v.solve(q, qd, drivers, beta, policy=policy)
+                flat_batched = v.solve_flat(flat, policy=policy)
+                self.assertEqual(batched["qdd"].shape, (STATES, d.dof))
+                self.assertEqual(batched["status"].shape, (STATES,))
+                self.assertEqual(flat_batched.shape, (STATES, v.flat_out_size))
+                state = v.outward(q, qd)
+                self.assertTrue(state.batched)
+                self.assertEqual(len(state), STATES)
+                v.decompose(state, drivers)
+                self.assertTrue(results_equal(v.solve_state(state, beta, policy=policy), batched), policy)
+                for k in range(STATES):
+                    where = f"{name} {policy} row {k}"
+                    single = v.solve(q[k], qd[k], drivers[k], beta[k], policy=policy)
+                    self.assertTrue(results_equal(row(batched, k), single), where)
+                    out = v.solve_flat(flat[k], policy=policy)
+                    self.assertTrue(np.array_equal(out, flat_batched[k]), where)
+                    expected = np.concatenate([single["qdd"], single["tau_cmd"], single["tau_ctrl"], single["nu"],
+                                               single["tip_acceleration"], [single["status"]]]).astype(v.dtype)
+                    self.assertTrue(np.array_equal(out, expected), where)
+
+    def test_resolve_with_new_beta_equals_full_solve(self):
+        d = self.data
+        rng = np.random.default_rng(SEED)
+        for name, v in self.variants():
+            flat = d.flat.astype(v.dtype)
+            q, qd, drivers, beta = d.split(flat)
+            first_beta = rng.uniform(-1, 1, beta.shape).astype(v.dtype)
+            for k in range(STATES):
+                state = v.outward(q[k], qd[k])
+                self.assertFalse(state.decomposed)
+                v.decompose(state, drivers[k])
+                for policy in v.policies:
+                    v.solve_state(state, first_beta[k], policy=policy)
+                    again = v.solve_state(state, beta[k], policy=policy)
+                    self.assertTrue(results_equal(again, v.solve(q[k], qd[k], drivers[k], beta[k], policy=policy)),
+                                    f"{name} {policy} state {k}")
+            # One state, every row of setpoints: the setpoint sweep.
+            state = v.outward(q[0], qd[0])
+            v.decompose(state, drivers[0])
+            swept = v.solve_state(state, beta)
+            for k in range(STATES):
+                self.assertTrue(results_equal(row(swept, k), v.solve(q[0], qd[0], drivers[0], beta[k])), f"{name} {k}")
+
+    def assertValueError(self, pattern, call, *args, **kwargs):
+        with self.assertRaisesRegex(ValueError, pattern):
+            call(*args, **kwargs)
+
+    def test_bad_arguments_raise_value_errors(self):
+        d = self.data
+        n = d.dof
+        for name, v in self.variants():
+            q, qd, drivers, beta = d.split(d.flat[0])
+            Q, QD, D, B = d.split(d.flat)
+            expected_q = rf"q: expected shape \({n},\) or \(K, {n}\), got "
+            self.assertValueError(expected_q + rf"\({n - 1},\)", v.solve, q[:-1], qd, drivers, beta)
+            self.assertValueError(expected_q + rf"\(1, 2, {n}\)", v.solve, np.stack([q, q])[None], qd, drivers,
+                                  beta)
+            self.assertValueError(rf"qd: 3 rows, but q has {STATES}", v.solve, Q, QD[:3], D, B)
+            self.assertValueError("q: expected real numbers, got dtype complex128", v.solve, q + 0j, qd, drivers, beta)
+            self.assertValueError("qd: expected real numbers, got dtype <U", v.solve, q, ["a"] * n, drivers, beta)
+            self.assertValueError("drivers: expected shape", v.solve, q, qd, drivers[:-1], beta)
+            self.assertValueError("policy: 'sideways' is not a policy of this scene", v.solve, q, qd, drivers, beta,
+                                  policy="sideways")
+            self.assertValueError(rf"in: expected shape \({v.flat_in_size},\)", v.solve_flat, d.flat[0][:-1])
+            if d.nc > 0:
+                self.assertValueError("beta: required", v.solve, q, qd, drivers)
+                self.assertValueError(rf"beta: expected shape \({d.nc},\)", v.solve, q, qd, drivers, beta[:-1])
+            state = v.outward(q, qd)
+            self.assertValueError("state: decompose\\(\\) has not run on it", v.solve_state, state, beta)
+            self.assertValueError("drivers: 2-D drivers need a batched state", v.decompose, state, D)
+            batched = v.outward(Q, QD)
+            self.assertValueError(f"drivers: 2 rows, but the state has {STATES}", v.decompose, batched, D[:2])
+
+    def test_status_raises_solver_status_error(self):
+        d = self.data
+        m = self.m
+        for name, v in self.variants():
+            flat = d.flat.astype(v.dtype)
+            q, qd, drivers, beta = d.split(flat)
+            bad_q = q.copy()
+            bad_q[3, 2], bad_q[5, 0] = np.nan, np.inf  # rows 3 and 5 are not finite
+            plain = v.solve(bad_q, qd, drivers, beta)
+            self.assertEqual([bool(s & m.Status.not_finite) for s in plain["status"]],
+                             [k in (3, 5) for k in range(STATES)])
+            with self.assertRaises(m.SolverStatusError) as raised:
+                v.solve(bad_q, qd, drivers, beta, policy=v.policies[-1], raise_on_status=m.Status.not_finite)
+            e = raised.exception
+            self.assertIsInstance(e, RuntimeError)
+            self.assertTrue(e.status & m.Status.not_finite)
+            self.assertEqual((e.index, e.policy), (3, v.policies[-1]))  # the first flagged row
+            self.assertEqual(e.result["status"][3], e.status)
+            self.assertRegex(str(e), rf"^{self.STEM}\.{name}\.solve \(policy {v.policies[-1]}\): status {e.status} "
+                                     rf"\([a-z_|]*not_finite[a-z_|]*\) at row 3 \(2 of {STATES} rows flagged\)")
+            with self.assertRaises(m.SolverStatusError) as raised:
+                v.solve(bad_q[3], qd[3], drivers[3], beta[3], raise_on_status=m.Status.not_finite)
+            self.assertIsNone(raised.exception.index)
+            with self.assertRaises(m.SolverStatusError) as raised:
+                v.solve_flat(np.concatenate([bad_q[3], flat[3, d.dof:]]), raise_on_status=m.Status.not_finite)
+            self.assertTrue(raised.exception.status & m.Status.not_finite)
+            # A mask without the raised flags does not raise (the original policy saturates nothing).
+            v.solve(bad_q, qd, drivers, beta, policy="original", raise_on_status=m.Status.saturated)
+            if d.nc > 0:
+                zero_alpha = drivers[0].copy()
+                alpha_0 = drivers.shape[-1] - 6 * d.nc  # the directions end the drivers (flat_in_layout)
+                zero_alpha[alpha_0:alpha_0 + 6] = 0
+                with self.assertRaises(m.SolverStatusError) as raised:
+                    v.solve(q[0], qd[0], zero_alpha, beta[0], raise_on_status=m.Status.constraint_rank_deficient)
+                self.assertEqual(raised.exception.result["dropped_pivots"], 1)
+
+
+def load_tests(loader, tests, pattern):
+    suite = unittest.TestSuite()
+    for pair in os.environ["SWEEPGEN_PYTHON_SCENES"].split(","):
+        stem, scene = pair.split("=", 1)
+        case = type(f"Module_{stem}", (ModuleTest, unittest.TestCase), {"STEM": stem, "SCENE": scene})
+        suite.addTests(loader.loadTestsFromTestCase(case))
+    return suite
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
