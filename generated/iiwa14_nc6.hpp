@@ -29,24 +29,24 @@
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 805, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1904)
 //   f64::decompose: add 1142, mul 1558, div 6, neg 32, sin/cos 0, compare 238 (total 2976)
-//   f64::solve_original: add 247, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 545)
-//   f64: outward + decompose + solve_original: add 2194, mul 2828, div 12, neg 81, sin/cos 14, compare 296 (total 5425)
+//   f64::solve_original: add 475, mul 464, div 0, neg 6, sin/cos 0, compare 80 (total 1025)
+//   f64: outward + decompose + solve_original: add 2422, mul 3038, div 12, neg 83, sin/cos 14, compare 336 (total 5905)
 //   f64::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 547)
 //   f64: outward + decompose + solve_prioritize_external: add 2196, mul 2828, div 12, neg 81, sin/cos 14, compare 296 (total 5427)
 //   f64::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 68 (total 736)
 //   f64: outward + decompose + solve_saturate: add 2295, mul 2892, div 12, neg 79, sin/cos 14, compare 324 (total 5616)
-//   f64::solve_saturate_exact: add 287, mul 302, div 0, neg 6, sin/cos 0, compare 68 (total 663)
-//   f64: outward + decompose + solve_saturate_exact: add 2234, mul 2876, div 12, neg 83, sin/cos 14, compare 324 (total 5543)
+//   f64::solve_saturate_exact: add 515, mul 512, div 0, neg 9, sin/cos 0, compare 108 (total 1144)
+//   f64: outward + decompose + solve_saturate_exact: add 2462, mul 3086, div 12, neg 86, sin/cos 14, compare 364 (total 6024)
 //   f32::outward: add 805, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1904)
 //   f32::decompose: add 1142, mul 1558, div 6, neg 30, sin/cos 0, compare 238 (total 2974)
-//   f32::solve_original: add 247, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 545)
-//   f32: outward + decompose + solve_original: add 2194, mul 2828, div 12, neg 79, sin/cos 14, compare 296 (total 5423)
+//   f32::solve_original: add 475, mul 464, div 0, neg 6, sin/cos 0, compare 80 (total 1025)
+//   f32: outward + decompose + solve_original: add 2422, mul 3038, div 12, neg 81, sin/cos 14, compare 336 (total 5903)
 //   f32::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 547)
 //   f32: outward + decompose + solve_prioritize_external: add 2196, mul 2828, div 12, neg 79, sin/cos 14, compare 296 (total 5425)
 //   f32::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 68 (total 736)
 //   f32: outward + decompose + solve_saturate: add 2295, mul 2892, div 12, neg 77, sin/cos 14, compare 324 (total 5614)
-//   f32::solve_saturate_exact: add 287, mul 302, div 0, neg 6, sin/cos 0, compare 68 (total 663)
-//   f32: outward + decompose + solve_saturate_exact: add 2234, mul 2876, div 12, neg 81, sin/cos 14, compare 324 (total 5541)
+//   f32::solve_saturate_exact: add 515, mul 512, div 0, neg 9, sin/cos 0, compare 108 (total 1144)
+//   f32: outward + decompose + solve_saturate_exact: add 2462, mul 3086, div 12, neg 84, sin/cos 14, compare 364 (total 6022)
 #pragma once
 
 namespace iiwa14_nc6 {
@@ -113,6 +113,18 @@ struct State {
   Scalar bias_acceleration_6_4_term;
   Scalar bias_acceleration_7_1_term;
   Scalar bias_acceleration_7_4_term;
+  Scalar constraint_force_7_0_term;
+  Scalar constraint_force_7_1_term;
+  Scalar constraint_force_7_6_term;
+  Scalar constraint_force_7_7_term;
+  Scalar constraint_force_7_12_term;
+  Scalar constraint_force_7_13_term;
+  Scalar constraint_force_7_18_term;
+  Scalar constraint_force_7_19_term;
+  Scalar constraint_force_7_24_term;
+  Scalar constraint_force_7_25_term;
+  Scalar constraint_force_7_30_term;
+  Scalar constraint_force_7_31_term;
   Scalar articulated_force_tool_load_7_0_term;
   Scalar articulated_force_tool_load_7_0_term_2;
   Scalar articulated_force_tool_load_7_1_term;
@@ -135,9 +147,8 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
+  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_2;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
@@ -153,20 +164,10 @@ struct State {
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_18;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_19;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_20;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_21;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
@@ -178,11 +179,23 @@ struct State {
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
   Scalar original_nu_0_term_32;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_33;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_34;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_35;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_36;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_37;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_38;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;
@@ -199,15 +212,14 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
-  Scalar original_qdd_0_term;
-  Scalar original_qdd_0_term_2;
-  Scalar original_qdd_0_term_3;
-  Scalar original_acceleration_2_4;
+  Scalar original_nu_0_term_54;
+  Scalar original_nu_0_term_55;
+  Scalar original_nu_0_term_56;
+  Scalar original_nu_0_term_57;
   Scalar original_acceleration_2_3;
-  Scalar original_qdd_1_term;
-  Scalar original_qdd_2_term;
-  Scalar original_qdd_3_term;
-  Scalar original_qdd_3_term_2;
+  Scalar original_nu_0_term_58;
+  Scalar original_nu_0_term_59;
+  Scalar original_nu_0_term_60;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
   Scalar saturate_tau_cmd_0_term;
@@ -335,6 +347,18 @@ struct State {
   Scalar bias_acceleration_6_4_term;
   Scalar bias_acceleration_7_1_term;
   Scalar bias_acceleration_7_4_term;
+  Scalar constraint_force_7_0_term;
+  Scalar constraint_force_7_1_term;
+  Scalar constraint_force_7_6_term;
+  Scalar constraint_force_7_7_term;
+  Scalar constraint_force_7_12_term;
+  Scalar constraint_force_7_13_term;
+  Scalar constraint_force_7_18_term;
+  Scalar constraint_force_7_19_term;
+  Scalar constraint_force_7_24_term;
+  Scalar constraint_force_7_25_term;
+  Scalar constraint_force_7_30_term;
+  Scalar constraint_force_7_31_term;
   Scalar articulated_force_tool_load_7_0_term;
   Scalar articulated_force_tool_load_7_0_term_2;
   Scalar articulated_force_tool_load_7_1_term;
@@ -357,9 +381,8 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
+  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_2;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
@@ -377,20 +400,10 @@ struct State {
   Scalar original_nu_0_term_17;
   Scalar original_nu_0_term_18;
   Scalar original_nu_0_term_19;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_20;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_21;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_22;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_23;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
   Scalar original_nu_0_term_26;
@@ -400,12 +413,24 @@ struct State {
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
   Scalar original_nu_0_term_32;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_33;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_34;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_35;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_36;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_37;
   Scalar original_nu_0_term_38;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;
   Scalar original_nu_0_term_41;
@@ -421,15 +446,14 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
-  Scalar original_qdd_0_term;
-  Scalar original_qdd_0_term_2;
-  Scalar original_qdd_0_term_3;
-  Scalar original_acceleration_2_4;
+  Scalar original_nu_0_term_54;
+  Scalar original_nu_0_term_55;
+  Scalar original_nu_0_term_56;
+  Scalar original_nu_0_term_57;
   Scalar original_acceleration_2_3;
-  Scalar original_qdd_1_term;
-  Scalar original_qdd_2_term;
-  Scalar original_qdd_3_term;
-  Scalar original_qdd_3_term_2;
+  Scalar original_nu_0_term_58;
+  Scalar original_nu_0_term_59;
+  Scalar original_nu_0_term_60;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
   Scalar saturate_tau_cmd_0_term;

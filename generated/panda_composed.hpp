@@ -27,14 +27,14 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 698, mul 922, div 6, neg 46, sin/cos 12, compare 18 (total 1702)
+//   f64::outward: add 698, mul 922, div 6, neg 45, sin/cos 12, compare 18 (total 1701)
 //   f64::decompose: add 1007, mul 1318, div 6, neg 69, sin/cos 0, compare 238 (total 2638)
-//   f64::solve_original: add 247, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 564)
-//   f64: outward + decompose + solve_original: add 1952, mul 2511, div 12, neg 121, sin/cos 12, compare 296 (total 4904)
+//   f64::solve_original: add 474, mul 496, div 0, neg 11, sin/cos 0, compare 80 (total 1061)
+//   f64: outward + decompose + solve_original: add 2179, mul 2736, div 12, neg 125, sin/cos 12, compare 336 (total 5400)
 //   f64::solve_saturate: add 383, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 828)
-//   f64: outward + decompose + solve_saturate: add 2088, mul 2608, div 12, neg 124, sin/cos 12, compare 324 (total 5168)
-//   f64::solve_saturate_exact: add 290, mul 322, div 0, neg 8, sin/cos 0, compare 68 (total 688)
-//   f64: outward + decompose + solve_saturate_exact: add 1995, mul 2562, div 12, neg 123, sin/cos 12, compare 324 (total 5028)
+//   f64: outward + decompose + solve_saturate: add 2088, mul 2608, div 12, neg 123, sin/cos 12, compare 324 (total 5167)
+//   f64::solve_saturate_exact: add 517, mul 547, div 0, neg 14, sin/cos 0, compare 108 (total 1186)
+//   f64: outward + decompose + solve_saturate_exact: add 2222, mul 2787, div 12, neg 128, sin/cos 12, compare 364 (total 5525)
 #pragma once
 
 namespace panda_composed {
@@ -74,7 +74,6 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
-  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;
@@ -138,36 +137,60 @@ struct State {
   Scalar bias_force_7_3;
   Scalar bias_force_7_4;
   Scalar bias_force_7_5;
+  Scalar constraint_force_7_0_term;
+  Scalar constraint_force_7_0_term_2;
   Scalar constraint_force_7_4;
+  Scalar constraint_force_7_0_term_3;
+  Scalar constraint_force_7_0_term_4;
   Scalar constraint_force_7_0;
   Scalar constraint_force_7_3;
   Scalar constraint_force_7_1;
   Scalar constraint_force_7_2;
   Scalar constraint_force_7_5;
+  Scalar constraint_force_7_6_term;
+  Scalar constraint_force_7_6_term_2;
   Scalar constraint_force_7_10;
+  Scalar constraint_force_7_6_term_3;
+  Scalar constraint_force_7_6_term_4;
   Scalar constraint_force_7_6;
   Scalar constraint_force_7_9;
   Scalar constraint_force_7_7;
   Scalar constraint_force_7_8;
   Scalar constraint_force_7_11;
+  Scalar constraint_force_7_12_term;
+  Scalar constraint_force_7_12_term_2;
   Scalar constraint_force_7_16;
+  Scalar constraint_force_7_12_term_3;
+  Scalar constraint_force_7_12_term_4;
   Scalar constraint_force_7_12;
   Scalar constraint_force_7_15;
   Scalar constraint_force_7_13;
   Scalar constraint_force_7_14;
   Scalar constraint_force_7_17;
+  Scalar constraint_force_7_18_term;
+  Scalar constraint_force_7_18_term_2;
+  Scalar constraint_force_7_18_term_3;
+  Scalar constraint_force_7_18_term_4;
   Scalar constraint_force_7_22;
   Scalar constraint_force_7_18;
   Scalar constraint_force_7_21;
   Scalar constraint_force_7_19;
   Scalar constraint_force_7_20;
   Scalar constraint_force_7_23;
+  Scalar constraint_force_7_24_term;
+  Scalar constraint_force_7_24_term_2;
+  Scalar constraint_force_7_24_term_3;
+  Scalar constraint_force_7_24_term_4;
   Scalar constraint_force_7_28;
   Scalar constraint_force_7_24;
   Scalar constraint_force_7_27;
   Scalar constraint_force_7_25;
   Scalar constraint_force_7_26;
   Scalar constraint_force_7_29;
+  Scalar constraint_force_7_30_term;
+  Scalar constraint_force_7_30_term_2;
+  Scalar constraint_force_7_30_term_3;
+  Scalar constraint_force_7_30_term_4;
   Scalar constraint_force_7_34;
   Scalar constraint_force_7_30;
   Scalar constraint_force_7_33;
@@ -354,12 +377,12 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
-  Scalar original_qdd_0_term;
-  Scalar original_qdd_0_term_2;
+  Scalar original_nu_0_term_54;
+  Scalar original_nu_0_term_55;
   Scalar original_acceleration_2_3;
-  Scalar original_qdd_1_term;
+  Scalar original_nu_0_term_56;
   Scalar original_acceleration_3_5;
-  Scalar original_qdd_2_term;
+  Scalar original_nu_0_term_57;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
   Scalar saturate_tau_cmd_0_term;

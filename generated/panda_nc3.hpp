@@ -29,24 +29,24 @@
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
 //   f64::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
-//   f64::solve_original: add 196, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 408)
-//   f64: outward + decompose + solve_original: add 1597, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3777)
+//   f64::solve_original: add 366, mul 355, div 0, neg 11, sin/cos 0, compare 8 (total 740)
+//   f64: outward + decompose + solve_original: add 1767, mul 2166, div 9, neg 108, sin/cos 12, compare 47 (total 4109)
 //   f64::solve_prioritize_external: add 199, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 410)
 //   f64: outward + decompose + solve_prioritize_external: add 1600, mul 2013, div 9, neg 102, sin/cos 12, compare 43 (total 3779)
 //   f64::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 32 (total 708)
 //   f64: outward + decompose + solve_saturate: add 1754, mul 2125, div 9, neg 106, sin/cos 12, compare 71 (total 4077)
-//   f64::solve_saturate_exact: add 257, mul 271, div 0, neg 9, sin/cos 0, compare 32 (total 569)
-//   f64: outward + decompose + solve_saturate_exact: add 1658, mul 2082, div 9, neg 106, sin/cos 12, compare 71 (total 3938)
+//   f64::solve_saturate_exact: add 427, mul 424, div 0, neg 13, sin/cos 0, compare 36 (total 900)
+//   f64: outward + decompose + solve_saturate_exact: add 1828, mul 2235, div 9, neg 110, sin/cos 12, compare 75 (total 4269)
 //   f32::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
 //   f32::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
-//   f32::solve_original: add 196, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 407)
-//   f32: outward + decompose + solve_original: add 1597, mul 2013, div 9, neg 102, sin/cos 12, compare 43 (total 3776)
+//   f32::solve_original: add 366, mul 355, div 0, neg 9, sin/cos 0, compare 8 (total 738)
+//   f32: outward + decompose + solve_original: add 1767, mul 2166, div 9, neg 106, sin/cos 12, compare 47 (total 4107)
 //   f32::solve_prioritize_external: add 199, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 411)
 //   f32: outward + decompose + solve_prioritize_external: add 1600, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3780)
 //   f32::solve_saturate: add 353, mul 314, div 0, neg 8, sin/cos 0, compare 32 (total 707)
 //   f32: outward + decompose + solve_saturate: add 1754, mul 2125, div 9, neg 105, sin/cos 12, compare 71 (total 4076)
-//   f32::solve_saturate_exact: add 257, mul 271, div 0, neg 8, sin/cos 0, compare 32 (total 568)
-//   f32: outward + decompose + solve_saturate_exact: add 1658, mul 2082, div 9, neg 105, sin/cos 12, compare 71 (total 3937)
+//   f32::solve_saturate_exact: add 427, mul 424, div 0, neg 12, sin/cos 0, compare 36 (total 899)
+//   f32: outward + decompose + solve_saturate_exact: add 1828, mul 2235, div 9, neg 109, sin/cos 12, compare 75 (total 4268)
 #pragma once
 
 namespace panda_nc3 {
@@ -151,18 +151,30 @@ struct State {
   Scalar bias_force_7_3;
   Scalar bias_force_7_4;
   Scalar bias_force_7_5;
+  Scalar constraint_force_7_0_term;
+  Scalar constraint_force_7_0_term_2;
   Scalar constraint_force_7_4;
+  Scalar constraint_force_7_0_term_3;
+  Scalar constraint_force_7_0_term_4;
   Scalar constraint_force_7_0;
   Scalar constraint_force_7_3;
   Scalar constraint_force_7_1;
   Scalar constraint_force_7_2;
   Scalar constraint_force_7_5;
+  Scalar constraint_force_7_6_term;
+  Scalar constraint_force_7_6_term_2;
   Scalar constraint_force_7_10;
+  Scalar constraint_force_7_6_term_3;
+  Scalar constraint_force_7_6_term_4;
   Scalar constraint_force_7_6;
   Scalar constraint_force_7_9;
   Scalar constraint_force_7_7;
   Scalar constraint_force_7_8;
   Scalar constraint_force_7_11;
+  Scalar constraint_force_7_12_term;
+  Scalar constraint_force_7_12_term_2;
+  Scalar constraint_force_7_12_term_3;
+  Scalar constraint_force_7_12_term_4;
   Scalar constraint_force_7_16;
   Scalar constraint_force_7_12;
   Scalar constraint_force_7_15;
@@ -271,30 +283,30 @@ struct State {
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
-  Scalar original_nu_0_term_8;
-  Scalar original_nu_0_term_9;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_10;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_8;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
+  Scalar original_nu_0_term_9;
+  Scalar original_nu_0_term_10;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
   Scalar original_nu_0_term_14;
-  Scalar original_qdd_0_term;
-  Scalar original_qdd_0_term_2;
-  Scalar original_qdd_0_term_3;
+  Scalar original_nu_0_term_15;
+  Scalar original_nu_0_term_16;
+  Scalar original_nu_0_term_17;
   Scalar original_acceleration_2_3;
-  Scalar original_qdd_1_term;
+  Scalar original_nu_0_term_18;
   Scalar original_acceleration_3_5;
-  Scalar original_qdd_2_term;
+  Scalar original_nu_0_term_19;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
   Scalar saturate_tau_cmd_0_term;
@@ -458,18 +470,30 @@ struct State {
   Scalar bias_force_7_3;
   Scalar bias_force_7_4;
   Scalar bias_force_7_5;
+  Scalar constraint_force_7_0_term;
+  Scalar constraint_force_7_0_term_2;
   Scalar constraint_force_7_4;
+  Scalar constraint_force_7_0_term_3;
+  Scalar constraint_force_7_0_term_4;
   Scalar constraint_force_7_0;
   Scalar constraint_force_7_3;
   Scalar constraint_force_7_1;
   Scalar constraint_force_7_2;
   Scalar constraint_force_7_5;
+  Scalar constraint_force_7_6_term;
+  Scalar constraint_force_7_6_term_2;
   Scalar constraint_force_7_10;
+  Scalar constraint_force_7_6_term_3;
+  Scalar constraint_force_7_6_term_4;
   Scalar constraint_force_7_6;
   Scalar constraint_force_7_9;
   Scalar constraint_force_7_7;
   Scalar constraint_force_7_8;
   Scalar constraint_force_7_11;
+  Scalar constraint_force_7_12_term;
+  Scalar constraint_force_7_12_term_2;
+  Scalar constraint_force_7_12_term_3;
+  Scalar constraint_force_7_12_term_4;
   Scalar constraint_force_7_16;
   Scalar constraint_force_7_12;
   Scalar constraint_force_7_15;
@@ -576,32 +600,32 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
-  Scalar original_nu_0_term_8;
-  Scalar original_nu_0_term_9;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_10;
+  Scalar original_nu_0_term_8;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_9;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_10;
   Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
   Scalar original_nu_0_term_14;
-  Scalar original_qdd_0_term;
-  Scalar original_qdd_0_term_2;
-  Scalar original_qdd_0_term_3;
-  Scalar original_acceleration_2_3;
-  Scalar original_qdd_1_term;
   Scalar original_acceleration_3_5;
-  Scalar original_qdd_2_term;
+  Scalar original_nu_0_term_15;
+  Scalar original_nu_0_term_16;
+  Scalar original_nu_0_term_17;
+  Scalar original_nu_0_term_18;
+  Scalar original_acceleration_2_3;
+  Scalar original_nu_0_term_19;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
   Scalar saturate_tau_cmd_0_term;

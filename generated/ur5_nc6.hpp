@@ -28,24 +28,24 @@
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 854, mul 1278, div 11, neg 29, sin/cos 10, compare 252 (total 2434)
 //   f64::decompose: add 263, mul 252, div 0, neg 5, sin/cos 0, compare 0 (total 520)
-//   f64::solve_original: add 178, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 403)
-//   f64: outward + decompose + solve_original: add 1295, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3357)
+//   f64::solve_original: add 338, mul 320, div 0, neg 9, sin/cos 0, compare 80 (total 747)
+//   f64: outward + decompose + solve_original: add 1455, mul 1850, div 11, neg 43, sin/cos 10, compare 332 (total 3701)
 //   f64::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 405)
 //   f64: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3359)
 //   f64::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 64 (total 583)
 //   f64: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 316 (total 3537)
-//   f64::solve_saturate_exact: add 207, mul 213, div 0, neg 5, sin/cos 0, compare 64 (total 489)
-//   f64: outward + decompose + solve_saturate_exact: add 1324, mul 1743, div 11, neg 39, sin/cos 10, compare 316 (total 3443)
+//   f64::solve_saturate_exact: add 367, mul 353, div 0, neg 9, sin/cos 0, compare 104 (total 833)
+//   f64: outward + decompose + solve_saturate_exact: add 1484, mul 1883, div 11, neg 43, sin/cos 10, compare 356 (total 3787)
 //   f32::outward: add 854, mul 1278, div 11, neg 29, sin/cos 10, compare 252 (total 2434)
 //   f32::decompose: add 263, mul 252, div 0, neg 5, sin/cos 0, compare 0 (total 520)
-//   f32::solve_original: add 178, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 403)
-//   f32: outward + decompose + solve_original: add 1295, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3357)
+//   f32::solve_original: add 338, mul 320, div 0, neg 9, sin/cos 0, compare 80 (total 747)
+//   f32: outward + decompose + solve_original: add 1455, mul 1850, div 11, neg 43, sin/cos 10, compare 332 (total 3701)
 //   f32::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 405)
 //   f32: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3359)
 //   f32::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 64 (total 583)
 //   f32: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 316 (total 3537)
-//   f32::solve_saturate_exact: add 207, mul 213, div 0, neg 5, sin/cos 0, compare 64 (total 489)
-//   f32: outward + decompose + solve_saturate_exact: add 1324, mul 1743, div 11, neg 39, sin/cos 10, compare 316 (total 3443)
+//   f32::solve_saturate_exact: add 367, mul 353, div 0, neg 9, sin/cos 0, compare 104 (total 833)
+//   f32: outward + decompose + solve_saturate_exact: add 1484, mul 1883, div 11, neg 43, sin/cos 10, compare 356 (total 3787)
 #pragma once
 
 namespace ur5_nc6 {
@@ -244,8 +244,6 @@ struct State {
   Scalar articulated_force_tool_load_1_2;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
@@ -274,6 +272,8 @@ struct State {
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
   Scalar original_nu_0_term_20;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
@@ -305,19 +305,19 @@ struct State {
   Scalar original_nu_0_term_49;
   Scalar original_nu_0_term_50;
   Scalar original_nu_0_term_51;
-  Scalar original_qdd_0_term;
-  Scalar original_qdd_0_term_2;
-  Scalar original_qdd_0_term_3;
-  Scalar original_qdd_0_term_4;
-  Scalar original_qdd_1_term;
+  Scalar original_nu_0_term_52;
+  Scalar original_nu_0_term_53;
+  Scalar original_nu_0_term_54;
+  Scalar original_nu_0_term_55;
+  Scalar original_nu_0_term_56;
   Scalar original_acceleration_2_4;
-  Scalar original_qdd_1_term_2;
-  Scalar original_qdd_2_term;
-  Scalar original_qdd_2_term_2;
-  Scalar original_qdd_2_term_3;
-  Scalar original_qdd_3_term;
-  Scalar original_qdd_4_term;
-  Scalar original_qdd_5_term;
+  Scalar original_nu_0_term_57;
+  Scalar original_nu_0_term_58;
+  Scalar original_nu_0_term_59;
+  Scalar original_nu_0_term_60;
+  Scalar original_nu_0_term_61;
+  Scalar original_nu_0_term_62;
+  Scalar original_nu_0_term_63;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
   Scalar saturate_tau_cmd_0_term;
@@ -573,8 +573,6 @@ struct State {
   Scalar articulated_force_tool_load_1_2;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
@@ -589,20 +587,22 @@ struct State {
   Scalar original_nu_0_term_14;
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
-  Scalar original_nu_0_term_17;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_18;
+  Scalar original_nu_0_term_17;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_18;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_19;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_20;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
@@ -634,19 +634,19 @@ struct State {
   Scalar original_nu_0_term_49;
   Scalar original_nu_0_term_50;
   Scalar original_nu_0_term_51;
-  Scalar original_qdd_0_term;
-  Scalar original_qdd_0_term_2;
-  Scalar original_qdd_0_term_3;
-  Scalar original_qdd_0_term_4;
-  Scalar original_qdd_1_term;
+  Scalar original_nu_0_term_52;
+  Scalar original_nu_0_term_53;
+  Scalar original_nu_0_term_54;
+  Scalar original_nu_0_term_55;
+  Scalar original_nu_0_term_56;
   Scalar original_acceleration_2_4;
-  Scalar original_qdd_1_term_2;
-  Scalar original_qdd_2_term;
-  Scalar original_qdd_2_term_2;
-  Scalar original_qdd_2_term_3;
-  Scalar original_qdd_3_term;
-  Scalar original_qdd_4_term;
-  Scalar original_qdd_5_term;
+  Scalar original_nu_0_term_57;
+  Scalar original_nu_0_term_58;
+  Scalar original_nu_0_term_59;
+  Scalar original_nu_0_term_60;
+  Scalar original_nu_0_term_61;
+  Scalar original_nu_0_term_62;
+  Scalar original_nu_0_term_63;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
   Scalar saturate_tau_cmd_0_term;

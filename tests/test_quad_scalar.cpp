@@ -46,6 +46,9 @@ template <class Scalar>
 std::vector<Scalar> solve(const report::StabilityCase& c, const report::Problem& p, bool reverse_directions = false) {
   solver::SolverOptions options = c.scene.solver_options();
   options.pivot_tolerance = 1e-40;  // keep every direction in every scalar: compare one problem
+  // Without the refinement (R1): the referee must judge unrefined solves too (a scene option),
+  // and this is where a scalar's own rounding shows most.
+  options.refinement = false;
   solver::ReferenceSolver<Scalar> s(c.chain, c.scene.layout, options);
   s.outward(p.q.cast<Scalar>(), p.qd.cast<Scalar>());
   auto& d = s.drivers();

@@ -1,22 +1,34 @@
 // The symbolic trace records exactly the reference sweeps: evaluating the traced graph in
 // double reproduces every state field of ReferenceSolver<double>. Folding only applies exact
-// identities (x*1, x+0, reordering of commutative operands), so the agreement is to a few
-// ulps (tolerance 1e-13 relative, for operand orders Eigen may vectorise differently).
+// identities (x*1, x+0, reordering of commutative operands), so each differing site perturbs one
+// intermediate by a rounding or two; downstream such a perturbation is amplified by up to
+// κ = max(1, cond_s(E^A_cstr,0), cond(M)): through ν by cond_s(E), through the accelerations of
+// a torque (the refinement (R1) feeds Ẍ_tip back into ν, saturate_exact runs forward dynamics
+// with its clamped torque) by cond(M). Tolerance: kFoldingRoundings eps κ relative, at least
+// 1e-13 (operand orders Eigen may vectorise differently); states with κ > kMaxCondition are
+// counted and skipped, so the tolerance never exceeds 64 · 2.2e-16 · 1e8 ≈ 1.4e-6, while a
+// flipped sign or a dropped term is O(1).
 #include <gtest/gtest.h>
 
 #include <map>
 #include <stdexcept>
 
+#include "report/condition_number.hpp"
+#include "report/measure.hpp"
 #include "solver/reference_solver.hpp"
 #include "solver/state_fields.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
+#include "support/skip_count.hpp"
 #include "symbolic/trace.hpp"
 
 namespace sweepgen {
 namespace {
 
 using Key = std::tuple<std::string, std::string, int, int>;
+
+constexpr double kFoldingRoundings = 64;
+constexpr double kMaxCondition = 1e8;
 
 solver::DriverLayout full_layout(const model::Chain& chain, std::size_t nc) {
   solver::DriverLayout layout;
@@ -32,6 +44,10 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
                                                 solver::Policy::saturate, solver::Policy::saturate_exact};
   test::RandomProblem random(7);
   double worst = 0;
+  // Random unit directions make κ > 1e8 now and then (6 random directions on the 6-joint UR5 are often
+  // nearly dependent; measured 25 of 240 states, the printed line): a fifth
+  // leaves room.
+  test::SkipCount skips("trace vs reference, kappa > 1e8", 0.2);
   for (const auto& robot : test::bundled_robots()) {
     const model::Chain chain = test::load_bundled(robot);
     for (std::size_t nc : {0u, 3u, 6u}) {
@@ -78,6 +94,11 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
         };
         reference.outward(q, qd);
         reference.decompose();
+        const double condition = std::max(
+            {1.0, nc > 0 ? report::scaled_condition_number(reference.articulated().body[0].constraint_energy) : 1.0,
+             report::inertia_condition_number(chain, q.cast<report::Precise>(), {})});
+        if (skips.skip(!(condition <= kMaxCondition), "kappa > 1e8")) continue;
+        const double tolerance = std::max(1e-13, kFoldingRoundings * std::numeric_limits<double>::epsilon() * condition);
         solver::visit_fields(reference.kinematics(), keep("kinematics"));
         solver::visit_fields(reference.articulated(), layout, keep("articulated"));
         for (auto policy : policies) solver::visit_fields(reference.solve(policy, beta), policy, keep(solver::name(policy)));
@@ -86,14 +107,14 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
         for (const auto& field : trace.fields) {
           const double want = expected.at({field.group, field.array, field.body, field.component});
           const double error = std::abs(values[field.node] - want) / std::max(1.0, std::abs(want));
-          worst = std::max(worst, error);
-          ASSERT_LE(error, 1e-13) << field.group << "." << field.array << "[" << field.body << "][" << field.component
+          worst = std::max(worst, error / tolerance);
+          ASSERT_LE(error, tolerance) << field.group << "." << field.array << "[" << field.body << "][" << field.component
                                   << "]: traced " << values[field.node] << ", reference " << want;
         }
       }
     }
   }
-  std::cout << "trace vs reference: max relative difference " << worst << "\n";
+  std::cout << "trace vs reference: max relative difference / tolerance " << worst << "\n";
 }
 
 // C++ leaves the order in which operands are evaluated open: g++ and clang trace `a*b + c*d`

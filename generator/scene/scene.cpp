@@ -341,6 +341,7 @@ solver::SolverOptions Scene::solver_options() const {
   options.gravity = gravity;
   options.constraint_factorisation = constraint_factorisation;
   options.pivot_tolerance = pivot_tolerance;
+  options.refinement = refinement;
   return options;
 }
 
@@ -369,7 +370,8 @@ Scene load_scene(const std::string& path) {
   scene.path = path;
   const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip",
                                          "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
-                                         "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation"};
+                                         "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation",
+                                         "refinement"};
   std::map<std::string, Item> values;
   for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
   const auto get = [&](const std::string& key) -> std::optional<Item> {
@@ -500,6 +502,8 @@ Scene load_scene(const std::string& path) {
     if (!(t > 0 && t < 1)) reader.fail(*item, "relative pivot tolerance must be > 0 and < 1");
     scene.pivot_tolerance = t;
   }
+  if (const auto item = get("refinement"))
+    scene.refinement = reader.choice(*item, {"true", "false"}, "refinement value") == "true";
   if (const auto item = get("check_inputs"))
     scene.check_inputs = reader.choice(*item, {"true", "false"}, "check_inputs value") == "true";
   return scene;

@@ -60,6 +60,11 @@
 //   pivot_tolerance: 1e-12          # optional: relative tolerance of the constraint
 //                                   #   factorisation (pivot threshold, or damping when damped),
 //                                   #   0 < t < 1; default: 1000 * epsilon of the emitted scalar
+//   refinement: true                # optional: true (default) or false. When true, the original
+//                                   #   policy (and saturate_exact before its clamp) refines ν once
+//                                   #   from the constraint's residual, with the pivoted
+//                                   #   factorisation (docs/derivation.md, (R1)): about a tenth more
+//                                   #   work per solve for errors near a dense KKT solve's
 //   check_inputs: true              # optional: true (default) or false. When true, the generated
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
@@ -99,6 +104,7 @@ struct Scene {
   bool expose_all = false;
   solver::ConstraintFactorisation constraint_factorisation = solver::ConstraintFactorisation::pivoted_ldlt;
   double pivot_tolerance = 0;  // 0: the default for the emitted scalar
+  bool refinement = true;      // (R1)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),

@@ -35,6 +35,10 @@ struct SolverOptions {
   // Relative tolerance of the joint-inertia policy (solver/joint_inertia.hpp): joint i is locked
   // when D_i <= t (d_i + tr of its block of M^A_i); <= 0 picks 1000 epsilon of the scalar.
   double joint_inertia_tolerance = 0;
+  // One step of iterative refinement of ν from the constraint's residual (R1) in the policies
+  // that enforce the constraint exactly (original, and saturate_exact before its clamp) with
+  // the pivoted factorisation.
+  bool refinement = true;
 
   static double default_pivot_tolerance(double epsilon) { return 1000 * epsilon; }
   double pivot_tolerance_for(double epsilon) const {
@@ -82,6 +86,7 @@ struct SolverModel {
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
   Scalar pivot_tolerance;
   Scalar joint_inertia_tolerance;
+  bool refinement = true;
   DriverLayout layout;
 
   std::size_t dof() const { return joints.size() - 1; }
@@ -120,6 +125,7 @@ struct SolverModel {
     constraint_factorisation = options.constraint_factorisation;
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
     joint_inertia_tolerance = Scalar(options.joint_inertia_tolerance_for(epsilon));
+    refinement = options.refinement;
   }
 };
 

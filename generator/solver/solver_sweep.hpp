@@ -7,6 +7,8 @@
 //           clamped to ±effort limit                        Eq. 1
 //   q̈_i     = D_i^-1 (τff_i + τctrl_i − S_i^T (Σ_{t composed} F^A_t,i + M^A_i a_i)),   (S4)
 //   a_i     = X_i Ẍ_{i-1} + Ẍb_i,      Ẍ_i = a_i + S_i q̈_i                              (S5)
+// Refinement (original policy, pivoted factorisation): with r = E_cstr,N − αᵀ Ẍ_tip the
+// residual of the first pass, (S2)–(S5) once more with the setpoints E_cstr,N + r            (R1)
 // Exact saturation clamps τcmd instead and runs forward dynamics with it: the extra torque
 // Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity (X1).
 #pragma once
@@ -99,6 +101,30 @@ void saturate_commanded_torque(const SolverModel<Scalar>& model, const Kinematic
   accelerations_base_to_tip(model, kin, art, inputs, Policy::original, &sol.correction_force, sol);
 }
 
+// Whether (R1) applies: a policy whose answer meets αᵀ Ẍ_tip = E_cstr,N exactly (the others
+// leave a residual by design) and the pivoted factorisation (the damped one is biased on
+// purpose; refining would undo its damping).
+template <class Scalar>
+bool refines(const SolverModel<Scalar>& model, Policy constraint_policy) {
+  return model.refinement && model.constraints() > 0 && constraint_policy == Policy::original &&
+         model.constraint_factorisation == ConstraintFactorisation::pivoted_ldlt;
+}
+
+// (R1): E_cstr,N + r with r = E_cstr,N − αᵀ Ẍ_tip. ν comes from E^A_cstr,0, formed as a sum of
+// products over the chain like the normal equations of the constraint Jacobian, so its rounding
+// is amplified by cond(E) (the square of the Jacobian's); Ẍ_tip comes from the sweeps of the
+// motion itself, so r measures that error without forming E again, and ν + E^-1 r removes it to
+// first order (docs/stability.md, "Refinement"). A dropped direction's r changes nothing: its
+// column of L and its pivot are 0.
+template <class Scalar>
+ConstraintVector<Scalar> refined_setpoints(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
+                                           const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
+  ConstraintVector<Scalar> refined(model.constraints());
+  for (std::size_t k = 0; k < model.constraints(); ++k)
+    refined[k] = setpoints[k] + (setpoints[k] - spatial::dot(inputs.constraint_directions[k], sol.tip_acceleration));
+  return refined;
+}
+
 // @pre kin and art from the outward and decomposition sweeps of the same state and drivers.
 template <class Scalar>
 void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
@@ -107,10 +133,14 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
   const Policy constraint_policy = policy == Policy::saturate_exact ? Policy::original : policy;
   sol.locked_joints = Scalar(0);
   for (std::size_t i = 1; i <= model.dof(); ++i) sol.locked_joints += art.body[i].locked;
-  constraint_multipliers(model, art, setpoints, constraint_policy, sol);
-  control_torques(model, art, constraint_policy, sol);
   const std::vector<spatial::Force<Scalar>>* no_extra_force = nullptr;
-  accelerations_base_to_tip(model, kin, art, inputs, constraint_policy, no_extra_force, sol);
+  const auto constrained_motion = [&](const ConstraintVector<Scalar>& targets) {  // (S2)–(S5)
+    constraint_multipliers(model, art, targets, constraint_policy, sol);
+    control_torques(model, art, constraint_policy, sol);
+    accelerations_base_to_tip(model, kin, art, inputs, constraint_policy, no_extra_force, sol);
+  };
+  constrained_motion(setpoints);
+  if (refines(model, constraint_policy)) constrained_motion(refined_setpoints(model, inputs, setpoints, sol));
   if (policy == Policy::saturate)
     inverse_dynamics_torque_tip_to_base(model, kin, inputs, sol);
   else
