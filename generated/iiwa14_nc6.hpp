@@ -28,25 +28,25 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 805, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1904)
-//   f64::decompose: add 1142, mul 1558, div 6, neg 32, sin/cos 0, compare 238 (total 2976)
+//   f64::decompose: add 1122, mul 1508, div 6, neg 32, sin/cos 0, compare 138 (total 2806)
 //   f64::solve_original: add 475, mul 464, div 0, neg 6, sin/cos 0, compare 80 (total 1025)
-//   f64: outward + decompose + solve_original: add 2422, mul 3038, div 12, neg 83, sin/cos 14, compare 336 (total 5905)
+//   f64: outward + decompose + solve_original: add 2402, mul 2988, div 12, neg 83, sin/cos 14, compare 236 (total 5735)
 //   f64::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 547)
-//   f64: outward + decompose + solve_prioritize_external: add 2196, mul 2828, div 12, neg 81, sin/cos 14, compare 296 (total 5427)
+//   f64: outward + decompose + solve_prioritize_external: add 2176, mul 2778, div 12, neg 81, sin/cos 14, compare 196 (total 5257)
 //   f64::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 68 (total 736)
-//   f64: outward + decompose + solve_saturate: add 2295, mul 2892, div 12, neg 79, sin/cos 14, compare 324 (total 5616)
-//   f64::solve_saturate_exact: add 515, mul 512, div 0, neg 9, sin/cos 0, compare 108 (total 1144)
-//   f64: outward + decompose + solve_saturate_exact: add 2462, mul 3086, div 12, neg 86, sin/cos 14, compare 364 (total 6024)
+//   f64: outward + decompose + solve_saturate: add 2275, mul 2842, div 12, neg 79, sin/cos 14, compare 224 (total 5446)
+//   f64::solve_saturate_exact: add 515, mul 512, div 0, neg 8, sin/cos 0, compare 108 (total 1143)
+//   f64: outward + decompose + solve_saturate_exact: add 2442, mul 3036, div 12, neg 85, sin/cos 14, compare 264 (total 5853)
 //   f32::outward: add 805, mul 1016, div 6, neg 45, sin/cos 14, compare 18 (total 1904)
-//   f32::decompose: add 1142, mul 1558, div 6, neg 30, sin/cos 0, compare 238 (total 2974)
+//   f32::decompose: add 1122, mul 1508, div 6, neg 30, sin/cos 0, compare 138 (total 2804)
 //   f32::solve_original: add 475, mul 464, div 0, neg 6, sin/cos 0, compare 80 (total 1025)
-//   f32: outward + decompose + solve_original: add 2422, mul 3038, div 12, neg 81, sin/cos 14, compare 336 (total 5903)
+//   f32: outward + decompose + solve_original: add 2402, mul 2988, div 12, neg 81, sin/cos 14, compare 236 (total 5733)
 //   f32::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 40 (total 547)
-//   f32: outward + decompose + solve_prioritize_external: add 2196, mul 2828, div 12, neg 79, sin/cos 14, compare 296 (total 5425)
+//   f32: outward + decompose + solve_prioritize_external: add 2176, mul 2778, div 12, neg 79, sin/cos 14, compare 196 (total 5255)
 //   f32::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 68 (total 736)
-//   f32: outward + decompose + solve_saturate: add 2295, mul 2892, div 12, neg 77, sin/cos 14, compare 324 (total 5614)
-//   f32::solve_saturate_exact: add 515, mul 512, div 0, neg 9, sin/cos 0, compare 108 (total 1144)
-//   f32: outward + decompose + solve_saturate_exact: add 2462, mul 3086, div 12, neg 84, sin/cos 14, compare 364 (total 6022)
+//   f32: outward + decompose + solve_saturate: add 2275, mul 2842, div 12, neg 77, sin/cos 14, compare 224 (total 5444)
+//   f32::solve_saturate_exact: add 515, mul 512, div 0, neg 8, sin/cos 0, compare 108 (total 1143)
+//   f32: outward + decompose + solve_saturate_exact: add 2442, mul 3036, div 12, neg 83, sin/cos 14, compare 264 (total 5851)
 #pragma once
 
 namespace iiwa14_nc6 {
@@ -147,7 +147,6 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
-  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
@@ -175,27 +174,27 @@ struct State {
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
-  Scalar original_nu_0_term_29;
-  Scalar original_nu_0_term_30;
-  Scalar original_nu_0_term_31;
-  Scalar original_nu_0_term_32;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_33;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_34;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar original_nu_0_term_35;
+  Scalar original_nu_0_term_29;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
+  Scalar original_nu_0_term_30;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_31;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_36;
+  Scalar original_nu_0_term_32;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_37;
+  Scalar original_nu_0_term_33;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_34;
+  Scalar original_nu_0_term_35;
+  Scalar original_nu_0_term_36;
+  Scalar original_nu_0_term_37;
   Scalar original_nu_0_term_38;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;
@@ -215,8 +214,9 @@ struct State {
   Scalar original_nu_0_term_54;
   Scalar original_nu_0_term_55;
   Scalar original_nu_0_term_56;
-  Scalar original_nu_0_term_57;
   Scalar original_acceleration_2_3;
+  Scalar original_acceleration_2_4;
+  Scalar original_nu_0_term_57;
   Scalar original_nu_0_term_58;
   Scalar original_nu_0_term_59;
   Scalar original_nu_0_term_60;
@@ -381,7 +381,6 @@ struct State {
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
-  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
@@ -405,32 +404,32 @@ struct State {
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_25;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_26;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_27;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_28;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_29;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
   Scalar original_nu_0_term_32;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_33;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_34;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_35;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_36;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_37;
   Scalar original_nu_0_term_38;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;
   Scalar original_nu_0_term_41;
@@ -446,6 +445,7 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
+  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_54;
   Scalar original_nu_0_term_55;
   Scalar original_nu_0_term_56;

@@ -27,10 +27,10 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1521, mul 2034, div 12, neg 110, sin/cos 12, compare 256 (total 3945)
+//   f64::outward: add 1426, mul 1894, div 12, neg 110, sin/cos 12, compare 156 (total 3610)
 //   f64::decompose: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
 //   f64::solve_original: add 397, mul 429, div 0, neg 9, sin/cos 0, compare 80 (total 915)
-//   f64: outward + decompose + solve_original: add 1918, mul 2463, div 12, neg 119, sin/cos 12, compare 336 (total 4860)
+//   f64: outward + decompose + solve_original: add 1823, mul 2323, div 12, neg 119, sin/cos 12, compare 236 (total 4525)
 #pragma once
 
 namespace panda_bias_only {
@@ -229,10 +229,10 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
-  Scalar original_acceleration_3_5;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_54;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_55;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_56;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;

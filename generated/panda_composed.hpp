@@ -27,14 +27,14 @@
 //   body 7 (joint panda_joint7): 1.46552 kg = panda_link7 0.735522 kg + lumped panda_link8 0 kg, panda_hand 0.73 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 698, mul 922, div 6, neg 45, sin/cos 12, compare 18 (total 1701)
-//   f64::decompose: add 1007, mul 1318, div 6, neg 69, sin/cos 0, compare 238 (total 2638)
-//   f64::solve_original: add 474, mul 496, div 0, neg 11, sin/cos 0, compare 80 (total 1061)
-//   f64: outward + decompose + solve_original: add 2179, mul 2736, div 12, neg 125, sin/cos 12, compare 336 (total 5400)
+//   f64::outward: add 698, mul 922, div 6, neg 46, sin/cos 12, compare 18 (total 1702)
+//   f64::decompose: add 897, mul 1163, div 6, neg 69, sin/cos 0, compare 138 (total 2273)
+//   f64::solve_original: add 474, mul 496, div 0, neg 10, sin/cos 0, compare 80 (total 1060)
+//   f64: outward + decompose + solve_original: add 2069, mul 2581, div 12, neg 125, sin/cos 12, compare 236 (total 5035)
 //   f64::solve_saturate: add 383, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 828)
-//   f64: outward + decompose + solve_saturate: add 2088, mul 2608, div 12, neg 123, sin/cos 12, compare 324 (total 5167)
-//   f64::solve_saturate_exact: add 517, mul 547, div 0, neg 14, sin/cos 0, compare 108 (total 1186)
-//   f64: outward + decompose + solve_saturate_exact: add 2222, mul 2787, div 12, neg 128, sin/cos 12, compare 364 (total 5525)
+//   f64: outward + decompose + solve_saturate: add 1978, mul 2453, div 12, neg 124, sin/cos 12, compare 224 (total 4803)
+//   f64::solve_saturate_exact: add 517, mul 547, div 0, neg 13, sin/cos 0, compare 108 (total 1185)
+//   f64: outward + decompose + solve_saturate_exact: add 2112, mul 2632, div 12, neg 128, sin/cos 12, compare 264 (total 5160)
 #pragma once
 
 namespace panda_composed {
@@ -74,6 +74,7 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
+  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;
@@ -324,6 +325,7 @@ struct State {
   Scalar acceleration_energy_composed_0_3;
   Scalar acceleration_energy_composed_0_4;
   Scalar acceleration_energy_composed_0_5;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -377,11 +379,10 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_54;
   Scalar original_nu_0_term_55;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_56;
-  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_57;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;

@@ -28,25 +28,25 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
-//   f64::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
+//   f64::decompose: add 572, mul 773, div 3, neg 48, sin/cos 0, compare 15 (total 1411)
 //   f64::solve_original: add 366, mul 355, div 0, neg 11, sin/cos 0, compare 8 (total 740)
-//   f64: outward + decompose + solve_original: add 1767, mul 2166, div 9, neg 108, sin/cos 12, compare 47 (total 4109)
+//   f64: outward + decompose + solve_original: add 1748, mul 2138, div 9, neg 108, sin/cos 12, compare 41 (total 4056)
 //   f64::solve_prioritize_external: add 199, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 410)
-//   f64: outward + decompose + solve_prioritize_external: add 1600, mul 2013, div 9, neg 102, sin/cos 12, compare 43 (total 3779)
-//   f64::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 32 (total 708)
-//   f64: outward + decompose + solve_saturate: add 1754, mul 2125, div 9, neg 106, sin/cos 12, compare 71 (total 4077)
+//   f64: outward + decompose + solve_prioritize_external: add 1581, mul 1985, div 9, neg 102, sin/cos 12, compare 37 (total 3726)
+//   f64::solve_saturate: add 353, mul 314, div 0, neg 8, sin/cos 0, compare 32 (total 707)
+//   f64: outward + decompose + solve_saturate: add 1735, mul 2097, div 9, neg 105, sin/cos 12, compare 65 (total 4023)
 //   f64::solve_saturate_exact: add 427, mul 424, div 0, neg 13, sin/cos 0, compare 36 (total 900)
-//   f64: outward + decompose + solve_saturate_exact: add 1828, mul 2235, div 9, neg 110, sin/cos 12, compare 75 (total 4269)
+//   f64: outward + decompose + solve_saturate_exact: add 1809, mul 2207, div 9, neg 110, sin/cos 12, compare 69 (total 4216)
 //   f32::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
-//   f32::decompose: add 591, mul 801, div 3, neg 48, sin/cos 0, compare 21 (total 1464)
-//   f32::solve_original: add 366, mul 355, div 0, neg 9, sin/cos 0, compare 8 (total 738)
-//   f32: outward + decompose + solve_original: add 1767, mul 2166, div 9, neg 106, sin/cos 12, compare 47 (total 4107)
-//   f32::solve_prioritize_external: add 199, mul 202, div 0, neg 6, sin/cos 0, compare 4 (total 411)
-//   f32: outward + decompose + solve_prioritize_external: add 1600, mul 2013, div 9, neg 103, sin/cos 12, compare 43 (total 3780)
-//   f32::solve_saturate: add 353, mul 314, div 0, neg 8, sin/cos 0, compare 32 (total 707)
-//   f32: outward + decompose + solve_saturate: add 1754, mul 2125, div 9, neg 105, sin/cos 12, compare 71 (total 4076)
-//   f32::solve_saturate_exact: add 427, mul 424, div 0, neg 12, sin/cos 0, compare 36 (total 899)
-//   f32: outward + decompose + solve_saturate_exact: add 1828, mul 2235, div 9, neg 109, sin/cos 12, compare 75 (total 4268)
+//   f32::decompose: add 572, mul 773, div 3, neg 48, sin/cos 0, compare 15 (total 1411)
+//   f32::solve_original: add 366, mul 355, div 0, neg 11, sin/cos 0, compare 8 (total 740)
+//   f32: outward + decompose + solve_original: add 1748, mul 2138, div 9, neg 108, sin/cos 12, compare 41 (total 4056)
+//   f32::solve_prioritize_external: add 199, mul 202, div 0, neg 5, sin/cos 0, compare 4 (total 410)
+//   f32: outward + decompose + solve_prioritize_external: add 1581, mul 1985, div 9, neg 102, sin/cos 12, compare 37 (total 3726)
+//   f32::solve_saturate: add 353, mul 314, div 0, neg 9, sin/cos 0, compare 32 (total 708)
+//   f32: outward + decompose + solve_saturate: add 1735, mul 2097, div 9, neg 106, sin/cos 12, compare 65 (total 4024)
+//   f32::solve_saturate_exact: add 427, mul 424, div 0, neg 14, sin/cos 0, compare 36 (total 901)
+//   f32: outward + decompose + solve_saturate_exact: add 1809, mul 2207, div 9, neg 111, sin/cos 12, compare 69 (total 4217)
 #pragma once
 
 namespace panda_nc3 {
@@ -283,20 +283,20 @@ struct State {
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_8;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_9;
   Scalar original_nu_0_term_10;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_11;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
   Scalar original_nu_0_term_14;
@@ -601,6 +601,7 @@ struct State {
   Scalar acceleration_energy_tau_ff_0_0_term;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
@@ -619,12 +620,11 @@ struct State {
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
   Scalar original_nu_0_term_14;
-  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
   Scalar original_nu_0_term_18;
-  Scalar original_acceleration_2_3;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_19;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;

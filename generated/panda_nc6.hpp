@@ -28,25 +28,25 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
-//   f64::decompose: add 1166, mul 1589, div 6, neg 81, sin/cos 0, compare 238 (total 3080)
+//   f64::decompose: add 1056, mul 1434, div 6, neg 81, sin/cos 0, compare 138 (total 2715)
 //   f64::solve_original: add 504, mul 496, div 0, neg 10, sin/cos 0, compare 80 (total 1090)
-//   f64: outward + decompose + solve_original: add 2480, mul 3095, div 12, neg 140, sin/cos 12, compare 336 (total 6075)
+//   f64: outward + decompose + solve_original: add 2370, mul 2940, div 12, neg 140, sin/cos 12, compare 236 (total 5710)
 //   f64::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 581)
-//   f64: outward + decompose + solve_prioritize_external: add 2241, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5566)
+//   f64: outward + decompose + solve_prioritize_external: add 2131, mul 2715, div 12, neg 135, sin/cos 12, compare 196 (total 5201)
 //   f64::solve_saturate: add 404, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 849)
-//   f64: outward + decompose + solve_saturate: add 2380, mul 2967, div 12, neg 139, sin/cos 12, compare 324 (total 5834)
-//   f64::solve_saturate_exact: add 547, mul 547, div 0, neg 13, sin/cos 0, compare 108 (total 1215)
-//   f64: outward + decompose + solve_saturate_exact: add 2523, mul 3146, div 12, neg 143, sin/cos 12, compare 364 (total 6200)
-//   f32::outward: add 810, mul 1010, div 6, neg 48, sin/cos 12, compare 18 (total 1904)
-//   f32::decompose: add 1166, mul 1589, div 6, neg 81, sin/cos 0, compare 238 (total 3080)
+//   f64: outward + decompose + solve_saturate: add 2270, mul 2812, div 12, neg 139, sin/cos 12, compare 224 (total 5469)
+//   f64::solve_saturate_exact: add 547, mul 547, div 0, neg 14, sin/cos 0, compare 108 (total 1216)
+//   f64: outward + decompose + solve_saturate_exact: add 2413, mul 2991, div 12, neg 144, sin/cos 12, compare 264 (total 5836)
+//   f32::outward: add 810, mul 1010, div 6, neg 49, sin/cos 12, compare 18 (total 1905)
+//   f32::decompose: add 1056, mul 1434, div 6, neg 81, sin/cos 0, compare 138 (total 2715)
 //   f32::solve_original: add 504, mul 496, div 0, neg 11, sin/cos 0, compare 80 (total 1091)
-//   f32: outward + decompose + solve_original: add 2480, mul 3095, div 12, neg 140, sin/cos 12, compare 336 (total 6075)
-//   f32::solve_prioritize_external: add 265, mul 271, div 0, neg 6, sin/cos 0, compare 40 (total 582)
-//   f32: outward + decompose + solve_prioritize_external: add 2241, mul 2870, div 12, neg 135, sin/cos 12, compare 296 (total 5566)
+//   f32: outward + decompose + solve_original: add 2370, mul 2940, div 12, neg 141, sin/cos 12, compare 236 (total 5711)
+//   f32::solve_prioritize_external: add 265, mul 271, div 0, neg 5, sin/cos 0, compare 40 (total 581)
+//   f32: outward + decompose + solve_prioritize_external: add 2131, mul 2715, div 12, neg 135, sin/cos 12, compare 196 (total 5201)
 //   f32::solve_saturate: add 404, mul 368, div 0, neg 9, sin/cos 0, compare 68 (total 849)
-//   f32: outward + decompose + solve_saturate: add 2380, mul 2967, div 12, neg 138, sin/cos 12, compare 324 (total 5833)
+//   f32: outward + decompose + solve_saturate: add 2270, mul 2812, div 12, neg 139, sin/cos 12, compare 224 (total 5469)
 //   f32::solve_saturate_exact: add 547, mul 547, div 0, neg 14, sin/cos 0, compare 108 (total 1216)
-//   f32: outward + decompose + solve_saturate_exact: add 2523, mul 3146, div 12, neg 143, sin/cos 12, compare 364 (total 6200)
+//   f32: outward + decompose + solve_saturate_exact: add 2413, mul 2991, div 12, neg 144, sin/cos 12, compare 264 (total 5836)
 #pragma once
 
 namespace panda_nc6 {
@@ -328,7 +328,6 @@ struct State {
   Scalar articulated_force_push_1_2;
   Scalar acceleration_energy_bias_0_0_term;
   Scalar acceleration_energy_tau_ff_0_0_term;
-  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -345,24 +344,24 @@ struct State {
   Scalar original_nu_0_term_14;
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
+  Scalar original_nu_0_term_17;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_17;
+  Scalar original_nu_0_term_18;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_18;
+  Scalar original_nu_0_term_19;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_20;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_21;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_21;
+  Scalar original_nu_0_term_22;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
-  Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
@@ -394,11 +393,12 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_54;
   Scalar original_nu_0_term_55;
   Scalar original_nu_0_term_56;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_57;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_58;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
@@ -499,6 +499,7 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
+  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;
@@ -763,28 +764,28 @@ struct State {
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
-  Scalar original_nu_0_term_29;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_30;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_31;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_32;
+  Scalar original_nu_0_term_25;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
+  Scalar original_nu_0_term_26;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
+  Scalar original_nu_0_term_27;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_28;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_33;
-  Scalar original_nu_0_term_34;
+  Scalar original_nu_0_term_29;
+  Scalar original_nu_0_term_30;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_31;
+  Scalar original_nu_0_term_32;
+  Scalar original_nu_0_term_33;
+  Scalar original_nu_0_term_34;
   Scalar original_nu_0_term_35;
   Scalar original_nu_0_term_36;
   Scalar original_nu_0_term_37;
@@ -804,12 +805,12 @@ struct State {
   Scalar original_nu_0_term_51;
   Scalar original_nu_0_term_52;
   Scalar original_nu_0_term_53;
-  Scalar original_acceleration_2_3;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_54;
   Scalar original_nu_0_term_55;
   Scalar original_nu_0_term_56;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_57;
-  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_58;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;

@@ -23,26 +23,26 @@
 //   body 3 (joint planar_joint3): 0.7 kg = link3 0.5 kg + lumped tool 0.2 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 113, mul 151, div 4, neg 0, sin/cos 4, compare 12 (total 284)
+//   f64::outward: add 112, mul 147, div 4, neg 0, sin/cos 4, compare 12 (total 279)
 //   f64::decompose: add 30, mul 39, div 0, neg 0, sin/cos 0, compare 0 (total 69)
 //   f64::solve_original: add 76, mul 61, div 0, neg 2, sin/cos 0, compare 0 (total 139)
-//   f64: outward + decompose + solve_original: add 219, mul 251, div 4, neg 2, sin/cos 4, compare 12 (total 492)
+//   f64: outward + decompose + solve_original: add 218, mul 247, div 4, neg 2, sin/cos 4, compare 12 (total 487)
 //   f64::solve_prioritize_external: add 41, mul 33, div 0, neg 2, sin/cos 0, compare 0 (total 76)
-//   f64: outward + decompose + solve_prioritize_external: add 184, mul 223, div 4, neg 2, sin/cos 4, compare 12 (total 429)
+//   f64: outward + decompose + solve_prioritize_external: add 183, mul 219, div 4, neg 2, sin/cos 4, compare 12 (total 424)
 //   f64::solve_saturate: add 57, mul 44, div 0, neg 1, sin/cos 0, compare 12 (total 114)
-//   f64: outward + decompose + solve_saturate: add 200, mul 234, div 4, neg 1, sin/cos 4, compare 24 (total 467)
+//   f64: outward + decompose + solve_saturate: add 199, mul 230, div 4, neg 1, sin/cos 4, compare 24 (total 462)
 //   f64::solve_saturate_exact: add 87, mul 71, div 0, neg 2, sin/cos 0, compare 12 (total 172)
-//   f64: outward + decompose + solve_saturate_exact: add 230, mul 261, div 4, neg 2, sin/cos 4, compare 24 (total 525)
-//   f32::outward: add 113, mul 151, div 4, neg 0, sin/cos 4, compare 12 (total 284)
+//   f64: outward + decompose + solve_saturate_exact: add 229, mul 257, div 4, neg 2, sin/cos 4, compare 24 (total 520)
+//   f32::outward: add 112, mul 147, div 4, neg 0, sin/cos 4, compare 12 (total 279)
 //   f32::decompose: add 30, mul 39, div 0, neg 0, sin/cos 0, compare 0 (total 69)
 //   f32::solve_original: add 76, mul 61, div 0, neg 2, sin/cos 0, compare 0 (total 139)
-//   f32: outward + decompose + solve_original: add 219, mul 251, div 4, neg 2, sin/cos 4, compare 12 (total 492)
+//   f32: outward + decompose + solve_original: add 218, mul 247, div 4, neg 2, sin/cos 4, compare 12 (total 487)
 //   f32::solve_prioritize_external: add 41, mul 33, div 0, neg 2, sin/cos 0, compare 0 (total 76)
-//   f32: outward + decompose + solve_prioritize_external: add 184, mul 223, div 4, neg 2, sin/cos 4, compare 12 (total 429)
+//   f32: outward + decompose + solve_prioritize_external: add 183, mul 219, div 4, neg 2, sin/cos 4, compare 12 (total 424)
 //   f32::solve_saturate: add 57, mul 44, div 0, neg 1, sin/cos 0, compare 12 (total 114)
-//   f32: outward + decompose + solve_saturate: add 200, mul 234, div 4, neg 1, sin/cos 4, compare 24 (total 467)
+//   f32: outward + decompose + solve_saturate: add 199, mul 230, div 4, neg 1, sin/cos 4, compare 24 (total 462)
 //   f32::solve_saturate_exact: add 87, mul 71, div 0, neg 2, sin/cos 0, compare 12 (total 172)
-//   f32: outward + decompose + solve_saturate_exact: add 230, mul 261, div 4, neg 2, sin/cos 4, compare 24 (total 525)
+//   f32: outward + decompose + solve_saturate_exact: add 229, mul 257, div 4, neg 2, sin/cos 4, compare 24 (total 520)
 #pragma once
 
 namespace planar_nc2 {
@@ -111,12 +111,12 @@ struct State {
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_4;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
   Scalar original_acceleration_1_3;
@@ -249,14 +249,14 @@ struct State {
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_4;
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
+  Scalar original_nu_0_term_7;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_7;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar original_acceleration_1_3;
   Scalar original_nu_0_term_8;
   Scalar original_nu_0_term_9;

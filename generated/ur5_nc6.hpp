@@ -26,26 +26,26 @@
 //   body 6 (joint wrist_3_joint): 0.1879 kg = wrist_3_link 0.1879 kg + lumped tool0 0 kg
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 854, mul 1278, div 11, neg 29, sin/cos 10, compare 252 (total 2434)
+//   f64::outward: add 802, mul 1196, div 11, neg 29, sin/cos 10, compare 152 (total 2200)
 //   f64::decompose: add 263, mul 252, div 0, neg 5, sin/cos 0, compare 0 (total 520)
 //   f64::solve_original: add 338, mul 320, div 0, neg 9, sin/cos 0, compare 80 (total 747)
-//   f64: outward + decompose + solve_original: add 1455, mul 1850, div 11, neg 43, sin/cos 10, compare 332 (total 3701)
+//   f64: outward + decompose + solve_original: add 1403, mul 1768, div 11, neg 43, sin/cos 10, compare 232 (total 3467)
 //   f64::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 405)
-//   f64: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3359)
+//   f64: outward + decompose + solve_prioritize_external: add 1245, mul 1628, div 11, neg 39, sin/cos 10, compare 192 (total 3125)
 //   f64::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 64 (total 583)
-//   f64: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 316 (total 3537)
+//   f64: outward + decompose + solve_saturate: add 1333, mul 1693, div 11, neg 40, sin/cos 10, compare 216 (total 3303)
 //   f64::solve_saturate_exact: add 367, mul 353, div 0, neg 9, sin/cos 0, compare 104 (total 833)
-//   f64: outward + decompose + solve_saturate_exact: add 1484, mul 1883, div 11, neg 43, sin/cos 10, compare 356 (total 3787)
-//   f32::outward: add 854, mul 1278, div 11, neg 29, sin/cos 10, compare 252 (total 2434)
+//   f64: outward + decompose + solve_saturate_exact: add 1432, mul 1801, div 11, neg 43, sin/cos 10, compare 256 (total 3553)
+//   f32::outward: add 802, mul 1196, div 11, neg 29, sin/cos 10, compare 152 (total 2200)
 //   f32::decompose: add 263, mul 252, div 0, neg 5, sin/cos 0, compare 0 (total 520)
 //   f32::solve_original: add 338, mul 320, div 0, neg 9, sin/cos 0, compare 80 (total 747)
-//   f32: outward + decompose + solve_original: add 1455, mul 1850, div 11, neg 43, sin/cos 10, compare 332 (total 3701)
+//   f32: outward + decompose + solve_original: add 1403, mul 1768, div 11, neg 43, sin/cos 10, compare 232 (total 3467)
 //   f32::solve_prioritize_external: add 180, mul 180, div 0, neg 5, sin/cos 0, compare 40 (total 405)
-//   f32: outward + decompose + solve_prioritize_external: add 1297, mul 1710, div 11, neg 39, sin/cos 10, compare 292 (total 3359)
+//   f32: outward + decompose + solve_prioritize_external: add 1245, mul 1628, div 11, neg 39, sin/cos 10, compare 192 (total 3125)
 //   f32::solve_saturate: add 268, mul 245, div 0, neg 6, sin/cos 0, compare 64 (total 583)
-//   f32: outward + decompose + solve_saturate: add 1385, mul 1775, div 11, neg 40, sin/cos 10, compare 316 (total 3537)
+//   f32: outward + decompose + solve_saturate: add 1333, mul 1693, div 11, neg 40, sin/cos 10, compare 216 (total 3303)
 //   f32::solve_saturate_exact: add 367, mul 353, div 0, neg 9, sin/cos 0, compare 104 (total 833)
-//   f32: outward + decompose + solve_saturate_exact: add 1484, mul 1883, div 11, neg 43, sin/cos 10, compare 356 (total 3787)
+//   f32: outward + decompose + solve_saturate_exact: add 1432, mul 1801, div 11, neg 43, sin/cos 10, compare 256 (total 3553)
 #pragma once
 
 namespace ur5_nc6 {
@@ -257,23 +257,23 @@ struct State {
   Scalar original_nu_0_term_13;
   Scalar original_nu_0_term_14;
   Scalar original_nu_0_term_15;
-  Scalar original_nu_0_term_16;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
-  Scalar original_nu_0_term_17;
+  Scalar original_nu_0_term_16;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_18;
+  Scalar original_nu_0_term_17;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_18;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_19;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
@@ -310,8 +310,8 @@ struct State {
   Scalar original_nu_0_term_54;
   Scalar original_nu_0_term_55;
   Scalar original_nu_0_term_56;
-  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_57;
+  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_58;
   Scalar original_nu_0_term_59;
   Scalar original_nu_0_term_60;
@@ -587,30 +587,30 @@ struct State {
   Scalar original_nu_0_term_14;
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_17;
+  Scalar original_nu_0_term_18;
+  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_21;
+  Scalar original_nu_0_term_22;
+  Scalar original_nu_0_term_23;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar original_nu_0_term_18;
+  Scalar original_nu_0_term_24;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_25;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
-  Scalar original_nu_0_term_20;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
-  Scalar original_nu_0_term_21;
-  Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
   Scalar original_nu_0_term_26;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;

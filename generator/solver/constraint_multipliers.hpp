@@ -54,12 +54,14 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
   if (nc == 0) return ConstraintVector<Scalar>(0);
 
   // P E P^T = L diag(pivot) L^T with P the product of the conditional swaps; A holds the Schur
-  // complement (rows and columns >= k are live), y the permuted right-hand side.
+  // complement (rows and columns >= k are live), y the permuted right-hand side. E and every
+  // Schur complement are symmetric: only the lower triangle of A (i >= j) is read or written,
+  // and only E's lower triangle is read (the generated code never computes the upper one).
   ConstraintVector<Scalar> scale(nc);  // s_j: Ê = S E S, r̂ = S r, ν = S x̂
   for (Eigen::Index j = 0; j < nc; ++j) scale[j] = equilibration_scale(E(j, j));
-  ConstraintMatrix<Scalar> A(nc, nc);
+  ConstraintMatrix<Scalar> A = ConstraintMatrix<Scalar>::Zero(nc, nc);
   for (Eigen::Index i = 0; i < nc; ++i)
-    for (Eigen::Index j = 0; j < nc; ++j) A(i, j) = scale[i] * E(i, j) * scale[j];
+    for (Eigen::Index j = 0; j <= i; ++j) A(i, j) = scale[i] * E(i, j) * scale[j];
   ConstraintMatrix<Scalar> L = ConstraintMatrix<Scalar>::Identity(nc, nc);
   ConstraintMatrix<Scalar> swapped = ConstraintMatrix<Scalar>::Zero(nc, nc);  // 1 where step k swapped k and j
   ConstraintVector<Scalar> pivot(nc), inverse_pivot(nc);
@@ -81,8 +83,11 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
       // S_jj / E_jj > S_kk / E_kk, without dividing (E_jj >= 0).
       const Scalar s = select_greater(A(j, j) * own[k], A(k, k) * own[j], Scalar(1), Scalar(0));
       swapped(k, j) = s;
-      for (Eigen::Index c = k; c < nc; ++c) conditional_swap(s, A(k, c), A(j, c));  // rows
-      for (Eigen::Index r = k; r < nc; ++r) conditional_swap(s, A(r, k), A(r, j));  // columns
+      // The symmetric swap of k and j in the lower triangle of the live block: the diagonal
+      // entries, (c, k) with (j, c) for k < c < j, (c, k) with (c, j) for c > j; (j, k) stays.
+      conditional_swap(s, A(k, k), A(j, j));
+      for (Eigen::Index c = k + 1; c < j; ++c) conditional_swap(s, A(c, k), A(j, c));
+      for (Eigen::Index c = j + 1; c < nc; ++c) conditional_swap(s, A(c, k), A(c, j));
       for (Eigen::Index c = 0; c < k; ++c) conditional_swap(s, L(k, c), L(j, c));
       conditional_swap(s, y[k], y[j]);
       conditional_swap(s, own[k], own[j]);
@@ -100,7 +105,7 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
     }
     for (Eigen::Index i = k + 1; i < nc; ++i) L(i, k) = A(i, k) * inverse_pivot[k];
     for (Eigen::Index i = k + 1; i < nc; ++i)
-      for (Eigen::Index j = k + 1; j < nc; ++j) A(i, j) -= L(i, k) * A(k, j);
+      for (Eigen::Index j = k + 1; j <= i; ++j) A(i, j) -= L(i, k) * A(j, k);  // A(k, j) = A(j, k)
   }
   // Forward substitution L z = y, scaling z_k = z_k / d_k, back substitution L^T x = z,
   // then ν = P^T x (the swaps undone in reverse order).
