@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <fstream>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "report/condition_number.hpp"
 #include "solver/constraint_multipliers.hpp"
@@ -184,6 +187,64 @@ TEST(ConstraintFactorisation, EquilibrationScaleIsAnExactPowerOfTwo) {
   EXPECT_EQ(solver::equilibration_scale(std::nan("")), 0.0);
   const float smallest = std::numeric_limits<float>::denorm_min();
   EXPECT_GE(solver::equilibration_scale(smallest) * smallest * solver::equilibration_scale(smallest), 1.0f);
+}
+
+// The exponent-field version (float, double) against the definition through ilogb and ldexp, on
+// every binade from the smallest subnormal to the largest finite value, each at 1, a random
+// mantissa and just below the next power of two, and on 0, negatives, ±Inf and NaN.
+template <class T>
+void expect_scale_as_defined() {
+  const auto defined = [](T x) {
+    const int k = x > T(0) ? std::ilogb(x) : 0;
+    return x > T(0) ? std::ldexp(T(1), ((k & 1) - k) / 2) : T(0);
+  };
+  std::mt19937 random(5);
+  std::size_t checked = 0;
+  for (int e = std::numeric_limits<T>::min_exponent - std::numeric_limits<T>::digits;
+       e < std::numeric_limits<T>::max_exponent; ++e) {
+    const T binade = std::ldexp(T(1), e);
+    const T mantissa = T(1) + std::uniform_real_distribution<T>(T(0), T(1))(random);
+    for (T x : {binade, binade * mantissa, std::nextafter(binade * T(2), T(0))}) {
+      if (!std::isfinite(x) || x == T(0)) continue;
+      EXPECT_EQ(solver::equilibration_scale(x), defined(x)) << x;
+      EXPECT_EQ(solver::equilibration_scale(-x), T(0)) << x;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 3u * 250u);
+  for (T x : {T(0), -T(0), std::numeric_limits<T>::infinity(), -std::numeric_limits<T>::infinity(),
+              std::numeric_limits<T>::quiet_NaN()})
+    EXPECT_EQ(solver::equilibration_scale(x), defined(x)) << x;
+}
+
+TEST(ConstraintFactorisation, EquilibrationScaleFromTheExponentFieldIsTheDefinition) {
+  expect_scale_as_defined<double>();
+  expect_scale_as_defined<float>();
+}
+
+// The generated code cannot include sweepgen's headers, so templates/solver.cpp.mustache carries
+// the same lines as solver/scalar_ops.hpp (from `using Bits` to the return): they must not drift.
+std::vector<std::string> equilibration_lines(const std::string& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << path;
+  std::vector<std::string> lines;
+  bool inside = false;
+  for (std::string line; std::getline(in, line);) {
+    const std::size_t text = line.find_first_not_of(' ');
+    if (text == std::string::npos) continue;
+    line = line.substr(text);
+    if (line.rfind("using Bits", 0) == 0) inside = true;
+    if (inside) lines.push_back(line);
+    if (inside && line.rfind("return x > T(0)", 0) == 0) break;
+  }
+  return lines;
+}
+
+TEST(ConstraintFactorisation, GeneratedEquilibrationScaleIsTheSolversLineForLine) {
+  const auto solver_lines = equilibration_lines(std::string(SWEEPGEN_SOURCE_DIR) + "/generator/solver/scalar_ops.hpp");
+  const auto template_lines = equilibration_lines(std::string(SWEEPGEN_SOURCE_DIR) + "/templates/solver.cpp.mustache");
+  EXPECT_GE(solver_lines.size(), 10u);
+  EXPECT_EQ(solver_lines, template_lines);
 }
 
 }  // namespace
