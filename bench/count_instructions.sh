@@ -17,18 +17,21 @@
 # Prints a table with the floating-point operation counts the generator wrote into each header
 # and the ratio instructions / operation, then ratios against KDL, re-solve / full, reference /
 # generated; writes everything to BUILD_DIR/bench/instructions.csv.
-# Environment: CALLS (default 1000), JOBS (parallel valgrind runs, default nproc).
+# Environment: CALLS (default 1000), JOBS (parallel valgrind runs, default nproc), ARCH (the
+# generated solvers' -march, e.g. x86-64-v3; sets SWEEPGEN_SOLVER_ARCH in BUILD_DIR, whose default
+# becomes build-bench-ARCH; valgrind 3.19 decodes AVX2 but not AVX-512, so not `native` here).
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$here")
-build=${1:-$root/build-bench}
+arch=${ARCH:-}
+build=${1:-$root/build-bench${arch:+-$arch}}
 calls=${CALLS:-1000}
 jobs=${JOBS:-$(nproc)}
 
 command -v valgrind >/dev/null || { echo "count_instructions.sh: valgrind not found (Debian: apt-get install valgrind)" >&2; exit 1; }
-if [ ! -f "$build/CMakeCache.txt" ]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release
+if [ ! -f "$build/CMakeCache.txt" ] || [ -n "$arch" ]; then
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DSWEEPGEN_SOLVER_ARCH="$arch" >/dev/null
 fi
 cmake --build "$build" -j"$jobs" --target bench_calls >/dev/null
 driver=$build/bench/bench_calls

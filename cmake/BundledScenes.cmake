@@ -4,7 +4,8 @@
 # real-time controller may build them with; tests/realtime/noexcept_solve.cpp runs two of them). Sets SWEEPGEN_BUNDLED_SCENES (the files) and, per scene stem,
 # SWEEPGEN_SCENE_<stem>_NAMESPACE and SWEEPGEN_SCENE_<stem>_HAS_FLOAT, read from the one-line
 # `solver:` and `scalars:` entries our scenes use.
-option(SWEEPGEN_NATIVE "Compile the bundled generated solvers with -march=native" OFF)
+set(SWEEPGEN_SOLVER_ARCH "" CACHE STRING
+  "-march= for the bundled generated solvers (sweepgen_add_solver ARCH), e.g. x86-64-v3 or native; empty: the baseline")
 file(GLOB SWEEPGEN_BUNDLED_SCENES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.yaml)
 foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   get_filename_component(stem ${scene} NAME_WE)
@@ -16,10 +17,6 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   else()
     set(SWEEPGEN_SCENE_${stem}_HAS_FLOAT 0)
   endif()
-  sweepgen_add_solver(${stem}_solver SCENE ${scene})
+  sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}")
   target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror -fno-exceptions -fno-rtti)
-  if(SWEEPGEN_NATIVE)
-    # Plain arrays, no Eigen: the ABI does not change with it.
-    target_compile_options(${stem}_solver PRIVATE -march=native)
-  endif()
 endforeach()
