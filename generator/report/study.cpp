@@ -180,7 +180,7 @@ std::string recommend(const SceneStudy& study, const std::vector<std::string>& c
       ratio = std::max(ratio, p.error() / (std::numeric_limits<double>::epsilon() * p.kappa));
     }
   std::string sentence = best->name + ": error ≤ " + scientific(best->families.front().max) + " on " +
-                         best->families.front().family + " states and ≤ " + format("%.1f", ratio) +
+                         best->families.front().family + " states and ≤ " + format("%.2g", ratio) +
                          " ε κ on every judged state up to κ = " + format("%.1e", kappa_max) + ", " +
                          format("%.0f", best->ns_median) + " ns median and " + format("%.0f", best->ns_p99) +
                          " ns p99 per solve";

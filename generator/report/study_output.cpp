@@ -21,14 +21,24 @@ std::string share(std::size_t part, std::size_t whole) {
   return whole == 0 ? "-" : format("%.1f%%", 100.0 * static_cast<double>(part) / static_cast<double>(whole));
 }
 
-std::vector<std::string> summary_cells(const VariantStudy& v) {
+// KDL's median time over this variant's (how many times faster than KDL), "" without a KDL row.
+std::string kdl_ratio(const SceneStudy& s, const VariantStudy& v) {
+  for (const VariantStudy& kdl : s.variants)
+    if (kdl.name == "KDL" && kdl.note.empty() && v.note.empty() && v.ns_median > 0)
+      return format("%.1f", kdl.ns_median / v.ns_median);
+  return "";
+}
+
+std::vector<std::string> summary_cells(const SceneStudy& s, const VariantStudy& v) {
   if (!v.note.empty()) return {v.name, v.scalar, v.note};
-  if (v.referee) return {v.name, v.scalar, ns(v.ns_median), ns(v.ns_p99), ns(v.ns_max), "0 (referee)", "", "", "", ""};
+  if (v.referee)
+    return {v.name, v.scalar, ns(v.ns_median), ns(v.ns_p99), ns(v.ns_max), kdl_ratio(s, v), "0 (referee)", "", "", "", ""};
   return {v.name,
           v.scalar,
           ns(v.ns_median),
           ns(v.ns_p99),
           ns(v.ns_max),
+          kdl_ratio(s, v),
           scientific(v.all.median),
           scientific(v.all.p99),
           scientific(v.all.max),
@@ -37,9 +47,9 @@ std::vector<std::string> summary_cells(const VariantStudy& v) {
 }
 
 const std::vector<std::string>& summary_header() {
-  static const std::vector<std::string> header = {"variant",     "scalar",     "ns_median", "ns_p99",
-                                                  "ns_max",      "err_median", "err_p99",   "err_max",
-                                                  "max_residual", "status"};
+  static const std::vector<std::string> header = {"variant",    "scalar",  "ns_median", "ns_p99",       "ns_max",
+                                                  "kdl_x",      "err_median", "err_p99", "err_max", "max_residual",
+                                                  "status"};
   return header;
 }
 
@@ -162,7 +172,7 @@ void print_study(const SceneStudy& study, std::ostream& out) {
   for (const auto& [family, count] : study.families) out << " " << family << " " << count << ";";
   out << " " << study.singular_note << "\n";
   std::vector<std::vector<std::string>> table = {summary_header()};
-  for (const VariantStudy& v : study.variants) table.push_back(summary_cells(v));
+  for (const VariantStudy& v : study.variants) table.push_back(summary_cells(study, v));
   print_aligned(table, out);
   out << "recommendation: " << study.recommendation << "\n";
 }
@@ -224,7 +234,7 @@ std::string report_markdown(const std::vector<SceneStudy>& studies, const std::s
         "variant nor its referee dropped a direction, locked a joint or returned a value that is not finite "
         "(`judged` in report.csv; a saturating policy's clamp is judged), `status` is the share of states where "
         "the variant raised any status bit. Times are per call (the clock's own cost subtracted), after one "
-        "untimed pass; exact answers are drawn at 1e-20 on the log axes.\n\n"
+        "untimed pass; `kdl_x` is KDL's median time over the row's. Exact answers are drawn at 1e-20 on the log axes.\n\n"
      << "## Recommendations\n\n";
   for (const SceneStudy& s : studies) md << "- **" << s.name << "**: " << s.recommendation << ".\n";
   for (const SceneStudy& s : studies) {
@@ -234,7 +244,7 @@ std::string report_markdown(const std::vector<SceneStudy>& studies, const std::s
     md << " " << s.singular_note << ".\n\n";
     md << markdown_row(summary_header()) << markdown_row(std::vector<std::string>(summary_header().size(), "---"));
     for (const VariantStudy& v : s.variants) {
-      std::vector<std::string> cells = summary_cells(v);
+      std::vector<std::string> cells = summary_cells(s, v);
       cells.resize(summary_header().size());
       md << markdown_row(cells);
     }
