@@ -26,10 +26,6 @@ using Precise = solver::Quad;
 static_assert(std::numeric_limits<Precise>::digits >= 2 * std::numeric_limits<double>::digits,
               "the high-precision reference must be at least twice as wide as double");
 
-// States whose cond(E^A_cstr,0) exceeds this are counted apart: there rounding is amplified
-// by the condition number in any solver of a given precision.
-constexpr double kIllConditioned = 1e6;
-
 // One random state with its drivers and setpoints, in double.
 struct Problem : solver::SolveInputs<double> {
   Eigen::VectorXd tau_ff;     // the sum of the torques (what τcmd starts from)
