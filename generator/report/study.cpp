@@ -153,14 +153,17 @@ void summarise(Measured& m, const std::vector<Truth>& truth, const std::vector<L
   v.all = errors_of("all", all);
 }
 
-// The largest κ below which every judged float state meets kFloatGoal.
+// The largest κ below which float answers every state: meets kFloatGoal where judged, and drops no
+// direction, locks no joint and returns nothing non-finite (its pivot tolerance, 1000 eps_float,
+// drops directions from κ ~ 1e4 on: its referee agrees, but the constraint is then not enforced).
+// States that are singular for any scalar (κ infinite) do not bound it.
 double float_domain(const VariantStudy& float_variant) {
-  std::vector<std::pair<double, double>> points;
+  std::vector<std::pair<double, bool>> points;  // κ, answered
   for (const StatePoint& p : float_variant.states)
-    if (p.judged) points.emplace_back(p.kappa, p.error());
+    points.emplace_back(p.kappa, p.judged ? p.error() <= kFloatGoal : (p.status & kNotJudged) == 0);
   std::sort(points.begin(), points.end());
-  for (const auto& [kappa, error] : points)
-    if (!(error <= kFloatGoal)) return kappa;
+  for (const auto& [kappa, answered] : points)
+    if (!answered) return kappa;
   return points.empty() ? NAN : INFINITY;
 }
 

@@ -69,11 +69,12 @@ struct SceneStudy {
   std::vector<std::pair<std::string, std::size_t>> families;  // name, states
   std::string singular_note;  // where the near-singular sweep starts, or why there is none
   std::vector<VariantStudy> variants;
-  double float_domain_kappa = NAN;  // generated float meets kFloatGoal below this κ (NaN: no float row)
+  double float_domain_kappa = NAN;  // generated float answers every state below this κ (NaN: no float row)
   std::string recommendation;       // one sentence
 };
 
-// The accuracy a float solve has to reach for its state to count as inside float's domain.
+// The accuracy a float solve has to reach for its state to count as inside float's domain (it
+// must also keep every direction: study.cpp, float_domain).
 constexpr double kFloatGoal = 1e-4;
 
 // Studies one scene; `label` names it in progress lines. Throws io::IoError when the compiler or
