@@ -175,6 +175,20 @@ TEST(Report, PlanarSceneEndToEnd) {
   }
   EXPECT_GE(checked, 10u * 3u);  // ten measured variants, at least the nominal, fast and huge_force families
 
+  // Float's domain in the recommendation, recomputed: the smallest κ of a float state that missed
+  // 1e-4 where judged or dropped a direction, locked a joint or returned a non-finite value
+  // (status bits 1, 8, 4); planar_nc2's float answers every state of this run.
+  double float_domain = INFINITY;
+  for (const CsvRow& s : states)
+    if (s.at("variant") == "generated float original") {
+      const bool judged = s.at("judged") == "1";
+      const double error = std::max({number(s.at("err_qdd")), number(s.at("err_tau")), number(s.at("err_nu"))});
+      const bool answered = judged ? error <= 1e-4 : (std::stoul(s.at("status")) & 13u) == 0;
+      if (!answered) float_domain = std::min(float_domain, number(s.at("kappa")));
+    }
+  EXPECT_TRUE(std::isinf(float_domain)) << float_domain;
+  EXPECT_NE(report.result.out.find("; float met 1e-04 on every state"), std::string::npos) << report.result.out;
+
   // The figures, PNG and SVG, and report.md linking them.
   for (const char* figure : {"planar_nc2_time", "planar_nc2_kappa"}) {
     const std::string png = test::read_text(out / (std::string(figure) + ".png"));

@@ -167,6 +167,12 @@ double float_domain(const VariantStudy& float_variant) {
   return points.empty() ? NAN : INFINITY;
 }
 
+// Whether float answered any state at all (float_domain is then more than a bound on nothing).
+bool float_answered_any(const VariantStudy& float_variant) {
+  return std::any_of(float_variant.states.begin(), float_variant.states.end(),
+                     [](const StatePoint& p) { return p.judged && p.error() <= kFloatGoal; });
+}
+
 // The sentence for the fastest of `candidates` (the generated double solves of the scene's own
 // problem: original policy, its factorisation), with float's domain.
 std::string recommend(const SceneStudy& study, const std::vector<std::string>& candidates) {
@@ -188,6 +194,9 @@ std::string recommend(const SceneStudy& study, const std::vector<std::string>& c
                          format("%.0f", best->ns_median) + " ns median and " + format("%.0f", best->ns_p99) +
                          " ns p99 per solve";
   if (std::isnan(study.float_domain_kappa)) return sentence;
+  if (study.float_domain_kappa == 0)
+    return sentence + "; float answered none of these states to " + format("%.0e", kFloatGoal) +
+           " without dropping a direction";
   if (std::isinf(study.float_domain_kappa)) return sentence + "; float met " + format("%.0e", kFloatGoal) + " on every state";
   return sentence + "; float only where κ < " + format("%.1e", study.float_domain_kappa) + " (error ≤ " +
          format("%.0e", kFloatGoal) + " there)";
@@ -292,7 +301,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
     study.variants.push_back(std::move(m.study));
   }
   for (const VariantStudy& v : study.variants)
-    if (v.scalar == "float" && v.note.empty()) study.float_domain_kappa = float_domain(v);
+    if (v.scalar == "float" && v.note.empty()) study.float_domain_kappa = float_answered_any(v) ? float_domain(v) : 0;
   study.recommendation = recommend(study, {generated("double", Policy::original, own, Isa::baseline), v3});
   return study;
 }

@@ -69,7 +69,8 @@ struct SceneStudy {
   std::vector<std::pair<std::string, std::size_t>> families;  // name, states
   std::string singular_note;  // where the near-singular sweep starts, or why there is none
   std::vector<VariantStudy> variants;
-  double float_domain_kappa = NAN;  // generated float answers every state below this κ (NaN: no float row)
+  // Generated float answers every state below this κ (NaN: no float row; 0: it answered none).
+  double float_domain_kappa = NAN;
   std::string recommendation;       // one sentence
 };
 

@@ -130,7 +130,7 @@ std::string kappa_figure(const SceneStudy& s, const std::filesystem::path& work_
        << "set xlabel 'kappa = max(1, cond_s(E^A_{cstr,0}), 1/min rho_i)'\n"
        << "set ylabel 'error vs binary128 (floor " << kPlotFloor << ")'\n"
        << "set yrange [" << kPlotFloor / 10 << ":*]\n";
-  if (std::isfinite(s.float_domain_kappa))
+  if (std::isfinite(s.float_domain_kappa) && s.float_domain_kappa > 0)
     plot << "set object 1 rect from graph 0, graph 0 to first " << std::setprecision(6) << s.float_domain_kappa
          << ", graph 1 fillcolor rgb '#e8f0e0' fillstyle solid noborder behind\n"
          << "set label 1 'float domain (error <= " << kFloatGoal << ")' at graph 0.02, graph 0.04\n";
