@@ -135,6 +135,15 @@ TEST(Report, PlanarSceneEndToEnd) {
     ASSERT_EQ(by_variant.count(variant), 1u) << variant;
     EXPECT_FALSE(by_variant[variant].front().at("solves").empty()) << variant;
   }
+  // The operation count is the generated header's (the committed generated/planar_nc2.hpp lists it).
+  {
+    const std::string header = test::read_text(std::string(SWEEPGEN_SOURCE_DIR) + "/generated/planar_nc2.hpp");
+    const std::string key = "f64: outward + decompose + solve_original: ";
+    const std::size_t line = header.find(key), total = header.find("(total ", line);
+    ASSERT_NE(line, std::string::npos);
+    const std::string count = header.substr(total + 7, header.find(')', total) - total - 7);
+    EXPECT_EQ(by_variant["generated double original"].back().at("operations"), count);
+  }
   // Times: per call, ordered quantiles, for every measured row.
   for (const auto& [variant, family_rows] : by_variant) {
     const CsvRow& row = family_rows.back();

@@ -53,6 +53,11 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
                        "; double and float) into " + build_dir.string());
   make_directory(build_dir);
   const emit::EmittedSolver emitted = emit_for_report(s, chain);
+  std::map<std::pair<std::string, solver::Policy>, std::size_t> operations;
+  for (const emit::FunctionCost& cost : emitted.costs)
+    for (const solver::Policy policy : s.policies)
+      if (cost.function == std::string("full solve_") + solver::name(policy))
+        operations[{cost.scalar, policy}] = cost.ops.total();
   const std::string stem = emit::file_stem(s.solver);
   std::vector<io::OutputFile> files;
   for (const auto& file : emitted.files) files.push_back({(build_dir / file.name).string(), file.text});
@@ -63,6 +68,7 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
 
   // 2. Compile it with the system compiler into a shared library (unless it is up to date).
   CompiledSolver compiled;
+  compiled.operations = std::move(operations);
   const std::string library = (build_dir / ("libsweepgen_report_" + stem + ".so")).string();
   const std::string log = (build_dir / "compile.log").string();
   compiled.command =

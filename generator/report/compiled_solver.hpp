@@ -32,6 +32,9 @@ struct CompiledSolver {
   bool reused = false;               // the library in build_dir was already built from the same sources and command
   std::unique_ptr<SharedLibrary> library;
   std::map<solver::Policy, FlatSolve<double>> solve_f64_of;  // every policy of the scene
+  // The generator's operation count of one full solve (outward + decompose + solve), by scalar
+  // name ("double", "float") and policy: what the generated header lists.
+  std::map<std::pair<std::string, solver::Policy>, std::size_t> operations;
   FlatSolve<float> solve_f32 = nullptr;                      // policy original
 };
 

@@ -233,9 +233,10 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
 
   std::vector<Measured> measured;
   const auto add = [&](std::string name, std::string solves, std::string scalar, Referee referee, VariantResult r,
-                       bool is_referee = false) {
+                       bool is_referee = false, std::size_t operations = 0) {
     say("measured " + name);
     VariantStudy study;
+    study.operations = operations;
     study.name = std::move(name);
     study.solves = std::move(solves);
     study.scalar = std::move(scalar);
@@ -256,17 +257,20 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
         compile_scene_solver(report_scene(s, policies), chain, options.build_dir / "x86-64", options.cxx, quiet);
     for (const Policy p : policies)
       add(generated("double", p, own, Isa::baseline), what(p, own, "-O2 x86-64"), "double", {p, own, "double"},
-          measure_generated<double>(baseline.solve_f64_of.at(p), "double", n, nc, problems, timing));
+          measure_generated<double>(baseline.solve_f64_of.at(p), "double", n, nc, problems, timing), false,
+          baseline.operations.at({"double", p}));
     add(generated("float", Policy::original, own, Isa::baseline), what(Policy::original, own, "-O2 x86-64"), "float",
         {Policy::original, own, "float"},
-        measure_generated<float>(baseline.solve_f32, "float", n, nc, problems, timing));
+        measure_generated<float>(baseline.solve_f32, "float", n, nc, problems, timing), false,
+        baseline.operations.at({"float", Policy::original}));
   }
   const std::string v3 = generated("double", Policy::original, own, Isa::x86_64_v3);
   if (cpu_supports(Isa::x86_64_v3)) {
     const CompiledSolver fast = compile_scene_solver(report_scene(s), chain, options.build_dir / "x86-64-v3",
                                                      options.cxx, quiet, Isa::x86_64_v3);
     add(v3, what(Policy::original, own, "-O3 x86-64-v3 (AVX2, FMA)"), "double", {Policy::original, own, "double"},
-        measure_generated<double>(fast.solve_f64_of.at(Policy::original), "double", n, nc, problems, timing));
+        measure_generated<double>(fast.solve_f64_of.at(Policy::original), "double", n, nc, problems, timing), false,
+        fast.operations.at({"double", Policy::original}));
   } else {
     add(v3, "the same for x86-64-v3", "double", {}, {"generated", "double", "this CPU lacks AVX2/FMA/BMI2", {}, {}});
   }
@@ -276,7 +280,8 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
                                                          options.build_dir / "other-factorisation", options.cxx, quiet);
     add(generated("double", Policy::original, other, Isa::baseline), what(Policy::original, other, "-O2 x86-64"),
         "double", {Policy::original, other, "double"},
-        measure_generated<double>(compiled.solve_f64_of.at(Policy::original), "double", n, nc, problems, timing));
+        measure_generated<double>(compiled.solve_f64_of.at(Policy::original), "double", n, nc, problems, timing),
+        false, compiled.operations.at({"double", Policy::original}));
   }
   add("reference double", "ReferenceSolver<double>: the same equations, generic loops over the chain (Eigen)",
       "double", {Policy::original, own, "double"}, measure_reference_double(s, chain, problems, timing));

@@ -57,6 +57,7 @@ struct VariantStudy {
   std::string note;    // why it has no numbers (empty when measured)
   bool referee = false;  // the binary128 referee itself: timed, error 0 by definition
   double ns_median = NAN, ns_p99 = NAN, ns_max = NAN;  // per call, after a warm-up pass
+  std::size_t operations = 0;  // generated rows: the generator's operation count of one full solve
   std::vector<FamilyErrors> families;                  // SceneStudy::families order
   FamilyErrors all;                                    // every family together
   std::vector<StatePoint> states;                      // every state, in study order

@@ -31,10 +31,13 @@ std::string kdl_ratio(const SceneStudy& s, const VariantStudy& v) {
 
 std::vector<std::string> summary_cells(const SceneStudy& s, const VariantStudy& v) {
   if (!v.note.empty()) return {v.name, v.scalar, v.note};
+  const std::string operations = v.operations > 0 ? std::to_string(v.operations) : "";
   if (v.referee)
-    return {v.name, v.scalar, ns(v.ns_median), ns(v.ns_p99), ns(v.ns_max), kdl_ratio(s, v), "0 (referee)", "", "", "", ""};
+    return {v.name, v.scalar, operations, ns(v.ns_median), ns(v.ns_p99), ns(v.ns_max), kdl_ratio(s, v), "0 (referee)",
+            "", "", "", ""};
   return {v.name,
           v.scalar,
+          operations,
           ns(v.ns_median),
           ns(v.ns_p99),
           ns(v.ns_max),
@@ -47,9 +50,9 @@ std::vector<std::string> summary_cells(const SceneStudy& s, const VariantStudy& 
 }
 
 const std::vector<std::string>& summary_header() {
-  static const std::vector<std::string> header = {"variant",    "scalar",  "ns_median", "ns_p99",       "ns_max",
-                                                  "kdl_x",      "err_median", "err_p99", "err_max", "max_residual",
-                                                  "status"};
+  static const std::vector<std::string> header = {"variant", "scalar",     "ops",     "ns_median", "ns_p99",
+                                                  "ns_max",  "kdl_x",      "err_median", "err_p99", "err_max",
+                                                  "max_residual", "status"};
   return header;
 }
 
@@ -69,6 +72,7 @@ std::vector<std::string> csv_fields(const SceneStudy& s, const VariantStudy& v, 
           timed ? format("%.1f", v.ns_median) : "",
           timed ? format("%.1f", v.ns_p99) : "",
           timed ? format("%.1f", v.ns_max) : "",
+          v.operations > 0 ? std::to_string(v.operations) : "",
           v.note,
           v.solves};
 }
@@ -179,8 +183,8 @@ void print_study(const SceneStudy& study, std::ostream& out) {
 
 std::string report_csv(const std::vector<SceneStudy>& studies) {
   std::string text = csv_line({"scene", "variant", "scalar", "family", "states", "judged", "err_median", "err_p99",
-                               "err_max", "max_residual", "status_raised", "ns_median", "ns_p99", "ns_max", "note",
-                               "solves"});
+                               "err_max", "max_residual", "status_raised", "ns_median", "ns_p99", "ns_max", "operations",
+                               "note", "solves"});
   for (const SceneStudy& s : studies)
     for (const VariantStudy& v : s.variants) {
       if (!v.note.empty() || v.referee) {
