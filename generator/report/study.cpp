@@ -11,6 +11,7 @@
 #include "report/stability_errors.hpp"
 #include "report/stability_measure.hpp"
 #include "report/text_format.hpp"
+#include "solver/solver_sweep.hpp"
 
 namespace sweepgen::report {
 namespace {
@@ -249,7 +250,9 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
            (isa != Isa::baseline ? " " + isa_name(isa) : "");
   };
   const auto what = [&](Policy p, ConstraintFactorisation f, const std::string& compiled_for) {
-    return "ACHD " + policy_label(p) + (nc > 0 ? ", " + factorisation_label(f) : "") + ", unrolled, " + compiled_for;
+    const bool refined = solver::refines(s.refinement, nc, p, f);
+    return "ACHD " + policy_label(p) + (nc > 0 ? ", " + factorisation_label(f) : "") +
+           (refined ? ", refined once (R1)" : "") + ", unrolled, " + compiled_for;
   };
 
   {

@@ -104,10 +104,14 @@ void saturate_commanded_torque(const SolverModel<Scalar>& model, const Kinematic
 // Whether (R1) applies: a policy whose answer meets αᵀ Ẍ_tip = E_cstr,N exactly (the others
 // leave a residual by design) and the pivoted factorisation (the damped one is biased on
 // purpose; refining would undo its damping).
+// `policy` as the caller names it (saturate_exact's constraint stage is original's).
+inline bool refines(bool refinement, std::size_t constraints, Policy policy, ConstraintFactorisation factorisation) {
+  return refinement && constraints > 0 && (policy == Policy::original || policy == Policy::saturate_exact) &&
+         factorisation == ConstraintFactorisation::pivoted_ldlt;
+}
 template <class Scalar>
 bool refines(const SolverModel<Scalar>& model, Policy constraint_policy) {
-  return model.refinement && model.constraints() > 0 && constraint_policy == Policy::original &&
-         model.constraint_factorisation == ConstraintFactorisation::pivoted_ldlt;
+  return refines(model.refinement, model.constraints(), constraint_policy, model.constraint_factorisation);
 }
 
 // (R1): E_cstr,N + r with r = E_cstr,N − αᵀ Ẍ_tip. ν comes from E^A_cstr,0, formed as a sum of
