@@ -86,7 +86,9 @@ Outcome check_scene(const scene::Scene& s, bool refinement, int states) {
   }
   std::printf("[refinement] %s: %d states, worst error %.2f eps kappa (KDL %.2f), worst qdd error %.2e\n",
               what.c_str(), states, outcome.worst_eps_kappa, outcome.kdl_worst_eps_kappa, outcome.worst_qdd);
-  if (refinement) EXPECT_LE(outcome.worst_eps_kappa, kWorstEpsKappa) << what;
+  if (refinement) {
+    EXPECT_LE(outcome.worst_eps_kappa, kWorstEpsKappa) << what;
+  }
   return outcome;
 }
 
@@ -108,8 +110,9 @@ TEST(Refinement, AtTheBestDoubleSolversLevel) {
     const Outcome refined = check_scene(s, true, states);
     const Outcome unrefined = check_scene(s, false, states);
     // (c) where E is ill-conditioned (six directions on an arm): the refinement is what gets there.
-    if (s.layout.constraints == 6)
+    if (s.layout.constraints == 6) {
       EXPECT_GE(unrefined.worst_qdd, kGain * refined.worst_qdd) << s.solver;
+    }
   }
 }
 

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 #include "io/output_files.hpp"
 #include "emit/scene_request.hpp"
@@ -27,16 +25,12 @@ void make_directory(const std::filesystem::path& dir) {
   if (error) throw io::IoError(dir.string() + ": cannot create directory (" + error.message() + ")");
 }
 
-}  // namespace
-
 // Whether `path` holds exactly `text`.
 bool holds(const std::filesystem::path& path, const std::string& text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream content;
-  content << in.rdbuf();
-  return content.str() == text;
+  return std::filesystem::is_regular_file(path) && io::read_file(path.string()) == text;
 }
+
+}  // namespace
 
 scene::Scene report_scene(scene::Scene s, std::vector<solver::Policy> policies) {
   s.scalars = {"double", "float"};

@@ -204,7 +204,7 @@ Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
 // ReferenceSolver<Scalar> on the states (inputs rounded to Scalar outside the timed calls).
 template <class Scalar>
 VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
-                                const TimingOptions& timing, const char* scalar_name, solver::Policy policy) {
+                                const TimingOptions& timing, const char* scalar_name) {
   solver::ReferenceSolver<Scalar> reference(chain, s.layout, s.solver_options());
   const solver::FlatLayout layout{chain.dof(), s.layout.constraints};
   // Results go to a plain buffer in the timed calls (as the generated code's do), widened after.
@@ -212,7 +212,7 @@ VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain
   std::vector<solver::SolveInputs<Scalar>> inputs;
   for (const Problem& p : problems) inputs.push_back(p.template cast<Scalar>());
   const auto call = [&](std::size_t state) {
-    const auto& solution = reference.run(inputs[state], policy);
+    const auto& solution = reference.run(inputs[state], solver::Policy::original);
     solver::flat_output(solution, reference.status(), layout, out.data() + state * layout.out_size());
   };
   VariantResult result{"reference", scalar_name, "", time_calls(problems.size(), timing, call), {}};
@@ -223,20 +223,18 @@ VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain
 }  // namespace
 
 VariantResult measure_reference_double(const scene::Scene& s, const model::Chain& chain,
-                                       const std::vector<Problem>& problems, const TimingOptions& timing,
-                                       solver::Policy policy) {
-  return measure_reference<double>(s, chain, problems, timing, "double", policy);
+                                       const std::vector<Problem>& problems, const TimingOptions& timing) {
+  return measure_reference<double>(s, chain, problems, timing, "double");
 }
 
 VariantResult measure_reference_precise(const scene::Scene& s, const model::Chain& chain,
-                                        const std::vector<Problem>& problems, const TimingOptions& timing,
-                                        solver::Policy policy) {
-  return measure_reference<Precise>(s, chain, problems, timing, "binary128", policy);
+                                        const std::vector<Problem>& problems, const TimingOptions& timing) {
+  return measure_reference<Precise>(s, chain, problems, timing, "binary128");
 }
 
 VariantResult measure_reference_float(const scene::Scene& s, const model::Chain& chain,
                                       const std::vector<Problem>& problems, const TimingOptions& timing) {
-  return measure_reference<float>(s, chain, problems, timing, "float", solver::Policy::original);
+  return measure_reference<float>(s, chain, problems, timing, "float");
 }
 
 template <class Scalar>

@@ -130,14 +130,12 @@ std::vector<double> time_calls(std::size_t states, const TimingOptions& timing, 
   return ns;
 }
 
-// ReferenceSolver<double>: outward + decompose + solve(policy) per state.
+// ReferenceSolver<double>: outward + decompose + solve(original) per state.
 VariantResult measure_reference_double(const scene::Scene& s, const model::Chain& chain,
-                                       const std::vector<Problem>& problems, const TimingOptions& timing,
-                                       solver::Policy policy = solver::Policy::original);
+                                       const std::vector<Problem>& problems, const TimingOptions& timing);
 // ReferenceSolver<Precise>, the referee itself: its time per call (its error is 0 by definition).
 VariantResult measure_reference_precise(const scene::Scene& s, const model::Chain& chain,
-                                        const std::vector<Problem>& problems, const TimingOptions& timing,
-                                        solver::Policy policy);
+                                        const std::vector<Problem>& problems, const TimingOptions& timing);
 // ReferenceSolver<float> (inputs rounded to float): the operations of the generated float code
 // (the generated code is the traced reference; tests/generated/ check them against each other).
 VariantResult measure_reference_float(const scene::Scene& s, const model::Chain& chain,

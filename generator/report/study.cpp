@@ -107,16 +107,18 @@ bool judged(const StateJudgement& j) {
   return j.representable && j.finite && ((j.status | j.exact_status) & kNotJudged) == 0;
 }
 
-FamilyErrors errors_of(const std::string& family, const std::vector<StateJudgement>& judged_states) {
+// The statistics of the states of `family` ("all": every state).
+FamilyErrors errors_of(const std::string& family, const std::vector<StatePoint>& states) {
   FamilyErrors e;
   e.family = family;
-  e.states = judged_states.size();
   std::vector<double> errors, residuals;
-  for (const StateJudgement& j : judged_states) {
-    if (j.status != 0) ++e.status_raised;
-    if (!judged(j)) continue;
-    errors.push_back(j.error());
-    residuals.push_back(j.constraint_residual);
+  for (const StatePoint& p : states) {
+    if (family != "all" && p.family != family) continue;
+    ++e.states;
+    if (p.status != 0) ++e.status_raised;
+    if (!p.judged) continue;
+    errors.push_back(p.error());
+    residuals.push_back(p.residual);
   }
   e.judged = errors.size();
   if (!errors.empty()) {
@@ -141,17 +143,13 @@ void summarise(Measured& m, const std::vector<Truth>& truth, const std::vector<L
     v.ns_max = *std::max_element(ns.begin(), ns.end());
   }
   if (v.referee) return;
-  std::vector<StateJudgement> all;
-  std::map<std::string, std::vector<StateJudgement>> by_family;
   for (std::size_t k = 0; k < states.size(); ++k) {
     const StateJudgement j = judge(m.result.outcomes[k], truth[k], states[k].problem, chain, largest_of(v.scalar));
-    all.push_back(j);
-    by_family[states[k].kind].push_back(j);
     v.states.push_back({states[k].kind, j.kappa(), j.qdd, j.tau, j.nu, j.constraint_residual, j.status, j.exact_status,
                         judged(j)});
   }
-  for (const auto& [family, count] : families) v.families.push_back(errors_of(family, by_family[family]));
-  v.all = errors_of("all", all);
+  for (const auto& [family, count] : families) v.families.push_back(errors_of(family, v.states));
+  v.all = errors_of("all", v.states);
 }
 
 // The largest κ below which float answers every state: meets kFloatGoal where judged, and drops no
@@ -289,7 +287,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
   add("reference double", "ReferenceSolver<double>: the same equations, generic loops over the chain (Eigen)",
       "double", {Policy::original, own, "double"}, measure_reference_double(s, chain, problems, timing));
   add("reference binary128", "ReferenceSolver<binary128>: the referee every row is judged against", "binary128",
-      {Policy::original, own, "double"}, measure_reference_precise(s, chain, problems, once, Policy::original), true);
+      {Policy::original, own, "double"}, measure_reference_precise(s, chain, problems, once), true);
   add("KDL", "KDL 1.5 ChainHdSolver_Vereshchagin (Alg. 1, original composition)", "double",
       {Policy::original, own, "double"}, measure_kdl(s, chain, problems, timing));
   add("dense KKT", "M, b, J by Newton–Euler, (n + Nc) KKT system by full-pivot LU (Eigen)", "double",

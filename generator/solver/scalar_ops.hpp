@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <limits>
 #include <type_traits>
 
 namespace sweepgen::solver {
@@ -58,7 +57,7 @@ Scalar equilibration_scale(const Scalar& x) {
     T scale;
     std::memcpy(&scale, &scale_bits, sizeof scale);
     // 0 for x <= 0, NaN and +Inf.
-  return x > T(0) && x <= std::numeric_limits<T>::max() ? scale : T(0);
+    return x > T(0) && x <= std::numeric_limits<T>::max() ? scale : T(0);
   } else {
     const int k = x > Scalar(0) ? std::ilogb(x) : 0;
     return x > Scalar(0) ? std::ldexp(Scalar(1), ((k & 1) - k) / 2) : Scalar(0);
