@@ -244,7 +244,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
   };
   const auto generated = [&](const char* scalar, Policy p, ConstraintFactorisation f, Isa isa) {
     return "generated " + std::string(scalar) + " " + solver::name(p) +
-           (f != own ? " " + std::string(f == ConstraintFactorisation::damped ? "damped" : "pivoted") : "") +
+           (f != own ? " " + policy_name(f) : "") +
            (isa != Isa::baseline ? " " + isa_name(isa) : "");
   };
   const auto what = [&](Policy p, ConstraintFactorisation f, const std::string& compiled_for) {
