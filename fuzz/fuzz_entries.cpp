@@ -176,13 +176,19 @@ void check_scene(const scene::Scene& s) {
   if (s.solver.empty() || s.chain.urdf.empty()) violation("scene without solver namespace or URDF");
   check_finite(s.gravity, "gravity");
   const solver::DriverLayout& layout = s.layout;
-  if (layout.constraints > solver::kMaxConstraints) violation("more than 6 constraints");
-  if (!s.fixed_directions.empty() && s.fixed_directions.size() != layout.constraints)
-    violation("fixed directions and constraint count differ");
-  for (const auto& d : s.fixed_directions) {
-    const double norm = std::sqrt(d.moment.squaredNorm() + d.force.squaredNorm());
-    if (!(std::abs(norm - 1) <= 1e-9)) violation("fixed direction is not a unit vector");
+  if (layout.constraints > solver::kMaxConstraints) violation("more constraints than kMaxConstraints");
+  std::size_t directions = 0;
+  for (const auto& set : layout.sets) {
+    directions += set.count;
+    if (set.count == 0 || set.count > solver::kMaxSetDirections) violation("a constraint set of 0 or more than 6");
+    if (set.directions_fixed() && set.fixed.size() != set.count) violation("fixed directions and set count differ");
+    if (set.link.empty() && layout.sets.size() > 1) violation("the tip set of a short form among listed sets");
+    for (const auto& d : set.fixed) {
+      const double norm = std::sqrt(d.moment.squaredNorm() + d.force.squaredNorm());
+      if (!(std::abs(norm - 1) <= 1e-9)) violation("fixed direction is not a unit vector");
+    }
   }
+  if (directions != layout.constraints) violation("the sets' directions and the constraint count differ");
   if (s.policies.empty() || s.scalars.empty()) violation("no policy or no scalar type");
   if (!(s.pivot_tolerance == 0 || (s.pivot_tolerance > 0 && s.pivot_tolerance < 1))) violation("pivot tolerance");
   for (const auto& [joint, d] : s.chain.rotor_inertia)

@@ -235,7 +235,7 @@ std::vector<EmitterCase> make_emitter_cases() {
     solver::DriverLayout layout = drivers({"tau_ff"}, {{"f_mid", "link2"}, {"f_tip", "tool"}}, 1);
     layout.tracks = {solver::Track{"bias", true, {0}, {}}, solver::Track{"f_mid", false, {}, {0, 1}}};
     scene::Scene s = case_scene("planar_nc1_fixed", chain, std::move(layout), kAllPolicies);
-    s.fixed_directions = {spatial::Force<double>{{0, 0, 0.6}, {0.8, 0, 0}}};
+    s.layout.sets = {solver::ConstraintSet{"", 1, {spatial::Force<double>{{0, 0, 0.6}, {0.8, 0, 0}}}}};
     cases.push_back({"planar_nc1_fixed", chain, std::move(s)});
   }
   // Nc = 3 at run time, two torque instances and a load on a middle link, composed, expose: all.
@@ -262,10 +262,11 @@ std::vector<EmitterCase> make_emitter_cases() {
     layout.tracks = {solver::Track{"f_tip", false, {}, {0}}, solver::Track{"bias", true, {0}, {}}};
     scene::Scene s =
         case_scene("random_nc6_fixed", chain, std::move(layout), {Policy::original, Policy::saturate_exact});
+    s.layout.sets = {solver::ConstraintSet{"", 6, {}}};
     for (int k = 0; k < 6; ++k) {
       spatial::Force<double> axis;
       (k < 3 ? axis.moment : axis.force)[k % 3] = 1;
-      s.fixed_directions.push_back(axis);
+      s.layout.sets.front().fixed.push_back(axis);
     }
     s.constraint_factorisation = solver::ConstraintFactorisation::damped;
     cases.push_back({"random_nc6_fixed", chain, std::move(s)});
@@ -347,7 +348,7 @@ class EmittedSolver : public ::testing::TestWithParam<std::size_t> {};
 
 TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
   const EmitterCase& c = emitter_cases().at(GetParam());
-  const std::size_t n = c.chain.dof(), nc = c.scene.layout.constraints;
+  const std::size_t n = c.chain.dof();
   test::TempDir dir;
   const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
   const report::CompiledSolver compiled = report::compile_scene_solver(c.scene, c.chain, dir.path(), "c++", quiet);
@@ -361,7 +362,7 @@ TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
   for (const solver::Policy policy : c.scene.policies) {
     const std::string where = c.name + " " + solver::name(policy);
     const auto generated = report::measure_generated<double>(compiled.solve_f64_of.at(policy), "double",
-                                                             n, nc, problems, untimed);
+                                                             c.scene.flat_layout(n), problems, untimed);
     solver::ReferenceSolver<double> reference(c.chain, c.scene.layout, c.scene.solver_options());
     Worst worst;
     double max_ulps = 0;  // the largest difference in ulps of its vector's scale (its largest entry)

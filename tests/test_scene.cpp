@@ -120,7 +120,8 @@ TEST(Scene, FullSceneReadsEveryField) {
   EXPECT_EQ(s.layout.external_forces[1].name, "push");
   EXPECT_EQ(s.layout.external_forces[1].link, "panda_hand");
   EXPECT_EQ(s.layout.constraints, 6u);
-  EXPECT_TRUE(s.fixed_directions.empty());
+  EXPECT_EQ(s.layout.run_time_directions(), 6u);
+  EXPECT_EQ(s.layout.listed_sets(), 0u);
   ASSERT_EQ(s.layout.tracks.size(), 4u);  // decomposed
   EXPECT_TRUE(s.layout.tracks[0].bias);
 
@@ -191,11 +192,14 @@ TEST(Scene, FixedConstraintDirections) {
                                       "constraints: {directions: [[0,0,0,1,0,0], [0.6,0,0.8,0,0,0]]}")));
   const Scene s = scene::load_scene(path);
   EXPECT_EQ(s.layout.constraints, 2u);
-  ASSERT_EQ(s.fixed_directions.size(), 2u);
-  EXPECT_EQ(s.fixed_directions[0].moment, Eigen::Vector3d::Zero());
-  EXPECT_EQ(s.fixed_directions[0].force, Eigen::Vector3d(1, 0, 0));
-  EXPECT_EQ(s.fixed_directions[1].moment, Eigen::Vector3d(0.6, 0, 0.8));
-  EXPECT_EQ(s.fixed_directions[1].force, Eigen::Vector3d::Zero());
+  ASSERT_EQ(s.layout.sets.size(), 1u);
+  const auto& fixed = s.layout.sets[0].fixed;
+  ASSERT_EQ(fixed.size(), 2u);
+  EXPECT_EQ(fixed[0].moment, Eigen::Vector3d::Zero());
+  EXPECT_EQ(fixed[0].force, Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(fixed[1].moment, Eigen::Vector3d(0.6, 0, 0.8));
+  EXPECT_EQ(fixed[1].force, Eigen::Vector3d::Zero());
+  EXPECT_EQ(s.layout.run_time_directions(), 0u);
   EXPECT_EQ(scene::load_scene_chain(s).dof(), 7u);
 }
 
@@ -276,7 +280,8 @@ TEST(Scene, DefaultScene) {
   EXPECT_EQ(s.layout.external_forces[0].name, "f_ext_tip");
   EXPECT_EQ(s.layout.external_forces[0].link, "panda_hand");
   EXPECT_EQ(s.layout.constraints, 6u);
-  EXPECT_TRUE(s.fixed_directions.empty());
+  EXPECT_EQ(s.layout.run_time_directions(), 6u);
+  EXPECT_EQ(s.layout.listed_sets(), 0u);
   ASSERT_EQ(s.layout.tracks.size(), 3u);  // decomposed: bias, tau_ff, f_ext_tip
   EXPECT_TRUE(s.layout.tracks[0].bias);
   EXPECT_TRUE(s.layout.external_forces_separable());

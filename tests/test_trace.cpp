@@ -53,7 +53,7 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
     for (std::size_t nc : {0u, 3u, 6u}) {
       SCOPED_TRACE(robot.name + " Nc=" + std::to_string(nc));
       const solver::DriverLayout layout = full_layout(chain, nc);
-      symbolic::TraceRequest request{layout, {}, policies, {}, std::numeric_limits<double>::epsilon()};
+      symbolic::TraceRequest request{layout, policies, {}, std::numeric_limits<double>::epsilon()};
       const symbolic::Trace trace = symbolic::trace_solver(chain, request);
 
       for (int sample = 0; sample < 20; ++sample) {

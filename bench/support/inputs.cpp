@@ -48,9 +48,7 @@ SceneInputs make_inputs(const std::string& scene_path, std::size_t count, unsign
       for (int k = 0; k < 3; ++k) w.force[k] = random.uniform(-20, 20);
       p.wrenches.push_back(w);
     }
-    p.alpha = s.scene.fixed_directions;
-    if (layout.directions_in_input)
-      for (std::size_t k = 0; k < s.constraints; ++k) p.alpha.push_back(random.unit_direction());
+    p.alpha = solver::directions_with(s.scene.layout, [&random] { return random.unit_direction(); });
     p.beta.resize(static_cast<Eigen::Index>(s.constraints));
     for (auto& b : p.beta) b = random.uniform(-3, 3);
     std::vector<double> beta;

@@ -61,7 +61,7 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   if (has_alpha != has_beta) throw KeyError(has_alpha ? "beta" : "alpha", "missing (alpha and beta go together)");
   if (has_alpha) {
     const json& alpha = line["alpha"];
-    if (!alpha.is_array() || alpha.size() > solver::kMaxConstraints)
+    if (!alpha.is_array() || alpha.size() > solver::kMaxSetDirections)
       throw KeyError("alpha", "expected an array of 0 to 6 directions, each [mx,my,mz,fx,fy,fz]");
     for (std::size_t k = 0; k < alpha.size(); ++k) p.alpha.push_back(wrench(alpha[k], "alpha[" + std::to_string(k) + "]"));
     p.beta = numbers(line["beta"], "beta", alpha.size());

@@ -16,7 +16,6 @@ inline EmitRequest emit_request(const scene::Scene& s, const std::string& proven
   request.expose_all = s.expose_all;
   request.check_inputs = s.check_inputs;
   request.trace.layout = s.layout;
-  request.trace.fixed_directions = s.fixed_directions;
   request.trace.policies = s.policies;
   request.trace.options = s.solver_options();
   request.provenance = provenance;

@@ -67,35 +67,47 @@ struct DriverArray {
   std::string declarator, loops, element, doc;
 };
 
-std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request, std::size_t nc) {
+// The extent of the run-time α: `constraints` when every direction is an input.
+std::string alpha_extent(const solver::DriverLayout& layout) {
+  const std::size_t inputs = layout.run_time_directions();
+  return inputs == layout.constraints ? "constraints" : std::to_string(inputs);
+}
+
+std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
   std::vector<DriverArray> arrays;
   for (const auto& name : request.layout.torques)
     arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques"});
   for (const auto& ext : request.layout.external_forces)
     arrays.push_back({ext.name + "[6]", "for (int i = 0; i < 6; ++i)", ext.name + "[i]",
                       "wrench [moment; force] on link " + ext.link + ", in its frame"});
-  if (request.fixed_directions.empty() && nc > 0)
-    arrays.push_back({"alpha[constraints][6]", "for (int k = 0; k < constraints; ++k)\n    for (int i = 0; i < 6; ++i)",
-                      "alpha[k][i]", "constraint directions [moment; force], tip frame, unit norm"});
+  const solver::DriverLayout& layout = request.layout;
+  if (layout.run_time_directions() > 0) {
+    const std::string extent = alpha_extent(layout);
+    arrays.push_back({"alpha[" + extent + "][6]", "for (int k = 0; k < " + extent + "; ++k)\n    for (int i = 0; i < 6; ++i)",
+                      "alpha[k][i]",
+                      layout.listed_sets() == 0 ? "constraint directions [moment; force], tip frame, unit norm"
+                                          : "run-time constraint directions [moment; force], each in its set's link frame, "
+                                            "unit norm (sets: see the file header)"});
+  }
   return arrays;
 }
 
-std::string drivers_members(const symbolic::TraceRequest& request, std::size_t nc) {
+std::string drivers_members(const symbolic::TraceRequest& request) {
   std::string text;
-  for (const auto& a : driver_arrays(request, nc)) text += "  Scalar " + a.declarator + ";  // " + a.doc + "\n";
+  for (const auto& a : driver_arrays(request)) text += "  Scalar " + a.declarator + ";  // " + a.doc + "\n";
   return text;
 }
 
-std::string unpack_drivers(const symbolic::TraceRequest& request, std::size_t nc) {
+std::string unpack_drivers(const symbolic::TraceRequest& request) {
   std::string text = "  [[maybe_unused]] const Scalar* cursor = drivers_in;\n";
-  for (const auto& a : driver_arrays(request, nc)) text += "  " + a.loops + " drivers." + a.element + " = *cursor++;\n";
+  for (const auto& a : driver_arrays(request)) text += "  " + a.loops + " drivers." + a.element + " = *cursor++;\n";
   return text;
 }
 
 // decompose(): NaN/Inf among the drivers (scene: check_inputs).
-std::string check_drivers(const symbolic::TraceRequest& request, std::size_t nc) {
+std::string check_drivers(const symbolic::TraceRequest& request) {
   std::string text = "  Scalar residue = 0;  // NaN/Inf among the drivers (scene: check_inputs; see outward())\n";
-  for (const auto& a : driver_arrays(request, nc))
+  for (const auto& a : driver_arrays(request))
     text += "  " + a.loops + " residue += drivers." + a.element + " - drivers." + a.element + ";\n";
   return text + "  state.drivers_input_status = residue == Scalar(0) ? status_ok : status_not_finite;";
 }
@@ -105,35 +117,39 @@ std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc) {
   std::string text = "q (dof), qd (dof)";
   for (const auto& name : request.layout.torques) text += ", " + name + " (dof)";
   for (const auto& ext : request.layout.external_forces) text += ", " + ext.name + " (6)";
-  if (request.fixed_directions.empty() && nc > 0) text += ", alpha (constraints x 6)";
+  if (request.layout.run_time_directions() > 0) text += ", alpha (" + alpha_extent(request.layout) + " x 6)";
   if (nc > 0) text += ", beta (constraints)";
   return text;
 }
 
 // The order of solver::FlatLayout's `out` (solver/flat_layout.hpp).
-const char* kFlatOut = "qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), status";
+std::string flat_out(std::size_t sets) {
+  return std::string("qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), ") +
+         (sets > 0 ? "set_acceleration (6 per constraint set), " : "") + "status";
+}
 
-// The Solution arrays of kFlatOut, in its order, with their loop headers.
-std::vector<std::pair<std::string, std::string>> solution_arrays(std::size_t nc) {
+// The Solution arrays of flat_out, in its order, with their loop headers.
+std::vector<std::pair<std::string, std::string>> solution_arrays(std::size_t nc, std::size_t sets) {
   std::vector<std::pair<std::string, std::string>> arrays;
   for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"}) arrays.emplace_back(name + std::string("[i]"), "for (int i = 0; i < dof; ++i)");
   if (nc > 0) arrays.emplace_back("nu[k]", "for (int k = 0; k < constraints; ++k)");
   arrays.emplace_back("tip_acceleration[i]", "for (int i = 0; i < 6; ++i)");
+  if (sets > 0) arrays.emplace_back("set_acceleration[i]", "for (int i = 0; i < " + std::to_string(6 * sets) + "; ++i)");
   return arrays;
 }
 
-std::string pack_solution(std::size_t nc) {
+std::string pack_solution(std::size_t nc, std::size_t sets) {
   std::string text = "  Scalar* cursor_out = out;\n";
-  for (const auto& [element, loop] : solution_arrays(nc)) text += "  " + loop + " *cursor_out++ = solution." + element + ";\n";
+  for (const auto& [element, loop] : solution_arrays(nc, sets)) text += "  " + loop + " *cursor_out++ = solution." + element + ";\n";
   text += "  *cursor_out = static_cast<Scalar>(solution.status);";
   return text;
 }
 
 // solve_<policy>(): NaN/Inf among the setpoints and the results (scene: check_inputs).
-std::string check_solution(std::size_t nc) {
+std::string check_solution(std::size_t nc, std::size_t sets) {
   std::string text = "  Scalar residue = 0;  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
   if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
-  for (const auto& [element, loop] : solution_arrays(nc))
+  for (const auto& [element, loop] : solution_arrays(nc, sets))
     text += "  " + loop + " residue += out." + element + " - out." + element + ";\n";
   text.pop_back();  // the template ends the line
   return text;
@@ -175,7 +191,7 @@ std::string file_stem(const std::string& solver_namespace) {
 EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request) {
   EmittedSolver result;
   const std::size_t n = chain.dof();
-  const std::size_t nc = request.trace.layout.constraints;
+  const std::size_t nc = request.trace.layout.constraints, sets = request.trace.layout.listed_sets();
   const std::string stem = file_stem(request.solver_namespace);
 
   data op_lines{data::type::list};
@@ -189,7 +205,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     data variant;
     variant.set("scalar", scalar);
     variant.set("tag", tag_of(scalar));
-    variant.set("drivers_members", drivers_members(request.trace, nc));
+    variant.set("drivers_members", drivers_members(request.trace));
 
     std::string state = array_members(trace, plan.state_fields, n + 1, false);
     for (const auto& [node, name] : plan.carried_name) state += "  Scalar " + name + ";\n";
@@ -222,18 +238,18 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       solve.set("policy", f.group);
       solve.set("doc", policy_doc(f.group));
       solve.set("body", text.body);
-      solve.set("pack_solution", pack_solution(nc));
+      solve.set("pack_solution", pack_solution(nc, sets));
       solves.push_back(solve);
     }
     variant.set("solves", solves);
     variant.set("flat_in", flat_in(request.trace, nc));
-    variant.set("flat_out", kFlatOut);
-    const auto flat = solver::FlatLayout::of(request.trace.layout, n, !request.trace.fixed_directions.empty());
+    variant.set("flat_out", flat_out(sets));
+    const auto flat = solver::FlatLayout::of(request.trace.layout, n);
     variant.set("flat_in_size", std::to_string(flat.in_size()));
     variant.set("flat_out_size", std::to_string(flat.out_size()));
-    variant.set("unpack_drivers", unpack_drivers(request.trace, nc));
-    variant.set("check_drivers", check_drivers(request.trace, nc));
-    variant.set("check_solution", check_solution(nc));
+    variant.set("unpack_drivers", unpack_drivers(request.trace));
+    variant.set("check_drivers", check_drivers(request.trace));
+    variant.set("check_solution", check_solution(nc, sets));
     variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
                                                  : " (expose: outputs; carried values only)");
     variants.push_back(variant);
@@ -249,8 +265,13 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   for (const std::string& line : model::lumping_summary(chain)) lumping.push_back(data("line", line));
   values.set("lumping", lumping);
   values.set("constraints", std::to_string(nc));
-  values.set("directions_note", request.trace.fixed_directions.empty() ? "" : ", fixed");
-  values.set("alpha_note", request.trace.fixed_directions.empty() && nc > 0 ? ", alpha" : "");
+  const solver::DriverLayout& layout = request.trace.layout;
+  const std::size_t run_time = layout.run_time_directions();
+  values.set("directions_note", run_time == nc ? "" : run_time == 0 ? ", fixed" : ", " + std::to_string(nc - run_time) + " fixed");
+  values.set("alpha_note", run_time > 0 ? ", alpha" : "");
+  std::string sets_note = sets > 0 ? "\n// Constraint sets: each set's alpha and set_acceleration are in its own link's frame." : "";
+  for (const std::string& line : constraint_set_summary(layout)) sets_note += "\n//   " + line;
+  values.set("constraint_sets_note", sets_note);
   values.set("namespace", request.solver_namespace);
   values.set("has_constraints", nc > 0);
   values.set("factorisation_note", factorisation_note(request.trace.options, nc));

@@ -259,14 +259,30 @@ class DenseDynamics {
     return mass_matrix(q).fullPivLu().solve(tau + external_torque(q, ext) - bias(q, qd));
   }
 
-  // Gauss' principle with the constraint α^T Ẍ_tip = β (α: 6 x Nc, tip-frame [moment; force]):
+  // Jc = rows α_k^T J_link(k): the constraint Jacobian of directions on any links (`links`: one
+  // per column of α, 6 x Nc, each in its link's frame as [moment; force]).
+  Mat constraint_jacobian(const Vec& q, const std::vector<std::string>& links, const Mat& alpha) const {
+    Mat Jc(alpha.cols(), static_cast<Eigen::Index>(n_));
+    for (Eigen::Index k = 0; k < alpha.cols(); ++k)
+      Jc.row(k) = alpha.col(k).transpose() * jacobian(q, links.at(static_cast<std::size_t>(k)));
+    return Jc;
+  }
+  // α_k^T c_link(k): the drift of each constraint direction.
+  Vec constraint_drift(const Vec& q, const Vec& qd, const std::vector<std::string>& links, const Mat& alpha) const {
+    Vec c(alpha.cols());
+    for (Eigen::Index k = 0; k < alpha.cols(); ++k)
+      c[k] = alpha.col(k).dot(drift(q, qd, links.at(static_cast<std::size_t>(k))));
+    return c;
+  }
+
+  // Gauss' principle with the constraints α_k^T Ẍ_link(k) = β_k:
   //   [ M   −Jc^T ] [q̈]   [ τ + Σ J_i^T F_ext,i − b ]
-  //   [ Jc    0   ] [ν] = [ β − α^T c               ],   Jc = α^T J_tip,
-  // i.e. M q̈ + b = τ + Σ J_i^T F_ext,i + J_tip^T α ν. Solved by full-pivot LU.
+  //   [ Jc    0   ] [ν] = [ β − (α_k^T c_link(k))_k ],   Jc = (α_k^T J_link(k))_k,
+  // i.e. M q̈ + b = τ + Σ J_i^T F_ext,i + Jc^T ν. Solved by full-pivot LU.
   KktSolution kkt(const Vec& q, const Vec& qd, const Vec& tau, const std::vector<ExternalWrench>& ext,
-                  const std::string& tip, const Mat& alpha, const Vec& beta) const {
-    KktSolution s = solve_kkt(q, qd, tau, ext, tip, alpha, beta);
-    const Mat Jc = alpha.transpose() * jacobian(q, tip);
+                  const std::vector<std::string>& links, const Mat& alpha, const Vec& beta) const {
+    KktSolution s = solve_kkt(q, qd, tau, ext, links, alpha, beta);
+    const Mat Jc = constraint_jacobian(q, links, alpha);
     // (Eigen 3.4's triangular solve binds a reference to the null data of an empty right-hand
     // side, undefined behaviour that UBSan reports: no solve for Nc = 0.)
     s.E = alpha.cols() > 0 ? Mat(Jc * mass_matrix(q).ldlt().solve(Jc.transpose())) : Mat(0, 0);
@@ -275,23 +291,28 @@ class DenseDynamics {
   }
   // The same system without E and its condition number: q̈ and ν only.
   KktSolution solve_kkt(const Vec& q, const Vec& qd, const Vec& tau, const std::vector<ExternalWrench>& ext,
-                        const std::string& tip, const Mat& alpha, const Vec& beta) const {
+                        const std::vector<std::string>& links, const Mat& alpha, const Vec& beta) const {
     const Eigen::Index nc = alpha.cols();
     const Mat M = mass_matrix(q);
-    const Mat Jc = alpha.transpose() * jacobian(q, tip);
+    const Mat Jc = constraint_jacobian(q, links, alpha);
     Mat K = Mat::Zero(n_ + nc, n_ + nc);
     K.topLeftCorner(n_, n_) = M;
     K.topRightCorner(n_, nc) = -Jc.transpose();
     K.bottomLeftCorner(nc, n_) = Jc;
     Vec rhs(n_ + nc);
     rhs.head(n_) = tau + external_torque(q, ext) - bias(q, qd);
-    rhs.tail(nc) = beta - alpha.transpose() * drift(q, qd, tip);
+    rhs.tail(nc) = beta - constraint_drift(q, qd, links, alpha);
     const Vec x = K.fullPivLu().solve(rhs);
     KktSolution s;
     s.qdd = x.head(n_);
     s.nu = x.tail(nc);
     s.cond = 1;
     return s;
+  }
+  // Every direction on one link (the chain's tip, say).
+  KktSolution kkt(const Vec& q, const Vec& qd, const Vec& tau, const std::vector<ExternalWrench>& ext,
+                  const std::string& link, const Mat& alpha, const Vec& beta) const {
+    return kkt(q, qd, tau, ext, std::vector<std::string>(static_cast<std::size_t>(alpha.cols()), link), alpha, beta);
   }
 
   // The constraints the solver's documented pivot policy keeps (generator/solver/

@@ -10,6 +10,8 @@ VariantResult measure_dense_kkt(const scene::Scene& s, const model::Chain& chain
   const Dynamics dynamics(chain, s.gravity);
   const std::string& tip = chain.tip_link;
   const std::size_t nc = s.layout.constraints;
+  std::vector<std::string> links;  // per direction, its set's link
+  for (const auto& set : s.layout.constraint_sets()) links.insert(links.end(), set.count, set.link.empty() ? tip : set.link);
   struct Posed {
     std::vector<Dynamics::ExternalWrench> wrenches;
     Dynamics::Mat alpha;
@@ -28,17 +30,22 @@ VariantResult measure_dense_kkt(const scene::Scene& s, const model::Chain& chain
   std::vector<Dynamics::KktSolution> solutions(problems.size());
   const auto call = [&](std::size_t state) {
     const Problem& p = problems[state];
-    solutions[state] = dynamics.solve_kkt(p.q, p.qd, p.tau_ff, posed[state].wrenches, tip, posed[state].alpha, p.beta);
+    solutions[state] = dynamics.solve_kkt(p.q, p.qd, p.tau_ff, posed[state].wrenches, links, posed[state].alpha, p.beta);
   };
   VariantResult result{"dense_kkt", "double", "", time_calls(problems.size(), timing, call), {}};
   for (std::size_t state = 0; state < problems.size(); ++state) {
     const Problem& p = problems[state];
     const Dynamics::KktSolution& x = solutions[state];
     Outcome o;
-    // τcmd = τff + J_tipᵀ α ν (T1), Ẍ_tip = J_tip q̈ + c: outside the timed call.
+    // τcmd = τff + Jcᵀ ν (T1), Ẍ_link = J_link q̈ + c: outside the timed call.
     const Eigen::VectorXd tau_cmd =
-        p.tau_ff + dynamics.jacobian(p.q, tip).transpose() * (posed[state].alpha * x.nu);
+        p.tau_ff + dynamics.constraint_jacobian(p.q, links, posed[state].alpha).transpose() * x.nu;
     const Dynamics::Six tip_acceleration = dynamics.spatial_acceleration(p.q, p.qd, x.qdd, tip);
+    for (const std::string& link : links) {
+      const Dynamics::Six a = dynamics.spatial_acceleration(p.q, p.qd, x.qdd, link);
+      o.link_acceleration.push_back({});
+      for (std::size_t c = 0; c < 6; ++c) o.link_acceleration.back()[c] = a[static_cast<Eigen::Index>(c)];
+    }
     o.qdd.assign(x.qdd.data(), x.qdd.data() + x.qdd.size());
     o.nu.assign(x.nu.data(), x.nu.data() + x.nu.size());
     o.tau_cmd.assign(tau_cmd.data(), tau_cmd.data() + tau_cmd.size());

@@ -32,7 +32,9 @@ double length_scale(const model::Chain& chain) {
 std::vector<LabelledProblem> extreme_states(const scene::Scene& s, const model::Chain& chain, std::size_t per_kind,
                                             const std::vector<double>& singular_q, unsigned long long seed) {
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const bool run_time_alpha = s.fixed_directions.empty();
+  // The redundant and axis-aligned families rewrite α within one set of run-time directions.
+  const auto sets = s.layout.constraint_sets();
+  const bool run_time_alpha = sets.size() == 1 && !sets.front().directions_fixed();
   const double length = length_scale(chain);
   Uniform uniform(seed ^ 0x5eed);
   std::vector<LabelledProblem> states;

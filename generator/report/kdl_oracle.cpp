@@ -39,6 +39,8 @@ struct KdlInput {
 
 VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
                           const TimingOptions& timing) {
+  if (s.layout.listed_sets() > 0)
+    return unavailable("KDL's Vereshchagin solver takes one constraint set, on the chain's tip");
   KDL::Chain kdl;
   std::string why;
   if (!kdl_chain(s.chain.urdf, chain, kdl, why)) return unavailable(why);
@@ -110,6 +112,7 @@ VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, cons
       o.tip_acceleration[static_cast<std::size_t>(k)] = at_tip.angular[k];
       o.tip_acceleration[static_cast<std::size_t>(3 + k)] = at_tip.linear[k];
     }
+    o.link_acceleration.assign(nc, o.tip_acceleration);  // every direction is on the tip
     result.outcomes.push_back(std::move(o));
   }
   return result;

@@ -127,12 +127,10 @@ std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& 
       p.torques.push_back(tau);
     }
     for (std::size_t e = 0; e < s.layout.external_forces.size(); ++e) p.wrenches.push_back(random.wrench(2, 20));
-    p.alpha = s.fixed_directions;
-    if (p.alpha.empty())
-      for (std::size_t k = 0; k < nc; ++k) {
-        const spatial::Force<double> f = random.wrench(1, 1);
-        p.alpha.push_back(f * (1.0 / std::sqrt(f.moment.squaredNorm() + f.force.squaredNorm())));
-      }
+    p.alpha = solver::directions_with(s.layout, [&random] {
+      const spatial::Force<double> f = random.wrench(1, 1);
+      return f * (1.0 / std::sqrt(f.moment.squaredNorm() + f.force.squaredNorm()));
+    });
     p.beta.resize(static_cast<Eigen::Index>(nc));
     for (auto& b : p.beta) b = random.uniform(-3, 3);
 
@@ -196,6 +194,11 @@ Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
   outcome.tau_cmd.assign(o + layout.tau_cmd(), o + layout.tau_cmd() + layout.dof);
   outcome.nu.assign(o + layout.nu(), o + layout.nu() + layout.constraints);
   for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[layout.tip_acceleration() + k];
+  for (std::size_t k = 0; k < layout.constraints; ++k) {
+    std::array<Precise, 6> a{};
+    for (std::size_t c = 0; c < 6; ++c) a[c] = o[layout.link_acceleration(k) + c];
+    outcome.link_acceleration.push_back(a);
+  }
   outcome.status = static_cast<unsigned>(o[layout.status()]);
   outcome.rank_deficient = outcome.status & solver::status_constraint_rank_deficient;
   return outcome;
@@ -206,7 +209,7 @@ template <class Scalar>
 VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
                                 const TimingOptions& timing, const char* scalar_name) {
   solver::ReferenceSolver<Scalar> reference(chain, s.layout, s.solver_options());
-  const solver::FlatLayout layout{chain.dof(), s.layout.constraints};
+  const solver::FlatLayout layout = s.flat_layout(chain.dof());
   // Results go to a plain buffer in the timed calls (as the generated code's do), widened after.
   std::vector<Scalar> out(problems.size() * layout.out_size());
   std::vector<solver::SolveInputs<Scalar>> inputs;
@@ -238,10 +241,8 @@ VariantResult measure_reference_float(const scene::Scene& s, const model::Chain&
 }
 
 template <class Scalar>
-VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name, std::size_t dof,
-                                std::size_t constraints, const std::vector<Problem>& problems,
-                                const TimingOptions& timing) {
-  const solver::FlatLayout layout{dof, constraints};
+VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name, const solver::FlatLayout& layout,
+                                const std::vector<Problem>& problems, const TimingOptions& timing) {
   const std::size_t in_size = problems.empty() ? 0 : problems.front().flat.size(), out_size = layout.out_size();
   std::vector<Scalar> in(problems.size() * in_size), out(problems.size() * out_size);
   for (std::size_t state = 0; state < problems.size(); ++state)
@@ -253,22 +254,26 @@ VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name
   return result;
 }
 
-template VariantResult measure_generated<double>(FlatSolve<double>, const char*, std::size_t, std::size_t,
+template VariantResult measure_generated<double>(FlatSolve<double>, const char*, const solver::FlatLayout&,
                                                  const std::vector<Problem>&, const TimingOptions&);
-template VariantResult measure_generated<float>(FlatSolve<float>, const char*, std::size_t, std::size_t,
+template VariantResult measure_generated<float>(FlatSolve<float>, const char*, const solver::FlatLayout&,
                                                 const std::vector<Problem>&, const TimingOptions&);
 
 Precise constraint_residual(const Outcome& o, const Problem& p) {
-  for (const Precise v : o.tip_acceleration)
-    if (!isfinite(v)) return std::numeric_limits<Precise>::infinity();
+  if (o.link_acceleration.size() != p.alpha.size()) return std::numeric_limits<Precise>::quiet_NaN();
   Precise scale = 1, worst = 0;
-  for (const Precise v : o.tip_acceleration) scale = std::max(scale, abs(v));
+  for (const auto& a : o.link_acceleration)
+    for (const Precise v : a) {
+      if (!isfinite(v)) return std::numeric_limits<Precise>::infinity();
+      scale = std::max(scale, abs(v));
+    }
   for (Eigen::Index k = 0; k < p.beta.size(); ++k) scale = std::max(scale, static_cast<Precise>(std::abs(p.beta[k])));
   for (std::size_t k = 0; k < p.alpha.size(); ++k) {
+    const std::array<Precise, 6>& a = o.link_acceleration.at(k);
     Precise projection = 0;
-    for (int c = 0; c < 3; ++c)
-      projection += static_cast<Precise>(p.alpha[k].moment[c]) * o.tip_acceleration[static_cast<std::size_t>(c)] +
-                    static_cast<Precise>(p.alpha[k].force[c]) * o.tip_acceleration[static_cast<std::size_t>(3 + c)];
+    for (std::size_t c = 0; c < 3; ++c)
+      projection += static_cast<Precise>(p.alpha[k].moment[static_cast<int>(c)]) * a[c] +
+                    static_cast<Precise>(p.alpha[k].force[static_cast<int>(c)]) * a[3 + c];
     worst = std::max(worst, abs(projection - static_cast<Precise>(p.beta[static_cast<Eigen::Index>(k)])));
   }
   return worst / scale;

@@ -89,6 +89,8 @@ double inertia_condition_number(const model::Chain& chain, const solver::JointVe
 struct Outcome {
   std::vector<Precise> qdd, tau_cmd, nu;
   std::array<Precise, 6> tip_acceleration{};  // [angular; linear], tip frame, minus gravity
+  // Per constraint direction k, Ẍ of its set's link, in that link's frame (as tip_acceleration).
+  std::vector<std::array<Precise, 6>> link_acceleration;
   bool rank_deficient = false;                // the variant reported constraint_rank_deficient
   unsigned status = 0;                        // every status bit the variant reported
 };
@@ -147,13 +149,12 @@ using FlatSolve = void (*)(const Scalar* in, Scalar* out);
 
 // Instantiated for float and double.
 template <class Scalar>
-VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name, std::size_t dof,
-                                std::size_t constraints, const std::vector<Problem>& problems,
-                                const TimingOptions& timing);
+VariantResult measure_generated(FlatSolve<Scalar> solve, const char* scalar_name, const solver::FlatLayout& layout,
+                                const std::vector<Problem>& problems, const TimingOptions& timing);
 
-// How far a variant's tip acceleration misses the constraint it was asked to meet:
-// max_k |α_kᵀ Ẍ_tip − β_k| / max(1, ‖β‖∞, ‖Ẍ_tip‖∞) (0 when Nc = 0; infinite when Ẍ_tip is not
-// finite). Needs no referee: it checks the answer against the problem itself.
+// How far a variant's link accelerations miss the constraint it was asked to meet:
+// max_k |α_kᵀ Ẍ_link(k) − β_k| / max(1, ‖β‖∞, max_k ‖Ẍ_link(k)‖∞) (0 when Nc = 0; infinite when
+// an Ẍ_link is not finite; NaN when the outcome carries no Ẍ_link). Needs no referee: it checks the answer against the problem itself.
 Precise constraint_residual(const Outcome& outcome, const Problem& problem);
 // The q-th quantile (0..1) of `values`, linear between order statistics; NaN when empty.
 template <class T>

@@ -213,6 +213,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
   study.dof = chain.dof();
   study.constraints = s.layout.constraints;
   const std::size_t n = study.dof, nc = study.constraints;
+  const solver::FlatLayout flat = s.flat_layout(n);
 
   say("states");
   const std::vector<LabelledProblem> states = study_states(s, chain, options, study.singular_note);
@@ -258,11 +259,11 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
         compile_scene_solver(report_scene(s, policies), chain, options.build_dir / "x86-64", options.cxx, quiet);
     for (const Policy p : policies)
       add(generated("double", p, own, Isa::baseline), what(p, own, "-O2 x86-64"), "double", {p, own, "double"},
-          measure_generated<double>(baseline.solve_f64_of.at(p), "double", n, nc, problems, timing), false,
+          measure_generated<double>(baseline.solve_f64_of.at(p), "double", flat, problems, timing), false,
           baseline.operations.at({"double", p}));
     add(generated("float", Policy::original, own, Isa::baseline), what(Policy::original, own, "-O2 x86-64"), "float",
         {Policy::original, own, "float"},
-        measure_generated<float>(baseline.solve_f32, "float", n, nc, problems, timing), false,
+        measure_generated<float>(baseline.solve_f32, "float", flat, problems, timing), false,
         baseline.operations.at({"float", Policy::original}));
   }
   const std::string v3 = generated("double", Policy::original, own, Isa::x86_64_v3);
@@ -270,7 +271,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
     const CompiledSolver fast = compile_scene_solver(report_scene(s), chain, options.build_dir / "x86-64-v3",
                                                      options.cxx, quiet, Isa::x86_64_v3);
     add(v3, what(Policy::original, own, "-O3 x86-64-v3 (AVX2, FMA)"), "double", {Policy::original, own, "double"},
-        measure_generated<double>(fast.solve_f64_of.at(Policy::original), "double", n, nc, problems, timing), false,
+        measure_generated<double>(fast.solve_f64_of.at(Policy::original), "double", flat, problems, timing), false,
         fast.operations.at({"double", Policy::original}));
   } else {
     add(v3, "the same for x86-64-v3", "double", {}, {"generated", "double", "this CPU lacks AVX2/FMA/BMI2", {}, {}});
@@ -281,7 +282,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
                                                          options.build_dir / "other-factorisation", options.cxx, quiet);
     add(generated("double", Policy::original, other, Isa::baseline), what(Policy::original, other, "-O2 x86-64"),
         "double", {Policy::original, other, "double"},
-        measure_generated<double>(compiled.solve_f64_of.at(Policy::original), "double", n, nc, problems, timing),
+        measure_generated<double>(compiled.solve_f64_of.at(Policy::original), "double", flat, problems, timing),
         false, compiled.operations.at({"double", Policy::original}));
   }
   add("reference double", "ReferenceSolver<double>: the same equations, generic loops over the chain (Eigen)",

@@ -176,8 +176,92 @@ const std::vector<std::string>& scalar_names() {
   return names;
 }
 
-// Reads `drivers:` into layout/fixed directions (no tracks yet). `instances` collects every
-// instance name with its item, for the decomposition.
+// Fixed directions: a list of unit 6-vectors [moment; force], 1..6 of them.
+std::vector<spatial::Force<double>> read_directions(const Reader& reader, const Item& list) {
+  const auto directions = reader.sequence(list);
+  if (directions.empty() || directions.size() > solver::kMaxSetDirections)
+    reader.fail(list, "at least 1 and at most 6 constraint directions in a set (a body has six), got " +
+                          std::to_string(directions.size()));
+  std::vector<spatial::Force<double>> fixed;
+  for (const Item& direction : directions) {
+    const auto components = reader.sequence(direction);
+    if (components.size() != 6)
+      reader.fail(direction, "expected 6 numbers [moment; force], got " + std::to_string(components.size()));
+    Eigen::Matrix<double, 6, 1> v;
+    for (int i = 0; i < 6; ++i) v[i] = reader.number(components[i]);
+    if (!(std::abs(v.norm() - 1) <= 1e-9)) {
+      std::ostringstream norm;
+      norm.precision(17);
+      norm << v.norm();
+      reader.fail(direction, "not a unit vector (norm " + norm.str() + "; must be 1 within 1e-9)");
+    }
+    spatial::Force<double> f;
+    f.moment = v.head<3>();
+    f.force = v.tail<3>();
+    fixed.push_back(f);
+  }
+  return fixed;
+}
+
+// drivers.constraints: a count (run-time directions on the tip), {directions} (fixed, on the
+// tip), or a list of sets {link, count} / {link, directions}. Links are checked against the
+// chain later (load_scene_chain), at the locations recorded here.
+void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
+  solver::DriverLayout& layout = scene.layout;
+  const auto add = [&](solver::ConstraintSet set) {
+    layout.constraints += set.count;
+    layout.sets.push_back(std::move(set));
+  };
+  if (value.node.IsMap()) {
+    const auto fields = reader.entries(value, {"directions"});
+    if (fields.empty()) reader.fail(value, "missing key 'directions'");
+    auto fixed = read_directions(reader, fields[0].second);
+    add({"", fixed.size(), fixed});
+  } else if (value.node.IsSequence()) {
+    const auto sets = reader.sequence(value);
+    if (sets.empty()) reader.fail(value, "an empty list of constraint sets; leave 'constraints' out for none");
+    std::map<std::string, Item> seen;
+    for (std::size_t c = 0; c < sets.size(); ++c) {
+      std::optional<Item> link_item, count_item, directions_item;
+      for (const auto& [k, v] : reader.entries(sets[c], {"link", "count", "directions"}))
+        (k.node.Scalar() == "link" ? link_item : k.node.Scalar() == "count" ? count_item : directions_item) = v;
+      if (!link_item) reader.fail(sets[c], "missing key 'link' (the link the set acts on)");
+      if (count_item.has_value() == directions_item.has_value())
+        reader.fail(sets[c], "give exactly one of 'count' (run-time directions) and 'directions' (fixed ones)");
+      solver::ConstraintSet set;
+      set.link = reader.string(*link_item);
+      if (set.link.empty()) reader.fail(*link_item, "link name is empty");
+      if (const auto previous = seen.find(set.link); previous != seen.end())
+        reader.fail(*link_item, "a second constraint set on link " + quote_name(set.link) + " (first at " +
+                                    reader.where(previous->second) + "); give one set with all its directions");
+      seen.emplace(set.link, *link_item);
+      if (count_item) {
+        const long long count = reader.integer(*count_item);
+        if (count < 1 || count > static_cast<long long>(solver::kMaxSetDirections))
+          reader.fail(*count_item, "at least 1 and at most 6 constraint directions in a set (a body has six), got " +
+                                       std::to_string(count));
+        set.count = static_cast<std::size_t>(count);
+      } else {
+        set.fixed = read_directions(reader, *directions_item);
+        set.count = set.fixed.size();
+      }
+      scene.locations["drivers.constraints[" + std::to_string(c) + "].link"] = reader.where(*link_item);
+      add(std::move(set));
+    }
+    if (layout.constraints > solver::kMaxConstraints)
+      reader.fail(value, "at most " + std::to_string(solver::kMaxConstraints) + " constraint directions in all, got " +
+                             std::to_string(layout.constraints));
+  } else {
+    const long long count = reader.integer(value);
+    if (count < 0 || count > static_cast<long long>(solver::kMaxSetDirections))
+      reader.fail(value, "constraint count must be in 0..6, got " + std::to_string(count));
+    if (count > 0) add({"", static_cast<std::size_t>(count), {}});
+  }
+  scene.locations["drivers.constraints"] = reader.where(value);
+}
+
+// Reads `drivers:` into the layout (no tracks yet). `instances` collects every instance name
+// with its item, for the decomposition.
 void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::map<std::string, Item>& instances) {
   const auto add_instance = [&](const Item& item) {
     const std::string name = reader.identifier(item);
@@ -209,36 +293,7 @@ void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::
         ++index;
       }
     } else {  // constraints
-      if (value.node.IsMap()) {
-        const auto fields = reader.entries(value, {"directions"});
-        if (fields.empty()) reader.fail(value, "missing key 'directions'");
-        const auto directions = reader.sequence(fields[0].second);
-        if (directions.size() > solver::kMaxConstraints)
-          reader.fail(fields[0].second, "at most 6 constraint directions, got " + std::to_string(directions.size()));
-        for (const Item& direction : directions) {
-          const auto components = reader.sequence(direction);
-          if (components.size() != 6)
-            reader.fail(direction, "expected 6 numbers [moment; force], got " + std::to_string(components.size()));
-          Eigen::Matrix<double, 6, 1> v;
-          for (int i = 0; i < 6; ++i) v[i] = reader.number(components[i]);
-          if (!(std::abs(v.norm() - 1) <= 1e-9)) {
-            std::ostringstream norm;
-            norm.precision(17);
-            norm << v.norm();
-            reader.fail(direction, "not a unit vector (norm " + norm.str() + "; must be 1 within 1e-9)");
-          }
-          spatial::Force<double> f;
-          f.moment = v.head<3>();
-          f.force = v.tail<3>();
-          scene.fixed_directions.push_back(f);
-        }
-        scene.layout.constraints = directions.size();
-      } else {
-        const long long count = reader.integer(value);
-        if (count < 0 || count > static_cast<long long>(solver::kMaxConstraints))
-          reader.fail(value, "constraint count must be in 0..6, got " + std::to_string(count));
-        scene.layout.constraints = static_cast<std::size_t>(count);
-      }
+      read_constraints(reader, value, scene);
     }
   }
 }
@@ -333,7 +388,7 @@ std::string Scene::location(const std::string& element) const {
 }
 
 solver::FlatLayout Scene::flat_layout(std::size_t dof) const {
-  return solver::FlatLayout::of(layout, dof, !fixed_directions.empty());
+  return solver::FlatLayout::of(layout, dof);
 }
 
 solver::SolverOptions Scene::solver_options() const {
@@ -567,6 +622,21 @@ model::Chain load_scene_chain(const Scene& scene) {
                        "link " + quote_name(ext.link) + " of external force " + quote_name(ext.name) +
                            " is fixed to the base; a force on it moves nothing");
   }
+  for (std::size_t c = 0; c < scene.layout.sets.size(); ++c) {
+    const auto& set = scene.layout.sets[c];
+    if (set.link.empty()) continue;  // the tip
+    const std::string element = "drivers.constraints[" + std::to_string(c) + "].link";
+    const auto frame = chain.frames.find(set.link);
+    if (frame == chain.frames.end())
+      throw InputError(scene.location(element), element,
+                       "link " + quote_name(set.link) + " of a constraint set is not on the chain from " +
+                           quote_name(chain.root_link) + " to " + quote_name(chain.tip_link) + nearest_name_hint(set.link, links));
+    if (frame->second.body == 0)
+      throw InputError(scene.location(element), element,
+                       "link " + quote_name(set.link) + " of a constraint set is fixed to the base; a constraint on it holds nothing");
+  }
+  if (const std::string problem = solver::structurally_overdetermined(scene.layout.constraint_sets(), chain); !problem.empty())
+    throw InputError(scene.location("drivers.constraints"), "drivers.constraints", problem);
   solver::validate(scene.layout, chain, scene.path.empty() ? "command line" : scene.path);
   return chain;
 }
@@ -595,7 +665,10 @@ Scene default_scene(const std::string& urdf, const std::string& root, const std:
 
   scene.layout.torques = {"tau_ff"};
   scene.layout.external_forces = {solver::ExternalForceDriver{"f_ext_tip", chain.tip_link}};
-  scene.layout.constraints = solver::kMaxConstraints;
+  // Six run-time directions on the tip, or as many as the joints that move it can meet.
+  const std::size_t tip_directions = std::min(solver::kMaxSetDirections, chain.tip().body);
+  scene.layout.constraints = tip_directions;
+  if (tip_directions > 0) scene.layout.sets = {solver::ConstraintSet{"", tip_directions, {}}};
   scene.layout.decompose_all();
   scene.policies = {solver::Policy::original, solver::Policy::prioritize_external, solver::Policy::saturate,
                     solver::Policy::saturate_exact};

@@ -35,6 +35,14 @@
 //     # constraints:                # ... or fixed directions folded into the code:
 //     #   directions: [[0,0,0,1,0,0], [0,0,0,0,1,0]]   # unit 6-vectors [moment; force] in the
 //                                   #   tip frame (|v| = 1 within 1e-9), at most 6; Nc = count
+//     # constraints:                # ... or constraint sets on any links of the chain, each
+//     #   - {link: panda_link4, count: 1}           # with its own directions, run-time (count,
+//     #   - {link: panda_hand, directions: [[0,0,0,0,0,1]]}  # 1..6) or fixed (as above), in
+//                                   #   that link's frame; one set per link; directions are
+//                                   #   numbered in list order (alpha, beta, nu); each set's
+//                                   #   link acceleration is an output (set_acceleration). The
+//                                   #   sets must not over-determine the chain: the directions on
+//                                   #   links moved by joints 1..b number at most b
 //   decomposition: decomposed       # optional: 'composed' (one track, Alg. 1), 'decomposed'
 //                                   #   (bias and every instance on a track of its own, Alg. 2;
 //                                   #   the default), or a list of groups, each a list of
@@ -95,10 +103,7 @@ struct Scene {
   std::string solver;  // C++ namespace of the generated solver
   model::ChainSpec chain;  // urdf resolved against the scene file's directory
   Eigen::Vector3d gravity{0, 0, -9.81};
-  solver::DriverLayout layout;  // tracks built
-  // Fixed constraint directions [moment; force] in the tip frame; empty when the directions
-  // are run-time inputs. When non-empty, layout.constraints == fixed_directions.size().
-  std::vector<spatial::Force<double>> fixed_directions;
+  solver::DriverLayout layout;  // tracks built; constraint sets with their fixed directions
   std::vector<solver::Policy> policies{solver::Policy::original};
   std::vector<std::string> scalars{"double"};
   bool expose_all = false;
@@ -110,7 +115,7 @@ struct Scene {
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
   // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",
 // "locked_joints", "locked_joints.<joint>",
-  // "drivers.external_forces[i].link". A CLI flag overriding a field should set its entry to
+  // "drivers.external_forces[i].link", "drivers.constraints", "drivers.constraints[i].link". A CLI flag overriding a field should set its entry to
   // the flag's name (e.g. locations["tip"] = "--tip").
   std::map<std::string, std::string> locations;
 

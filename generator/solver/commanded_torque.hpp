@@ -1,10 +1,12 @@
 // The joint torques that realise the solved motion on a robot (docs/derivation.md, section 6,
 // and "The traps"). Two inward passes of rigid force propagation, f_{i-1} += X_i^T f_i,
 // τ_i = S_i^T f_i:
-//   τcmd = τff + J^T (F_cstr,N ν)             for the policies that keep the constraint;  (T1)
+//   τcmd = τff + Σ_k J_k^T (α_k ν_k)          for the policies that keep the constraint;  (T1)
+//          (J_k the Jacobian of direction k's link: its unit force enters at its body)
 //   τcmd = RNEA(q, q̇, q̈; F_ext) + d q̈         for any q̈ (used by Eq. 1 saturation).     (T2)
 #pragma once
 
+#include "solver/decomposition_sweep.hpp"
 #include "solver/solver_model.hpp"
 #include "solver/state.hpp"
 
@@ -18,15 +20,15 @@ Scalar feedforward_torque(const DriverInputs<Scalar>& inputs, std::size_t i) {
   return tau;
 }
 
-// τcmd = τff + J^T (F_cstr,N ν)
+// τcmd = τff + Σ_k J_k^T (α_k ν_k)
 template <class Scalar>
 void constraint_torque_tip_to_base(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
-                                   const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs,
-                                   Solution<Scalar>& sol) {
+                                   const DriverInputs<Scalar>& inputs, Solution<Scalar>& sol) {
   const std::size_t n = model.dof();
-  spatial::Force<Scalar> f;  // F_cstr,N ν in body N's frame
-  for (std::size_t k = 0; k < model.constraints(); ++k) f += art.body[n].constraint_force[k] * sol.nu[k];
+  spatial::Force<Scalar> f;  // the constraint wrenches α_k ν_k on bodies i..N, in body i's frame
   for (std::size_t i = n; i >= 1; --i) {
+    for (std::size_t k = 0; k < model.constraints(); ++k)
+      if (model.set_of(k).body == i) f += constraint_own_force(model, inputs, k, i) * sol.nu[k];
     sol.tau_cmd[i - 1] = feedforward_torque(inputs, i) + spatial::dot(f, model.joints[i].S);
     if (i > 1) f = kin.body[i].X.apply_transpose(f);
   }

@@ -4,13 +4,15 @@
 // Per body i, with U_i = M^A_i S_i, D_i = d_i + S_i^T U_i and P_i^T F = F − U_i D_i^-1 S_i^T F (I0),
 // D_i^-1 := 0 where the joint-inertia policy locks joint i (J1):
 //   M^A_{i-1}     = M_{i-1} + X_i^T P_i^T M^A_i X_i                                  (I1)
-//   F^A_cstr,i-1  = X_i^T P_i^T F^A_cstr,i                                           (I2)
+//   F^A_cstr,i-1  = own_cstr,i-1 + X_i^T P_i^T F^A_cstr,i                             (I2)
 //   E^A_cstr,i-1  = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i            (I3)
 // and for every track t, with Fc = F^A_t,i (+ M^A_i Ẍb_i if t carries the bias) and
 // u = Σ_{τ in t} τ_i − S_i^T Fc:
 //   F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u)                                (I4)
 //   E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T ((Ẍb_i if bias) + S_i D_i^-1 u)              (I5)
-// where own_t,i = (Fb_i if bias) − Σ_{external forces of t on body i} F_ext.
+// where own_t,i = (Fb_i if bias) − Σ_{external forces of t on body i} F_ext, and column k of
+// own_cstr,i is X_link^T α_k when direction k's set acts on a link that body i carries, else 0
+// (a set's columns start at its body: outboard of it they are exactly zero).
 // The bias track reproduces F^A_b/E^A_b, a torque track F^A/E^A, an external-force track
 // −F^A_ext/E^A_ext, and the single track of Alg. 1 the composed F^A_b/E^A_conf.
 #pragma once
@@ -41,6 +43,14 @@ spatial::Force<Scalar> track_own_force(const SolverModel<Scalar>& model, const T
   return own;
 }
 
+// Column k of own_cstr,i: direction k's unit force where its set's link rides on body i.
+template <class Scalar>
+spatial::Force<Scalar> constraint_own_force(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
+                                            std::size_t k, std::size_t i) {
+  const ConstraintSetModel<Scalar>& set = model.set_of(k);
+  return set.body == i ? set.frame.apply_transpose(inputs.constraint_directions[k]) : spatial::Force<Scalar>{};
+}
+
 // One step of a track's force recursion at body i: returns X_i^T (Fc + U_i D_i^-1 u), the
 // contribution handed to body i-1, and u through `u_out`.
 template <class Scalar>
@@ -59,14 +69,14 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
   const std::size_t nc = model.constraints();
   const auto& tracks = model.layout.tracks;
 
-  // Start values: M^A_i = M_i, F^A_t,i = own_t,i, F^A_cstr,N = X_tip^T α, all E^A_N = 0.
+  // Start values: M^A_i = M_i, F^A_t,i = own_t,i, F^A_cstr,N = own_cstr,N, all E^A_N = 0.
   for (std::size_t i = 1; i <= n; ++i) {
     art.body[i].articulated_inertia = model.inertia[i];
     for (std::size_t t = 0; t < tracks.size(); ++t)
       art.track[t][i].articulated_force = track_own_force(model, tracks[t], kin, inputs, i);
   }
   for (std::size_t k = 0; k < nc; ++k)
-    art.body[n].constraint_force[k] = model.tip.apply_transpose(inputs.constraint_directions[k]);
+    art.body[n].constraint_force[k] = constraint_own_force(model, inputs, k, n);
   art.body[n].constraint_energy.setZero(nc, nc);
   for (std::size_t t = 0; t < tracks.size(); ++t) art.track[t][n].acceleration_energy.setZero(nc);
 
@@ -93,7 +103,8 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
     ConstraintVector<Scalar> s(nc);
     for (std::size_t k = 0; k < nc; ++k) s[k] = spatial::dot(a.constraint_force[k], joint.S);
     for (std::size_t k = 0; k < nc; ++k)
-      parent.constraint_force[k] = body.X.apply_transpose(a.constraint_force[k] - a.U * (a.inverse_D * s[k]));
+      parent.constraint_force[k] = constraint_own_force(model, inputs, k, i - 1) +
+                                   body.X.apply_transpose(a.constraint_force[k] - a.U * (a.inverse_D * s[k]));
     parent.constraint_energy = a.constraint_energy + s * (a.inverse_D * s.transpose());
 
     // (I4), (I5)

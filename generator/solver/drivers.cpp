@@ -1,5 +1,8 @@
 #include "solver/drivers.hpp"
 
+#include <algorithm>
+#include <charconv>
+
 #include "model/error.hpp"
 
 namespace sweepgen::solver {
@@ -18,18 +21,108 @@ void DriverLayout::decompose_all() {
     tracks.push_back(Track{external_forces[i].name, false, {}, {i}});
 }
 
+std::vector<ConstraintSet> DriverLayout::constraint_sets() const {
+  if (!sets.empty() || constraints == 0) return sets;
+  return {ConstraintSet{"", constraints, {}}};
+}
+
+std::size_t DriverLayout::run_time_directions() const {
+  std::size_t count = 0;
+  for (const auto& set : constraint_sets())
+    if (!set.directions_fixed()) count += set.count;
+  return count;
+}
+
+std::size_t DriverLayout::listed_sets() const {
+  std::size_t count = 0;
+  for (const auto& set : sets) count += set.link.empty() ? 0 : 1;
+  return count;
+}
+
 bool DriverLayout::external_forces_separable() const {
   for (const auto& track : tracks)
     if (!track.external_forces.empty() && !track.only_external_forces()) return false;
   return true;
 }
 
+std::vector<std::string> constraint_set_summary(const DriverLayout& layout) {
+  const auto number = [](double v) {
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, v).ptr);
+  };
+  const auto range = [](std::size_t first, std::size_t count) {
+    return count == 1 ? std::to_string(first) : std::to_string(first) + ".." + std::to_string(first + count - 1);
+  };
+  std::vector<std::string> lines;
+  std::size_t first = 0, run_time = 0;
+  for (std::size_t c = 0; c < layout.listed_sets(); ++c) {
+    const ConstraintSet& set = layout.sets[c];
+    std::string line = "set " + std::to_string(c) + " on link " + set.link + ": direction" + (set.count == 1 ? " " : "s ") +
+                       range(first, set.count) + " (nu, beta), link acceleration set_acceleration[" +
+                       range(6 * c, 6) + "]; ";
+    if (set.directions_fixed()) {
+      line += "fixed alpha";
+      for (const auto& f : set.fixed) {
+        line += " [";
+        for (int i = 0; i < 6; ++i) line += (i ? ", " : "") + number(i < 3 ? f.moment[i] : f.force[i - 3]);
+        line += "]";
+      }
+    } else {
+      line += "alpha[" + range(run_time, set.count) + "] at run time";
+      run_time += set.count;
+    }
+    lines.push_back(line);
+    first += set.count;
+  }
+  return lines;
+}
+
+std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, const model::Chain& chain) {
+  // Directions per body, then their running sum from the base out: body b's sum counts every
+  // direction whose link only joints 1..b move.
+  std::vector<std::size_t> on_body(chain.dof() + 1, 0);
+  for (const auto& set : sets) on_body.at(chain.frames.at(set.link.empty() ? chain.tip_link : set.link).body) += set.count;
+  std::size_t carried = 0;
+  for (std::size_t b = 0; b <= chain.dof(); ++b) {
+    carried += on_body[b];
+    if (carried > b)
+      return std::to_string(carried) + " constraint direction" + (carried == 1 ? "" : "s") + " on link" +
+             (carried == on_body[b] ? " " : "s up to ") + quote_name(chain.bodies[b].link) + " but only " +
+             std::to_string(b) + " joint" + (b == 1 ? "" : "s") + " move" + (b == 1 ? "s" : "") +
+             " them: the constraint over-determines the robot (every state would be rank-deficient)";
+  }
+  return "";
+}
+
 void validate(const DriverLayout& layout, const model::Chain& chain, const std::string& source) {
-  if (layout.constraints > kMaxConstraints)
-    throw InputError(source, "constraints", "at most 6 end-effector constraint directions, got " +
-                                                std::to_string(layout.constraints));
   std::vector<std::string> links;
   for (const auto& [name, frame] : chain.frames) links.push_back(name);
+  std::size_t directions = 0;
+  std::vector<std::string> set_links;
+  for (const auto& set : layout.constraint_sets()) {
+    const std::string link = set.link.empty() ? chain.tip_link : set.link;
+    const std::string element = "constraint set on " + quote_name(link);
+    const auto frame = chain.frames.find(link);
+    if (frame == chain.frames.end())
+      throw InputError(source, element, "link " + quote_name(link) + " is not on the chain" + nearest_name_hint(link, links));
+    if (frame->second.body == 0)
+      throw InputError(source, element, "link " + quote_name(link) + " is fixed to the base; a constraint on it holds nothing");
+    if (set.count == 0 || set.count > kMaxSetDirections)
+      throw InputError(source, element, "a set holds 1..6 directions, got " + std::to_string(set.count));
+    if (set.directions_fixed() && set.fixed.size() != set.count)
+      throw InputError(source, element, std::to_string(set.fixed.size()) + " fixed directions for a set of " +
+                                            std::to_string(set.count));
+    if (set.link.empty() && layout.sets.size() > 1)
+      throw InputError(source, element, "the tip set of the short form cannot be combined with listed sets");
+    if (std::find(set_links.begin(), set_links.end(), link) != set_links.end())
+      throw InputError(source, element, "a second set on the same link; give one set with all its directions");
+    set_links.push_back(link);
+    directions += set.count;
+  }
+  if (directions != layout.constraints || directions > kMaxConstraints)
+    throw InputError(source, "constraints", "the sets hold " + std::to_string(directions) + " directions, the layout says " +
+                                                std::to_string(layout.constraints) + " (at most " +
+                                                std::to_string(kMaxConstraints) + ")");
   for (const auto& ext : layout.external_forces) {
     const std::string element = "external force " + quote_name(ext.name);
     const auto frame = chain.frames.find(ext.link);

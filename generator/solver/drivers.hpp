@@ -15,11 +15,29 @@
 
 namespace sweepgen::solver {
 
-constexpr std::size_t kMaxConstraints = 6;
+// Directions one constraint set can hold (a rigid body has six), and all sets together.
+constexpr std::size_t kMaxSetDirections = 6;
+constexpr std::size_t kMaxConstraints = 24;
 
 struct ExternalForceDriver {
   std::string name;
   std::string link;  // URDF link the wrench acts on (given in its frame, about its origin)
+};
+
+// A constraint set (docs/derivation.md, "Constraint sets"): `count` unit-force directions α
+// acting on one link, given in that link's frame as [moment; force], each with its own setpoint
+// β (α^T Ẍ_link = β). `fixed` holds the directions when the scene folds them into the code
+// (then fixed.size() == count); empty: they are run-time inputs. An empty `link` is the
+// chain's tip, as the scene's short forms (`constraints: 6`, `constraints: {directions}`) give
+// it: then it is the only set, and its link acceleration is the solution's Ẍ_tip. A set that
+// names its link (the scene's list form, any link of the chain) is *listed*: the solution
+// reports its link's acceleration (set_acceleration).
+struct ConstraintSet {
+  std::string link;
+  std::size_t count = 0;
+  std::vector<spatial::Force<double>> fixed;
+
+  bool directions_fixed() const { return !fixed.empty(); }
 };
 
 struct Track {
@@ -35,8 +53,18 @@ struct Track {
 struct DriverLayout {
   std::vector<std::string> torques;                    // feed-forward torque instances
   std::vector<ExternalForceDriver> external_forces;    // external-force instances
-  std::size_t constraints = 0;                         // Nc, 0..6
+  std::size_t constraints = 0;                         // Nc, all sets together
+  // The sets, in order; their directions are numbered 0..Nc-1 in that order. Empty while
+  // constraints > 0: one set of run-time directions on the tip (constraint_sets()).
+  std::vector<ConstraintSet> sets;
   std::vector<Track> tracks;
+
+  // `sets`, or the single tip set that an empty `sets` stands for.
+  std::vector<ConstraintSet> constraint_sets() const;
+  // Directions whose values are run-time inputs (the sets without fixed directions).
+  std::size_t run_time_directions() const;
+  // Sets that name their link (0 for the tip set of the short forms).
+  std::size_t listed_sets() const;
 
   // One track with everything (Alg. 1).
   void compose_all();
@@ -47,7 +75,29 @@ struct DriverLayout {
 };
 
 // Throws InputError (naming `source`) if a name is unknown, a link is fixed to the base,
-// Nc is out of range, or a driver instance sits on no track or on two.
+// a set is empty, holds more than six directions or repeats another's link, the sets' counts do
+// not add up to Nc, or a driver instance sits on no track or on two. (An over-determining set is
+// the scene's error, structurally_overdetermined; the solver itself copes: pivots drop.)
 void validate(const DriverLayout& layout, const model::Chain& chain, const std::string& source);
+
+// α of every direction, sets in order: the fixed ones as given, `run_time()` for the others
+// (called once per run-time direction, in order).
+template <class RunTime>
+std::vector<spatial::Force<double>> directions_with(const DriverLayout& layout, RunTime&& run_time) {
+  std::vector<spatial::Force<double>> alpha;
+  for (const auto& set : layout.constraint_sets())
+    for (std::size_t k = 0; k < set.count; ++k) alpha.push_back(set.directions_fixed() ? set.fixed[k] : run_time());
+  return alpha;
+}
+
+// A line per listed set: its link, its directions
+// numbers (the indices of ν, β and set_acceleration), and the directions themselves when fixed
+// or their place in the run-time α. For `sweepgen info` and the generated header.
+std::vector<std::string> constraint_set_summary(const DriverLayout& layout);
+
+// Whether the sets ask more of the chain than its joints can give at every state: the
+// directions on links carried by bodies 1..b together exceed the b joints that move them
+// (rank of the stacked constraint Jacobian <= b), for some b. Returns the explanation, or "".
+std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, const model::Chain& chain);
 
 }  // namespace sweepgen::solver

@@ -15,11 +15,10 @@ std::vector<double> flat_input(const SolveInputs<double>& inputs, const FlatLayo
     append(w.moment);
     append(w.force);
   }
-  if (layout.directions_in_input)
-    for (const auto& a : inputs.alpha) {
-      append(a.moment);
-      append(a.force);
-    }
+  for (std::size_t k : layout.input_directions) {
+    append(inputs.alpha.at(k).moment);
+    append(inputs.alpha.at(k).force);
+  }
   append(inputs.beta);
   if (flat.size() != layout.in_size())
     throw std::logic_error("flat_input: " + std::to_string(flat.size()) + " values for a layout of " +

@@ -2,9 +2,10 @@
 // where each quantity sits in `in` and `out`, stated once for the emitter, the report, the
 // benchmarks and the tests.
 //   in  = [q (n), q̇ (n), τff of each torque driver (n each), F_ext of each external-force driver
-//          (6 each, [moment; force]), α (6 per constraint direction, [moment; force], only when
-//          the scene does not fix the directions), β = E_cstr (Nc)]
-//   out = [q̈ (n), τcmd (n), τctrl (n), ν (Nc), Ẍ_tip (6, [angular; linear]), status (1)]
+//          (6 each, [moment; force]), α (6 per constraint direction whose set the scene does not
+//          fix, [moment; force], in its set's link frame), β = E_cstr (Nc)]
+//   out = [q̈ (n), τcmd (n), τctrl (n), ν (Nc), Ẍ_tip (6, [angular; linear]),
+//          Ẍ of each constraint set's link (6 each, only when the scene lists sets), status (1)]
 #pragma once
 
 #include <cstddef>
@@ -16,13 +17,22 @@
 namespace sweepgen::solver {
 
 struct FlatLayout {
-  std::size_t dof = 0, constraints = 0;  // all `out` needs
+  std::size_t dof = 0, constraints = 0;  // all `out` needs, with `sets`
   std::size_t torques = 0, external_forces = 0;
-  bool directions_in_input = false;  // α is an input (the scene does not fix it)
+  std::vector<std::size_t> input_directions;  // the constraint directions whose α is an input, in order
+  std::size_t sets = 0;  // constraint sets listed by the scene (each reports its link's Ẍ)
+  std::vector<std::size_t> direction_set;  // per constraint direction, its set (when `sets` > 0)
 
-  static FlatLayout of(const DriverLayout& layout, std::size_t dof, bool fixed_directions) {
-    return {dof, layout.constraints, layout.torques.size(), layout.external_forces.size(),
-            !fixed_directions && layout.constraints > 0};
+  static FlatLayout of(const DriverLayout& layout, std::size_t dof) {
+    FlatLayout flat{dof, layout.constraints, layout.torques.size(), layout.external_forces.size(), {}, layout.listed_sets(), {}};
+    std::size_t k = 0;
+    const auto sets = layout.constraint_sets();
+    for (std::size_t c = 0; c < sets.size(); ++c)
+      for (std::size_t d = 0; d < sets[c].count; ++d, ++k) {
+        if (!sets[c].directions_fixed()) flat.input_directions.push_back(k);
+        flat.direction_set.push_back(c);
+      }
+    return flat;
   }
 
   // Offsets in `in`.
@@ -30,8 +40,8 @@ struct FlatLayout {
   std::size_t qd() const { return dof; }
   std::size_t torque(std::size_t t) const { return 2 * dof + t * dof; }
   std::size_t external_force(std::size_t e) const { return torque(torques) + 6 * e; }
-  std::size_t alpha(std::size_t k) const { return external_force(external_forces) + 6 * k; }  // directions_in_input
-  std::size_t beta() const { return alpha(directions_in_input ? constraints : 0); }
+  std::size_t alpha(std::size_t j) const { return external_force(external_forces) + 6 * j; }  // j-th input direction
+  std::size_t beta() const { return alpha(input_directions.size()); }
   std::size_t in_size() const { return beta() + constraints; }
   // Offsets in `out`.
   std::size_t qdd() const { return 0; }
@@ -39,11 +49,16 @@ struct FlatLayout {
   std::size_t tau_ctrl() const { return 2 * dof; }
   std::size_t nu() const { return 3 * dof; }
   std::size_t tip_acceleration() const { return nu() + constraints; }
-  std::size_t status() const { return tip_acceleration() + 6; }
+  std::size_t set_acceleration(std::size_t c) const { return tip_acceleration() + 6 + 6 * c; }
+  // Where direction k's link acceleration is: its set's, or Ẍ_tip when no sets are listed.
+  std::size_t link_acceleration(std::size_t k) const {
+    return sets == 0 ? tip_acceleration() : set_acceleration(direction_set.at(k));
+  }
+  std::size_t status() const { return set_acceleration(sets); }
   std::size_t out_size() const { return status() + 1; }
 };
 
-// `inputs` in the order of `layout` (α left out when the scene fixes it).
+// `inputs` in the order of `layout` (α only of the directions in layout.input_directions).
 std::vector<double> flat_input(const SolveInputs<double>& inputs, const FlatLayout& layout);
 
 // A reference solution and its status written where a generated solver writes them in `out`.
@@ -60,6 +75,11 @@ void flat_output(const Solution<Scalar>& solution, unsigned status, const FlatLa
     out[layout.tip_acceleration() + c] = solution.tip_acceleration.angular[c];
     out[layout.tip_acceleration() + 3 + c] = solution.tip_acceleration.linear[c];
   }
+  for (std::size_t c = 0; c < layout.sets; ++c)
+    for (int i = 0; i < 3; ++i) {
+      out[layout.set_acceleration(c) + i] = solution.set_acceleration[c].angular[i];
+      out[layout.set_acceleration(c) + 3 + i] = solution.set_acceleration[c].linear[i];
+    }
   out[layout.status()] = static_cast<Scalar>(status);
 }
 

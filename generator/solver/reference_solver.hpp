@@ -54,7 +54,7 @@ ReferenceSolver<Scalar>::ReferenceSolver(const model::Chain& chain, const Driver
       kinematics_(KinematicsState<Scalar>::sized(model_.dof())),
       articulated_(ArticulatedState<Scalar>::sized(model_.dof(), model_.constraints(), layout.tracks.size())),
       inputs_(DriverInputs<Scalar>::sized(layout, model_.dof())),
-      solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints())) {}
+      solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints(), layout.listed_sets())) {}
 
 template <class Scalar>
 void ReferenceSolver<Scalar>::outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd) {
@@ -106,6 +106,9 @@ unsigned ReferenceSolver<Scalar>::status() const {
   const bool finite = kinematics_finite_ && drivers_finite_ && setpoints_finite_ && all_finite(r.qdd) &&
                       all_finite(r.tau_cmd) && all_finite(r.tau_ctrl) && all_finite(r.nu) &&
                       all_finite(r.tip_acceleration.angular) && all_finite(r.tip_acceleration.linear);
+  bool sets_finite = true;
+  for (const auto& a : r.set_acceleration) sets_finite = sets_finite && all_finite(a.angular) && all_finite(a.linear);
+  if (!sets_finite) s |= status_not_finite;
   if (!finite) s |= status_not_finite;
   return s;
 }

@@ -75,6 +75,16 @@ struct JointModel {
   }
 };
 
+// Where a constraint set acts: the body its link rides on and the motion transform from that
+// body's frame to the link's; its directions are first .. first + count - 1.
+template <class Scalar>
+struct ConstraintSetModel {
+  std::size_t body = 0;
+  Transform<Scalar> frame;
+  std::size_t first = 0, count = 0;
+  bool on_tip = false;  // the set's link is the chain's tip link (its Ẍ is Ẍ_tip)
+};
+
 template <class Scalar>
 struct SolverModel {
   std::vector<JointModel<Scalar>> joints;  // 0..N, [0] unused
@@ -82,6 +92,8 @@ struct SolverModel {
   Transform<Scalar> tip;                   // body N -> tip link frame
   std::vector<std::size_t> external_force_body;        // per external-force instance
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
+  std::vector<ConstraintSetModel<Scalar>> constraint_sets;
+  std::vector<std::size_t> constraint_set_of;          // per direction k, its set
   Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g] (O4)
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
   Scalar pivot_tolerance;
@@ -91,6 +103,9 @@ struct SolverModel {
 
   std::size_t dof() const { return joints.size() - 1; }
   std::size_t constraints() const { return layout.constraints; }
+  const ConstraintSetModel<Scalar>& set_of(std::size_t direction) const {
+    return constraint_sets[constraint_set_of[direction]];
+  }
 
   // `epsilon`: machine epsilon of the arithmetic the solver will run in (for the default
   // pivot tolerance; the symbolic scalar passes the emitted scalar's).
@@ -120,6 +135,13 @@ struct SolverModel {
       const model::Frame& frame = chain.frames.at(ext.link);
       external_force_body.push_back(frame.body);
       external_force_frame.push_back(frame.X.cast<Scalar>());
+    }
+    for (const auto& set : layout.constraint_sets()) {
+      const std::string& link = set.link.empty() ? chain.tip_link : set.link;
+      const model::Frame& frame = chain.frames.at(link);
+      for (std::size_t k = 0; k < set.count; ++k) constraint_set_of.push_back(constraint_sets.size());
+      constraint_sets.push_back({frame.body, frame.X.cast<Scalar>(), constraint_set_of.size() - set.count, set.count,
+                                 link == chain.tip_link});
     }
     base_acceleration.linear = (-options.gravity).cast<Scalar>();
     constraint_factorisation = options.constraint_factorisation;

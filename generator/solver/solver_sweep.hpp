@@ -7,8 +7,8 @@
 //           clamped to ±effort limit                        Eq. 1
 //   q̈_i     = D_i^-1 (τff_i + τctrl_i − S_i^T (Σ_{t composed} F^A_t,i + M^A_i a_i)),   (S4)
 //   a_i     = X_i Ẍ_{i-1} + Ẍb_i,      Ẍ_i = a_i + S_i q̈_i                              (S5)
-// Refinement (original policy, pivoted factorisation): with r = E_cstr,N − αᵀ Ẍ_tip the
-// residual of the first pass, (S2)–(S5) once more with the setpoints E_cstr,N + r            (R1)
+// Refinement (original policy, pivoted factorisation): with r_k = E_cstr,k − α_kᵀ Ẍ_link(k) the
+// residual of the first pass, (S2)–(S5) once more with the setpoints E_cstr + r             (R1)
 // Exact saturation clamps τcmd instead and runs forward dynamics with it: the extra torque
 // Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity (X1).
 #pragma once
@@ -56,6 +56,13 @@ void control_torques(const SolverModel<Scalar>& model, const ArticulatedState<Sc
   }
 }
 
+// Ẍ of constraint set c's link, in its frame, from the accelerations Ẍ_i in `sol`.
+template <class Scalar>
+spatial::Motion<Scalar> set_acceleration(const SolverModel<Scalar>& model, const Solution<Scalar>& sol, std::size_t c) {
+  const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
+  return set.frame.apply(sol.acceleration[set.body]);
+}
+
 // (q̈): accelerations from τff + τctrl; `extra_force` (F^A_Δ) is added when given.
 template <class Scalar>
 void accelerations_base_to_tip(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
@@ -75,6 +82,7 @@ void accelerations_base_to_tip(const SolverModel<Scalar>& model, const Kinematic
     sol.acceleration[i] = a_i + joint.S * sol.qdd[i - 1];
   }
   sol.tip_acceleration = model.tip.apply(sol.acceleration[model.dof()]);
+  for (std::size_t c = 0; c < sol.set_acceleration.size(); ++c) sol.set_acceleration[c] = set_acceleration(model, sol, c);
 }
 
 // Exact saturation, after an original solve filled sol.tau_cmd: clamp it, hand the extra
@@ -101,7 +109,7 @@ void saturate_commanded_torque(const SolverModel<Scalar>& model, const Kinematic
   accelerations_base_to_tip(model, kin, art, inputs, Policy::original, &sol.correction_force, sol);
 }
 
-// Whether (R1) applies: a policy whose answer meets αᵀ Ẍ_tip = E_cstr,N exactly (the others
+// Whether (R1) applies: a policy whose answer meets α_kᵀ Ẍ_link(k) = E_cstr,k exactly (the others
 // leave a residual by design) and the pivoted factorisation (the damped one is biased on
 // purpose; refining would undo its damping).
 // `policy` as the caller names it (saturate_exact's constraint stage is original's).
@@ -114,9 +122,9 @@ bool refines(const SolverModel<Scalar>& model, Policy constraint_policy) {
   return refines(model.refinement, model.constraints(), constraint_policy, model.constraint_factorisation);
 }
 
-// (R1): E_cstr,N + r with r = E_cstr,N − αᵀ Ẍ_tip. ν comes from E^A_cstr,0, formed as a sum of
+// (R1): E_cstr + r with r_k = E_cstr,k − α_kᵀ Ẍ_link(k). ν comes from E^A_cstr,0, formed as a sum of
 // products over the chain like the normal equations of the constraint Jacobian, so its rounding
-// is amplified by cond(E) (the square of the Jacobian's); Ẍ_tip comes from the sweeps of the
+// is amplified by cond(E) (the square of the Jacobian's); Ẍ_link comes from the sweeps of the
 // motion itself, so r measures that error without forming E again, and ν + E^-1 r removes it to
 // first order (docs/stability.md, "Refinement"). A dropped direction's r changes nothing: its
 // column of L and its pivot are 0.
@@ -125,7 +133,8 @@ ConstraintVector<Scalar> refined_setpoints(const SolverModel<Scalar>& model, con
                                            const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
   ConstraintVector<Scalar> refined(model.constraints());
   for (std::size_t k = 0; k < model.constraints(); ++k)
-    refined[k] = setpoints[k] + (setpoints[k] - spatial::dot(inputs.constraint_directions[k], sol.tip_acceleration));
+    refined[k] = setpoints[k] + (setpoints[k] - spatial::dot(inputs.constraint_directions[k],
+                                                             set_acceleration(model, sol, model.constraint_set_of[k])));
   return refined;
 }
 
@@ -148,7 +157,7 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
   if (policy == Policy::saturate)
     inverse_dynamics_torque_tip_to_base(model, kin, inputs, sol);
   else
-    constraint_torque_tip_to_base(model, kin, art, inputs, sol);
+    constraint_torque_tip_to_base(model, kin, inputs, sol);
   if (policy == Policy::saturate_exact) saturate_commanded_torque(model, kin, art, inputs, sol);
 }
 

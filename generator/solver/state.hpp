@@ -26,7 +26,7 @@ template <class Scalar>
 struct DriverInputs {
   std::vector<JointVector<Scalar>> torques;                 // τff per torque instance
   std::vector<spatial::Force<Scalar>> external_forces;      // per instance, link frame, about its origin
-  ConstraintForces<Scalar> constraint_directions;           // α: F_cstr in the tip frame
+  ConstraintForces<Scalar> constraint_directions;           // α_k in the frame of direction k's set's link
 
   static DriverInputs sized(const DriverLayout& layout, std::size_t n) {
     DriverInputs d;
@@ -105,14 +105,18 @@ struct Solution {
   std::vector<spatial::Motion<Scalar>> acceleration;  // Ẍ_i (spatial, minus gravity), 0..N
   std::vector<spatial::Force<Scalar>> correction_force;  // saturate_exact: F^A of τ_applied − τff, 0..N
   spatial::Motion<Scalar> tip_acceleration;  // Ẍ of the tip frame, in the tip frame
+  // Ẍ of each listed constraint set's link, in its frame (DriverLayout::listed_sets; none for the
+  // tip set of the short forms, whose Ẍ is tip_acceleration).
+  std::vector<spatial::Motion<Scalar>> set_acceleration;
 
-  static Solution sized(std::size_t n, std::size_t nc) {
+  static Solution sized(std::size_t n, std::size_t nc, std::size_t listed_sets) {
     Solution s;
     for (auto* v : {&s.tau_ctrl, &s.qdd, &s.tau_cmd, &s.saturated}) v->setZero(n);
     s.nu.setZero(nc);
     s.conf_energy.setZero(nc);
     s.acceleration.resize(n + 1);
     s.correction_force.resize(n + 1);
+    s.set_acceleration.resize(listed_sets);
     return s;
   }
 };

@@ -72,7 +72,7 @@ void visit_fields(const ArticulatedState<Scalar>& art, const DriverLayout& layou
   }
 }
 
-// Solver sweep: outputs first (nu, qdd, tau_ctrl, tau_cmd, tip_acceleration, saturated,
+// Solver sweep: outputs first (nu, qdd, tau_ctrl, tau_cmd, tip_acceleration, set_acceleration, saturated,
 // dropped_pivots), then the intermediates (conf_energy, acceleration, correction_force).
 template <class Scalar, class Visit>
 void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
@@ -81,6 +81,12 @@ void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
   for (int i = 0; i < s.tau_ctrl.size(); ++i) visit(std::string("tau_ctrl"), kBodyless, i, s.tau_ctrl[i]);
   for (int i = 0; i < s.tau_cmd.size(); ++i) visit(std::string("tau_cmd"), kBodyless, i, s.tau_cmd[i]);
   visit_motion(visit, "tip_acceleration", kBodyless, s.tip_acceleration);
+  for (std::size_t c = 0; c < s.set_acceleration.size(); ++c) {
+    const auto& m = s.set_acceleration[c];
+    const int at = 6 * static_cast<int>(c);
+    for (int i = 0; i < 3; ++i) visit(std::string("set_acceleration"), kBodyless, at + i, m.angular[i]);
+    for (int i = 0; i < 3; ++i) visit(std::string("set_acceleration"), kBodyless, at + 3 + i, m.linear[i]);
+  }
   for (int i = 0; i < s.saturated.size(); ++i) visit(std::string("saturated"), kBodyless, i, s.saturated[i]);
   visit(std::string("dropped_pivots"), kBodyless, 0, s.dropped_pivots);
   visit(std::string("locked_joints"), kBodyless, 0, s.locked_joints);
@@ -94,6 +100,7 @@ void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
 // The arrays of a Solution that are outputs of every solve (the rest are intermediates).
 inline bool is_solution_output(const std::string& array) {
   return array == "nu" || array == "qdd" || array == "tau_ctrl" || array == "tau_cmd" || array == "tip_acceleration" ||
+         array == "set_acceleration" ||
          array == "saturated" || array == "dropped_pivots" || array == "locked_joints";
 }
 

@@ -57,18 +57,22 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
       f.force[c] = input(Quantity::external_force, e, 3 + c);
     }
   }
-  for (std::size_t k = 0; k < nc; ++k) {
-    auto& alpha = drivers.constraint_directions[k];
-    for (int c = 0; c < 3; ++c) {
-      if (request.fixed_directions.empty()) {
-        alpha.moment[c] = input(Quantity::constraint_direction, k, c);
-        alpha.force[c] = input(Quantity::constraint_direction, k, 3 + c);
-      } else {
-        alpha.moment[c] = Symbol(request.fixed_directions[k].moment[c]);
-        alpha.force[c] = Symbol(request.fixed_directions[k].force[c]);
+  // α: constants where the set fixes them, else inputs numbered over the run-time directions.
+  std::size_t k = 0, run_time = 0;
+  for (const auto& set : layout.constraint_sets())
+    for (std::size_t d = 0; d < set.count; ++d, ++k) {
+      auto& alpha = drivers.constraint_directions[k];
+      for (int c = 0; c < 3; ++c) {
+        if (set.directions_fixed()) {
+          alpha.moment[c] = Symbol(set.fixed[d].moment[c]);
+          alpha.force[c] = Symbol(set.fixed[d].force[c]);
+        } else {
+          alpha.moment[c] = input(Quantity::constraint_direction, run_time, c);
+          alpha.force[c] = input(Quantity::constraint_direction, run_time, 3 + c);
+        }
       }
+      if (!set.directions_fixed()) ++run_time;
     }
-  }
   auto art = solver::ArticulatedState<Symbol>::sized(n, nc, layout.tracks.size());
   solver::decomposition_sweep_tip_to_base(model, kin, drivers, art);
 
@@ -84,7 +88,7 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   solver::visit_fields(kin, record("kinematics", false));
   solver::visit_fields(art, layout, record("articulated", false));
   for (solver::Policy policy : request.policies) {
-    auto solution = solver::Solution<Symbol>::sized(n, nc);
+    auto solution = solver::Solution<Symbol>::sized(n, nc, layout.listed_sets());
     solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
     solver::visit_fields(solution, policy, record(solver::name(policy), true));
   }

@@ -63,7 +63,6 @@ struct Trace {
 
 struct TraceRequest {
   solver::DriverLayout layout;
-  std::vector<spatial::Force<double>> fixed_directions;  // α folded into the code; empty: α is an input
   std::vector<solver::Policy> policies;
   solver::SolverOptions options;
   double epsilon = 0;  // of the scalar the code will run in

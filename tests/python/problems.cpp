@@ -70,7 +70,7 @@ ordered_json scene_line(const Scene& s, const sweepgen::model::Chain& chain) {
 
 // Direction k := unit axis k, for a scene whose directions are run-time inputs.
 void use_axis_directions(const Scene& s, Problem& p) {
-  if (!s.fixed_directions.empty()) return;
+  if (s.layout.run_time_directions() != s.layout.constraints) return;
   for (std::size_t k = 0; k < p.alpha.size(); ++k) {
     p.alpha[k].moment.setZero();
     p.alpha[k].force.setZero();

@@ -22,9 +22,7 @@ inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene
   const std::size_t nc = s.layout.constraints;
   for (std::size_t t = 0; t < s.layout.torques.size(); ++t) p.torques.push_back(random.torques(chain, t == 0 ? 1.5 : 0.2));
   for (std::size_t e = 0; e < s.layout.external_forces.size(); ++e) p.wrenches.push_back(random.wrench());
-  p.alpha = s.fixed_directions;
-  if (p.alpha.empty())
-    for (std::size_t k = 0; k < nc; ++k) p.alpha.push_back(random.unit_direction());
+  p.alpha = solver::directions_with(s.layout, [&random] { return random.unit_direction(); });
   p.beta.resize(nc);
   for (auto& b : p.beta) b = random.uniform(-3, 3);
   p.in = solver::flat_input(p, s.flat_layout(chain.dof()));

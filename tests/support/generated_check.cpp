@@ -160,7 +160,7 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
                       unsigned not_finite_bit) {
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
-  const std::size_t n = chain.dof(), nc = s.layout.constraints;
+  const std::size_t n = chain.dof();
   const solver::FlatLayout layout = s.flat_layout(chain.dof());
   const std::size_t status_at = layout.status();
   RandomProblem random(5);
@@ -182,11 +182,12 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
       }
     }
   }
-  if (nc == 0 || !s.fixed_directions.empty()) return;  // alpha is not a run-time input
-  const std::size_t alpha_at = layout.alpha(0);
-  for (std::size_t k = 0; k < nc; ++k) {
+  if (layout.input_directions.empty()) return;  // alpha is not a run-time input
+  // A run-time direction set to 0 drops its pivot.
+  for (std::size_t j = 0; j < layout.input_directions.size(); ++j) {
+    const std::size_t k = layout.input_directions[j];
     in = clean;
-    for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] = 0;
+    for (std::size_t i = 0; i < 6; ++i) in[layout.alpha(j) + i] = 0;
     for (const auto& entry : variant.solves) {
       EXPECT_NE(status_of(entry) & solver::status_constraint_rank_deficient, 0u) << entry.policy << " alpha_" << k << " = 0";
       for (Scalar v : out) EXPECT_TRUE(std::isfinite(v)) << entry.policy << " alpha_" << k << " = 0";
@@ -198,9 +199,9 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
     if (status_of(entry) != 0) continue;  // saturation or a dropped pivot: compare only plain solves
     std::copy(out.begin(), out.begin() + n, unit_qdd.begin());
     const Scalar scale = Scalar(64);
-    for (std::size_t k = 0; k < nc; ++k) {
-      for (std::size_t i = 0; i < 6; ++i) in[alpha_at + 6 * k + i] *= scale;
-      in[layout.beta() + k] *= scale;
+    for (std::size_t j = 0; j < layout.input_directions.size(); ++j) {
+      for (std::size_t i = 0; i < 6; ++i) in[layout.alpha(j) + i] *= scale;
+      in[layout.beta() + layout.input_directions[j]] *= scale;
     }
     EXPECT_EQ(status_of(entry), 0u) << entry.policy;
     const long double e = report::relative_error<long double>(std::vector<long double>(out.begin(), out.begin() + n),

@@ -59,7 +59,8 @@ inline model::Chain scaled(model::Chain c, const Scaling& k) {
 // The scene in the scaled units: gravity by L, fixed directions as α below.
 inline scene::Scene scaled(scene::Scene s, const Scaling& k) {
   s.gravity *= k.L();
-  for (auto& a : s.fixed_directions) a.force /= k.L();
+  for (auto& set : s.layout.sets)
+    for (auto& a : set.fixed) a.force /= k.L();
   return s;
 }
 
