@@ -475,6 +475,59 @@ TEST(SceneErrors, ConstraintCountOutOfRange) {
   expect_error(text, position(text, 13, "[["), "drivers.constraints.directions", "at most 6 constraint directions");
 }
 
+TEST(Scene, ConstraintSetsOnAnyLinks) {
+  test::TempDir dir;
+  const std::string text = with_urdf(replace(kFullScene, "constraints: 6",
+                                             "constraints:\n    - {link: panda_link4, count: 2}\n"
+                                             "    - {link: panda_hand, directions: [[0,0,0,0,0,1]]}\n"
+                                             "    - {link: panda_link2, count: 1}"));
+  const Scene s = scene::load_scene(dir.write("scene.yaml", text));
+  ASSERT_EQ(s.layout.sets.size(), 3u);
+  EXPECT_EQ(s.layout.sets[0].link, "panda_link4");
+  EXPECT_EQ(s.layout.sets[0].count, 2u);
+  EXPECT_FALSE(s.layout.sets[0].directions_fixed());
+  EXPECT_EQ(s.layout.sets[1].link, "panda_hand");
+  ASSERT_EQ(s.layout.sets[1].fixed.size(), 1u);
+  EXPECT_EQ(s.layout.sets[1].fixed[0].force, Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(s.layout.constraints, 4u);
+  EXPECT_EQ(s.layout.run_time_directions(), 3u);
+  EXPECT_EQ(s.layout.listed_sets(), 3u);
+  const model::Chain chain = scene::load_scene_chain(s);
+  // α: the run-time directions only, in order (sets 0 and 2); out: Ẍ of every listed set.
+  const solver::FlatLayout flat = s.flat_layout(chain.dof());
+  EXPECT_EQ(flat.input_directions, (std::vector<std::size_t>{0, 1, 3}));
+  EXPECT_EQ(flat.direction_set, (std::vector<std::size_t>{0, 0, 1, 2}));
+  EXPECT_EQ(flat.status(), flat.tip_acceleration() + 6 + 3 * 6);
+}
+
+TEST(SceneErrors, ConstraintSets) {
+  const auto sets = [](const std::string& list) {
+    return with_urdf(replace(kFullScene, "constraints: 6", "constraints:\n" + list));
+  };
+  const std::string unknown = sets("    - {link: panda_link4, count: 2}\n    - {link: panda_lnk6, count: 1}");
+  expect_error(unknown, position(unknown, 15, "panda_lnk6"), "drivers.constraints[1].link",
+               "link 'panda_lnk6' of a constraint set is not on the chain", "panda_link6");
+  const std::string twice = sets("    - {link: panda_link4, count: 2}\n    - {link: panda_link4, count: 1}");
+  expect_error(twice, position(twice, 15, "panda_link4"), "drivers.constraints[1].link",
+               "a second constraint set on link 'panda_link4' (first at ");
+  const std::string seven = sets("    - {link: panda_hand, count: 7}");
+  expect_error(seven, position(seven, 14, "7"), "drivers.constraints[0].count", "at most 6 constraint directions");
+  const std::string both = sets("    - {link: panda_hand, count: 1, directions: [[0,0,0,0,0,1]]}");
+  expect_error(both, position(both, 14, "{"), "drivers.constraints[0]", "exactly one of 'count'");
+  const std::string base = sets("    - {link: panda_link0, count: 1}");
+  expect_error(base, position(base, 14, "panda_link0"), "drivers.constraints[0].link", "is fixed to the base");
+  // Joints 1 and 2 move panda_link2: three directions there (or two there and two more on
+  // panda_link1) over-determine the robot.
+  const std::string over = sets("    - {link: panda_link2, count: 3}");
+  expect_error(over, position(over, 14, "-"), "drivers.constraints",
+               "3 constraint directions on link 'panda_link2' but only 2 joints move them");
+  const std::string over2 = sets("    - {link: panda_link1, count: 1}\n    - {link: panda_link2, count: 2}");
+  expect_error(over2, position(over2, 14, "-"), "drivers.constraints",
+               "3 constraint directions on links up to 'panda_link2' but only 2 joints move them");
+  const std::string empty = with_urdf(replace(kFullScene, "constraints: 6", "constraints: []"));
+  expect_error(empty, position(empty, 13, "[]"), "drivers.constraints", "an empty list of constraint sets");
+}
+
 TEST(SceneErrors, FixedDirectionNotUnit) {
   const std::string text =
       with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1,0,0], [0,0,1,0,0,1]]}"));
