@@ -454,6 +454,25 @@ TEST(CliGenerate, DefaultSceneFilesAreNamedAfterTheUrdfAndByteStable) {
   EXPECT_FALSE(has_temporaries(dir.path()));
 }
 
+// Constraint sets on two links: `info` and the generated header list each set with its link, its
+// directions' numbers and where its α comes from.
+TEST(CliGenerate, ConstraintSetsAreListed) {
+  const std::string scene = kSource + "/robots/panda/panda_sets.yaml";
+  test::TempDir dir;
+  const CommandResult info = sweepgen({"info", "--scene", scene});
+  ASSERT_EQ(info.exit_code, 0) << describe(info);
+  const CommandResult generate = sweepgen({"generate", "--scene", scene, "--out", (dir.path() / "out").string()});
+  ASSERT_EQ(generate.exit_code, 0) << describe(generate);
+  const std::string header = snapshot(dir.path() / "out").at("panda_sets.hpp");
+  for (const std::string& text : {info.out, header}) {
+    expect_contains(text, "set 0 on link panda_link4: direction 0 (nu, beta), link acceleration set_acceleration[0..5]; "
+                          "alpha[0] at run time");
+    expect_contains(text, "set 1 on link panda_hand: directions 1..3 (nu, beta), link acceleration "
+                          "set_acceleration[6..11]; fixed alpha [0, 0, 0, 1, 0, 0] [0, 0, 0, 0, 1, 0] [0, 0, 0, 0, 0, 1]");
+  }
+  expect_contains(header, "Scalar set_acceleration[12];");
+}
+
 // A URDF with side branches (tests/data/side_branches.urdf): `info` and the generated header
 // list every lumped, locked and left-out link with its mass; `generate` says which joints it
 // locked at a default position.

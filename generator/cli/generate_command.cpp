@@ -154,6 +154,9 @@ int run_info(const SceneOptions& options) {
   }
   std::cout << "links carried by the chain (lumped: fixed, or behind a locked joint off the chain), locked joints, links left out:\n";
   for (const std::string& line : model::lumping_summary(chain)) std::cout << "  " << line << "\n";
+  const auto sets = solver::constraint_set_summary(s.layout);
+  if (!sets.empty()) std::cout << "constraint sets (alpha and set_acceleration in each set's link frame):\n";
+  for (const std::string& line : sets) std::cout << "  " << line << "\n";
   const emit::EmittedSolver emitted = emit_scene(s, chain);
   std::cout << "scene " << (s.path.empty() ? "(default)" : s.path) << ", solver " << s.solver << ", Nc = " << s.layout.constraints
             << ", operation counts:\n";

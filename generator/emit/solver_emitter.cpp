@@ -269,7 +269,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   const std::size_t run_time = layout.run_time_directions();
   values.set("directions_note", run_time == nc ? "" : run_time == 0 ? ", fixed" : ", " + std::to_string(nc - run_time) + " fixed");
   values.set("alpha_note", run_time > 0 ? ", alpha" : "");
-  std::string sets_note = sets > 0 ? "\n// Constraint sets: each set's alpha and set_acceleration are in its own link's frame." : "";
+  std::string sets_note =
+      sets > 0 ? "\n// Constraint sets: each set's alpha and set_acceleration are in its own link's frame (not the tip's):" : "";
   for (const std::string& line : constraint_set_summary(layout)) sets_note += "\n//   " + line;
   values.set("constraint_sets_note", sets_note);
   values.set("namespace", request.solver_namespace);

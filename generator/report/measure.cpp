@@ -12,15 +12,16 @@
 namespace sweepgen::report {
 namespace {
 
-// Truth::tau_constraint_terms: each direction's share of Jᵀ α ν (T1), propagated rigidly from
-// the tip like solver/commanded_torque.hpp's sum, in absolute value.
+// Truth::tau_constraint_terms: each direction's share of J_cᵀ ν (T1), propagated rigidly from
+// the body its set acts on, like solver/commanded_torque.hpp's sum, in absolute value.
 std::vector<Precise> constraint_torque_terms(const solver::ReferenceSolver<Precise>& reference,
                                              const solver::ConstraintVector<Precise>& nu) {
   const std::size_t n = reference.dof();
   std::vector<Precise> terms(n, Precise(0));
   for (Eigen::Index k = 0; k < nu.size(); ++k) {
-    spatial::Force<Precise> f = reference.articulated().body[n].constraint_force[static_cast<std::size_t>(k)] * nu[k];
-    for (std::size_t i = n; i >= 1; --i) {
+    const std::size_t body = reference.model().set_of(static_cast<std::size_t>(k)).body;
+    spatial::Force<Precise> f = reference.articulated().body[body].constraint_force[static_cast<std::size_t>(k)] * nu[k];
+    for (std::size_t i = body; i >= 1; --i) {
       terms[i - 1] += abs(spatial::dot(f, reference.model().joints[i].S));
       f = reference.kinematics().body[i].X.apply_transpose(f);
     }

@@ -50,7 +50,7 @@ struct Truth {
   // cancel most of it, and rounding is relative to the larger of the two (docs/stability.md).
   std::vector<Precise> qdd_free;
   // Per joint, Σ_k |S_iᵀ f_k,i| with f_k the rigid inward propagation of direction k's force
-  // F_cstr,N,k ν_k: the terms τcmd − τff = Jᵀ α ν sums (T1). Opposed directions with large
+  // F_cstr,k ν_k from its set's body: the terms τcmd − τff = J_cᵀ ν sums (T1). Opposed directions with large
   // multipliers cancel there, and rounding is relative to the terms (docs/stability.md).
   std::vector<Precise> tau_constraint_terms;
   double cond = 1;  // cond_2(E^A_cstr,0), 1 when Nc = 0
