@@ -34,7 +34,7 @@ std::string load_error(const std::string& urdf, const std::string& root = "", co
   test::TempDir dir;
   const std::string path = dir.write("robot.urdf", urdf);
   try {
-    model::load_chain({path, root, tip, rotor, "--rotor-inertia", {}, {}});
+    model::load_chain({path, root, tip, rotor, "--rotor-inertia", {}, {}, {}});
   } catch (const InputError& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find(source.empty() ? path : source), std::string::npos) << "message does not name the source: " << message;
@@ -50,7 +50,7 @@ void expect_contains(const std::string& text, const std::string& part) {
 
 TEST(ModelErrors, ValidArmLoads) {
   test::TempDir dir;
-  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm()), "", "", {}, "", {}, {}});
+  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm()), "", "", {}, "", {}, {}, {}});
   EXPECT_EQ(chain.dof(), 2u);
   EXPECT_EQ(chain.tip_link, "l2");
 }
@@ -63,7 +63,7 @@ TEST(ModelErrors, LoadedInertiasAreExactlySymmetric) {
       R"(<inertial><origin xyz="0.05 -0.02 0.11" rpy="0.3 0.7 1.1"/><mass value="1.7"/>)"
       R"(<inertia ixx="0.1" ixy="0.013" ixz="0.021" iyy="0.2" iyz="0.037" izz="0.25"/></inertial>)";
   test::TempDir dir;
-  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm("revolute", skew_inertial)), "", "", {}, "", {}, {}});
+  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm("revolute", skew_inertial)), "", "", {}, "", {}, {}, {}});
   for (std::size_t i = 1; i <= chain.dof(); ++i) {
     const auto& M = chain.bodies[i].inertia;
     EXPECT_TRUE(M.A == M.A.transpose()) << chain.bodies[i].link << ":\n" << M.A;
@@ -79,7 +79,7 @@ TEST(ModelErrors, MalformedXml) {
 
 TEST(ModelErrors, MissingFile) {
   try {
-    model::load_chain({"/nonexistent/robot.urdf", "", "", {}, "", {}, {}});
+    model::load_chain({"/nonexistent/robot.urdf", "", "", {}, "", {}, {}, {}});
     FAIL();
   } catch (const InputError& e) {
     expect_contains(e.what(), "/nonexistent/robot.urdf");
@@ -203,7 +203,7 @@ TEST(ModelErrors, MasslessLastBodyWithoutRotorInertia) {
                   "D_N = 0");
   // A rotor inertia makes the same chain valid.
   test::TempDir dir;
-  EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", arm("revolute", "")), "", "", {{"j2", 0.01}}, "", {}, {}}));
+  EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", arm("revolute", "")), "", "", {{"j2", 0.01}}, "", {}, {}, {}}));
 }
 
 TEST(ModelErrors, NonFiniteNumbers) {

@@ -10,6 +10,17 @@ std::size_t Chain::joint_index(const std::string& name) const {
   return 0;
 }
 
+bool Chain::is_chain() const {
+  for (std::size_t i = 1; i < parent.size(); ++i)
+    if (parent[i] != i - 1) return false;
+  return true;
+}
+
+bool Chain::supports(std::size_t ancestor, std::size_t body) const {
+  while (body > ancestor) body = parent[body];
+  return body == ancestor;
+}
+
 std::vector<std::string> lumping_summary(const Chain& chain) {
   std::vector<std::string> lines;
   const auto line = [&lines](auto&&... parts) {

@@ -1,5 +1,8 @@
-// The kinematic chain that every sweep runs on: bodies 0..N, body 0 the fixed base (the root
-// link's frame), joint i moving body i relative to body i-1. Every link of the URDF that a
+// The kinematic tree that every sweep runs on: bodies 0..N, body 0 the fixed base (the root
+// link's frame), joint i moving body i relative to its parent body λ(i) < i (`parent`; i-1 on a
+// chain). The bodies are the moving joints on the paths from the root to the tip link and to
+// each further tip (`branch_tips`): one path is a chain, several span a tree, numbered tip by
+// tip, each path's new bodies root to tip. Every link of the URDF that a
 // moving body carries rigidly is lumped into it: links behind fixed joints, on the chain or in
 // a side branch (a gripper, a sensor), and links behind moving joints off the chain, which are
 // locked at a position (ChainSpec::locked_joints, else 0 clamped into the joint's limits).
@@ -29,7 +32,7 @@ struct Joint {
   JointType type = JointType::revolute;
   bool continuous = false;
   Vec3 axis = Vec3::UnitZ();  // unit vector in the joint frame (= the child body frame)
-  Transform tree_transform;   // X_T: motion transform from body i-1's frame to the joint frame
+  Transform tree_transform;   // X_T: motion transform from the parent body's frame to the joint frame
   double rotor_inertia = 0;   // d_i, armature reflected to the joint [kg m^2 or kg]
   double effort_limit = std::numeric_limits<double>::infinity();  // [N m or N]
   double velocity_limit = std::numeric_limits<double>::infinity();
@@ -76,14 +79,20 @@ struct Frame {
 struct Chain {
   std::string source;      // file the chain was read from, for messages
   std::string root_link;
-  std::string tip_link;
+  std::string tip_link;     // the tip; its frame is the solution's Ẍ_tip
+  std::vector<std::string> branch_tips;  // further tips, each with its path from the root
   std::vector<Body> bodies;    // 0..N, bodies[0] is the base
   std::vector<Joint> joints;   // 0..N, joints[0] is unused (the base does not move)
+  std::vector<std::size_t> parent;  // 0..N, parent[i] < i the body joint i moves body i against; parent[0] = 0
   std::map<std::string, Frame> frames;  // every link on the chain, lumped ones included
   std::vector<LockedJoint> locked_joints;  // moving joints off the chain, URDF tree order
   std::vector<LeftOutLink> left_out;       // links not carried by the chain, by name
 
   std::size_t dof() const { return bodies.size() - 1; }
+  // Whether every body hangs from the one before it (parent[i] == i - 1).
+  bool is_chain() const;
+  // Whether body `ancestor` is `body` or lies on its path to the base.
+  bool supports(std::size_t ancestor, std::size_t body) const;
   const Frame& tip() const { return frames.at(tip_link); }
   // Index (1..N) of the joint named `name`, or 0 if there is none.
   std::size_t joint_index(const std::string& name) const;

@@ -359,25 +359,32 @@ void check_finite_model(const Chain& chain) {
       throw InputError(chain.source, named("link", link), "its frame is not finite: origins too large");
 }
 
-void check_last_joint_can_accelerate(const Chain& chain) {
-  const std::size_t n = chain.dof();
-  const Joint& joint = chain.joints[n];
-  const Inertia& inertia = chain.bodies[n].inertia;
-  spatial::Motion<double> S;
-  (joint.type == JointType::revolute ? S.angular : S.linear) = joint.axis;
-  const double D = joint.rotor_inertia + spatial::dot(inertia * S, S);
-  // Relative to the body's own inertia of the joint's kind (rotational about its origin for a
-  // revolute joint, translational for a prismatic one), as the solver's joint-inertia policy
-  // judges D_i (docs/stability.md, "Joint-space inertia D_i"): the same decision in any units.
-  // A thin rod spun about its own axis (D / trace ~ (r / l)^2) is valid; a massless body, a
-  // point mass or a rod of zero radius on the axis is not.
-  const double scale = joint.rotor_inertia + (joint.type == JointType::revolute ? inertia.A.trace() : inertia.C.trace());
-  if (!(D > 1000 * std::numeric_limits<double>::epsilon() * scale))
-    throw InputError(chain.source, named("joint", joint.name),
-                     "the last moving body (" + quote_name(chain.bodies[n].link) +
-                         " with everything fixed to it) has no inertia about this joint's axis and the joint has "
-                         "no rotor inertia, so D_N = 0 and its acceleration is undefined; give the link an "
-                         "<inertial> or the joint a rotor inertia");
+// Every body without a body beyond it (the chain's last, each branch's last) must be able to
+// accelerate about its own joint: nothing else contributes to its D_i.
+void check_outermost_joints_can_accelerate(const Chain& chain) {
+  std::vector<bool> has_child(chain.dof() + 1, false);
+  for (std::size_t i = 1; i <= chain.dof(); ++i) has_child[chain.parent[i]] = true;
+  for (std::size_t n = 1; n <= chain.dof(); ++n) {
+    if (has_child[n]) continue;
+    const Joint& joint = chain.joints[n];
+    const Inertia& inertia = chain.bodies[n].inertia;
+    spatial::Motion<double> S;
+    (joint.type == JointType::revolute ? S.angular : S.linear) = joint.axis;
+    const double D = joint.rotor_inertia + spatial::dot(inertia * S, S);
+    // Relative to the body's own inertia of the joint's kind (rotational about its origin for a
+    // revolute joint, translational for a prismatic one), as the solver's joint-inertia policy
+    // judges D_i (docs/stability.md, "Joint-space inertia D_i"): the same decision in any units.
+    // A thin rod spun about its own axis (D / trace ~ (r / l)^2) is valid; a massless body, a
+    // point mass or a rod of zero radius on the axis is not.
+    const double scale =
+        joint.rotor_inertia + (joint.type == JointType::revolute ? inertia.A.trace() : inertia.C.trace());
+    if (!(D > 1000 * std::numeric_limits<double>::epsilon() * scale))
+      throw InputError(chain.source, named("joint", joint.name),
+                       "the last moving body (" + quote_name(chain.bodies[n].link) +
+                           " with everything fixed to it) has no inertia about this joint's axis and the joint has "
+                           "no rotor inertia, so D_N = 0 and its acceleration is undefined; give the link an "
+                           "<inertial> or the joint a rotor inertia");
+  }
 }
 
 void apply_rotor_inertia(Chain& chain, const std::map<std::string, double>& rotor_inertia, const std::string& source) {
@@ -438,78 +445,90 @@ Chain load_chain(const ChainSpec& spec) {
 
   chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, 0});
   chain.joints.push_back(Joint{});
+  chain.parent.push_back(0);
   chain.frames[chain.root_link] = Frame{0, Transform::identity()};
-  std::vector<std::string> chain_links{chain.root_link};  // root to tip
+  std::vector<std::string> chain_links{chain.root_link};  // every link on a root-to-tip path
 
-  // Transform from the current body's frame to the frame of the link reached last.
-  Transform body_to_link = Transform::identity();
-  for (const auto& urdf_joint : path_joints(*model, chain.root_link, chain.tip_link, urdf_path)) {
-    const std::string element = named("joint", urdf_joint->name);
-    if (urdf_joint->mimic)
-      throw InputError(urdf_path, element, "mimic joints are not supported (the chain needs independent joints)");
-    const auto child = model->getLink(urdf_joint->child_link_name);
-    const Transform origin = transform_from_pose(urdf_joint->parent_to_joint_origin_transform, urdf_path, element);
-    double mass = 0;
-    const Inertia child_inertia = link_inertia(*child, urdf_path, mass);
-    chain_links.push_back(child->name);
-
-    switch (urdf_joint->type) {
-      case urdf::Joint::FIXED: {
-        body_to_link = origin * body_to_link;
-        const std::size_t body = chain.bodies.size() - 1;
-        chain.frames[child->name] = Frame{body, body_to_link};
-        if (body > 0) {
-          Body& b = chain.bodies[body];
-          b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
-          b.mass += mass;
-          b.lumped_links.push_back({child->name, mass, ""});
-        }
-        break;
-      }
-      case urdf::Joint::REVOLUTE:
-      case urdf::Joint::CONTINUOUS:
-      case urdf::Joint::PRISMATIC: {
-        Joint joint;
-        joint.name = urdf_joint->name;
-        joint.type = urdf_joint->type == urdf::Joint::PRISMATIC ? JointType::prismatic : JointType::revolute;
-        joint.continuous = urdf_joint->type == urdf::Joint::CONTINUOUS;
-        joint.axis = unit_axis(*urdf_joint, urdf_path);
-        joint.tree_transform = origin * body_to_link;
-        if (const auto& limits = urdf_joint->limits) {
-          require_finite(urdf_path, element + " <limit>", {limits->effort, limits->velocity});
-          if (limits->effort < 0 || limits->velocity < 0)
-            throw InputError(urdf_path, element + " <limit>", "effort and velocity limits must not be negative");
-          // URDF writes 0 where no limit is known; it means "unlimited" here.
-          if (limits->effort > 0) joint.effort_limit = limits->effort;
-          if (limits->velocity > 0) joint.velocity_limit = limits->velocity;
-          if (!joint.continuous) {
-            joint.lower = limits->lower;
-            joint.upper = limits->upper;
-          }
-        }
-        chain.joints.push_back(joint);
-        chain.bodies.push_back(Body{child->name, {}, child_inertia, mass});
-        body_to_link = Transform::identity();
-        chain.frames[child->name] = Frame{chain.bodies.size() - 1, body_to_link};
-        break;
-      }
-      case urdf::Joint::FLOATING:
-      case urdf::Joint::PLANAR:
-        throw InputError(urdf_path, element,
-                         std::string(urdf_joint->type == urdf::Joint::FLOATING ? "floating" : "planar") +
-                             " joints are not supported (serial chains of revolute, continuous, prismatic and "
-                             "fixed joints only)");
-      default:
-        throw InputError(urdf_path, element, "joint type unknown");
-    }
+  // The tips: the paths from the root to each, in order; a joint met again on a later path
+  // (the trunk the branches share) is already placed.
+  chain.branch_tips = spec.branch_tips;
+  std::vector<std::string> tips{chain.tip_link};
+  for (const std::string& tip : chain.branch_tips) {
+    find_link(*model, tip, urdf_path, "tip");
+    if (std::find(tips.begin(), tips.end(), tip) != tips.end())
+      throw InputError(urdf_path, "tip link " + quote_name(tip), "named twice among the tips");
+    tips.push_back(tip);
   }
+  for (const std::string& tip : tips)
+    for (const auto& urdf_joint : path_joints(*model, chain.root_link, tip, urdf_path)) {
+      const auto child = model->getLink(urdf_joint->child_link_name);
+      if (chain.frames.count(child->name) != 0) continue;  // on an earlier tip's path
+      const std::string element = named("joint", urdf_joint->name);
+      if (urdf_joint->mimic)
+        throw InputError(urdf_path, element, "mimic joints are not supported (the chain needs independent joints)");
+      const Transform origin = transform_from_pose(urdf_joint->parent_to_joint_origin_transform, urdf_path, element);
+      double mass = 0;
+      const Inertia child_inertia = link_inertia(*child, urdf_path, mass);
+      chain_links.push_back(child->name);
+      // The parent link's frame: on its body, at the transform from that body's frame.
+      const Frame above = chain.frames.at(urdf_joint->parent_link_name);
+
+      switch (urdf_joint->type) {
+        case urdf::Joint::FIXED: {
+          const Transform body_to_link = origin * above.X;
+          chain.frames[child->name] = Frame{above.body, body_to_link};
+          if (above.body > 0) {
+            Body& b = chain.bodies[above.body];
+            b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
+            b.mass += mass;
+            b.lumped_links.push_back({child->name, mass, ""});
+          }
+          break;
+        }
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS:
+        case urdf::Joint::PRISMATIC: {
+          Joint joint;
+          joint.name = urdf_joint->name;
+          joint.type = urdf_joint->type == urdf::Joint::PRISMATIC ? JointType::prismatic : JointType::revolute;
+          joint.continuous = urdf_joint->type == urdf::Joint::CONTINUOUS;
+          joint.axis = unit_axis(*urdf_joint, urdf_path);
+          joint.tree_transform = origin * above.X;
+          if (const auto& limits = urdf_joint->limits) {
+            require_finite(urdf_path, element + " <limit>", {limits->effort, limits->velocity});
+            if (limits->effort < 0 || limits->velocity < 0)
+              throw InputError(urdf_path, element + " <limit>", "effort and velocity limits must not be negative");
+            // URDF writes 0 where no limit is known; it means "unlimited" here.
+            if (limits->effort > 0) joint.effort_limit = limits->effort;
+            if (limits->velocity > 0) joint.velocity_limit = limits->velocity;
+            if (!joint.continuous) {
+              joint.lower = limits->lower;
+              joint.upper = limits->upper;
+            }
+          }
+          chain.joints.push_back(joint);
+          chain.bodies.push_back(Body{child->name, {}, child_inertia, mass});
+          chain.parent.push_back(above.body);
+          chain.frames[child->name] = Frame{chain.bodies.size() - 1, Transform::identity()};
+          break;
+        }
+        case urdf::Joint::FLOATING:
+        case urdf::Joint::PLANAR:
+          throw InputError(urdf_path, element,
+                           std::string(urdf_joint->type == urdf::Joint::FLOATING ? "floating" : "planar") +
+                               " joints are not supported (trees of revolute, continuous, prismatic and fixed joints "
+                               "only)");
+        default:
+          throw InputError(urdf_path, element, "joint type unknown");
+      }
+    }
   if (chain.dof() == 0)
     throw InputError(urdf_path, "links " + quote_name(chain.root_link) + " and " + quote_name(chain.tip_link),
                      "no moving joint between them");
   OffChainLumper(*model, spec, chain).run(chain_links);
   check_finite_model(chain);
   apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);
-  check_last_joint_can_accelerate(chain);
+  check_outermost_joints_can_accelerate(chain);
   return chain;
 }
 

@@ -1,8 +1,10 @@
-// Reads a serial chain out of a URDF file (urdfdom) and validates it.
+// Reads a serial chain, or the tree of several root-to-tip paths, out of a URDF file (urdfdom)
+// and validates it.
 #pragma once
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "model/chain.hpp"
 
@@ -19,6 +21,7 @@ struct ChainSpec {
   // each entry came from ("file:line:column"), for messages; "command line" when absent.
   std::map<std::string, double> locked_joints;
   std::map<std::string, std::string> locked_joint_locations;
+  std::vector<std::string> branch_tips;  // further tips: the tree of all root-to-tip paths (Chain)
 };
 
 // Reads and validates the chain, lumping every link that a moving body carries (chain.hpp).

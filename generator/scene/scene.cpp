@@ -423,7 +423,7 @@ Scene load_scene(const std::string& path) {
 
   Scene scene;
   scene.path = path;
-  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip",
+  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip", "tips",
                                          "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
                                          "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation",
                                          "refinement"};
@@ -468,6 +468,24 @@ Scene load_scene(const std::string& path) {
       (std::string(key) == "root" ? scene.chain.root_link : scene.chain.tip_link) = link;
       scene.locations[key] = reader.where(*item);
     }
+  }
+
+  if (const auto item = get("tips")) {
+    if (const auto tip = get("tip"))
+      reader.fail(*item, "give either 'tip' (one chain) or 'tips' (the tree of several), not both ('tip' at " +
+                             reader.where(*tip) + ")");
+    const auto tips = reader.sequence(*item);
+    if (tips.empty()) reader.fail(*item, "at least one tip link is needed");
+    std::map<std::string, Item> seen;
+    for (const Item& entry : tips) {
+      const std::string link = reader.string(entry);
+      if (link.empty()) reader.fail(entry, "link name is empty");
+      if (const auto previous = seen.find(link); previous != seen.end())
+        reader.fail(entry, "tip " + quote_name(link) + " named twice (first at " + reader.where(previous->second) + ")");
+      seen.emplace(link, entry);
+      (scene.chain.tip_link.empty() ? scene.chain.tip_link : scene.chain.branch_tips.emplace_back()) = link;
+    }
+    scene.locations["tip"] = reader.where(*item);
   }
 
   if (const auto item = get("gravity")) {

@@ -13,6 +13,10 @@
 //   root: panda_link0               # optional: root (base) link; default: the URDF's root
 //   tip: panda_hand                 # optional: tip link (constraint frame); default: the deepest
 //                                   #   link below the root, if nothing branches
+//   # tips: [left_hand, right_hand] # ... or several tips: the moving joints on the paths from
+//                                   #   the root to each form a tree (shared trunk once); the
+//                                   #   first tip is `tip` (tip_acceleration's frame); not with
+//                                   #   'tip'. Constraint sets and forces may act on any of its links
 //   gravity: [0, 0, -9.81]          # optional: gravity in the root frame [m/s^2];
 //                                   #   default [0, 0, -9.81]
 //   rotor_inertia:                  # optional: armature d_i (>= 0) by moving-joint name;

@@ -1,5 +1,5 @@
 // The joint torques that realise the solved motion on a robot (docs/derivation.md, section 6,
-// and "The traps"). Two inward passes of rigid force propagation, f_{i-1} += X_i^T f_i,
+// and "The traps"). Two inward passes of rigid force propagation, f_λ(i) += X_i^T f_i,
 // τ_i = S_i^T f_i:
 //   τcmd = τff + Σ_k J_k^T (α_k ν_k)          for the policies that keep the constraint;  (T1)
 //          (J_k the Jacobian of direction k's link: its unit force enters at its body)
@@ -25,12 +25,15 @@ template <class Scalar>
 void constraint_torque_tip_to_base(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
                                    const DriverInputs<Scalar>& inputs, Solution<Scalar>& sol) {
   const std::size_t n = model.dof();
-  spatial::Force<Scalar> f;  // the constraint wrenches α_k ν_k on bodies i..N, in body i's frame
+  // f_i: the constraint wrenches α_k ν_k on body i and the bodies beyond it, in body i's frame.
+  for (auto& f : sol.transmitted_force) f = spatial::Force<Scalar>{};
   for (std::size_t i = n; i >= 1; --i) {
+    spatial::Force<Scalar>& f = sol.transmitted_force[i];
     for (std::size_t k = 0; k < model.constraints(); ++k)
       if (model.set_of(k).body == i) f += constraint_own_force(model, inputs, k, i) * sol.nu[k];
     sol.tau_cmd[i - 1] = feedforward_torque(inputs, i) + spatial::dot(f, model.joints[i].S);
-    if (i > 1) f = kin.body[i].X.apply_transpose(f);
+    if (model.parent[i] > 0)
+      sol.transmitted_force[model.parent[i]] = sol.transmitted_force[model.parent[i]] + kin.body[i].X.apply_transpose(f);
   }
 }
 
@@ -39,13 +42,16 @@ template <class Scalar>
 void inverse_dynamics_torque_tip_to_base(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
                                          const DriverInputs<Scalar>& inputs, Solution<Scalar>& sol) {
   const std::size_t n = model.dof();
-  spatial::Force<Scalar> f;  // net force body i exerts on its children, carried inward
+  // f_i: the net force body i and the bodies beyond it need, in body i's frame.
+  for (auto& f : sol.transmitted_force) f = spatial::Force<Scalar>{};
   for (std::size_t i = n; i >= 1; --i) {
+    spatial::Force<Scalar>& f = sol.transmitted_force[i];
     f += model.inertia[i] * sol.acceleration[i] + kin.body[i].bias_force;
     for (std::size_t k = 0; k < model.external_force_body.size(); ++k)
       if (model.external_force_body[k] == i) f -= model.external_force_frame[k].apply_transpose(inputs.external_forces[k]);
     sol.tau_cmd[i - 1] = spatial::dot(f, model.joints[i].S) + model.joints[i].rotor_inertia * sol.qdd[i - 1];
-    if (i > 1) f = kin.body[i].X.apply_transpose(f);
+    if (model.parent[i] > 0)
+      sol.transmitted_force[model.parent[i]] = sol.transmitted_force[model.parent[i]] + kin.body[i].X.apply_transpose(f);
   }
 }
 

@@ -1,15 +1,16 @@
 // Inward sweep, tip to base: Alg. 1 and Alg. 2 of the paper as one recursion over tracks
 // (docs/derivation.md, section 3).
 //
-// Per body i, with U_i = M^A_i S_i, D_i = d_i + S_i^T U_i and P_i^T F = F − U_i D_i^-1 S_i^T F (I0),
-// D_i^-1 := 0 where the joint-inertia policy locks joint i (J1):
-//   M^A_{i-1}     = M_{i-1} + X_i^T P_i^T M^A_i X_i                                  (I1)
-//   F^A_cstr,i-1  = own_cstr,i-1 + X_i^T P_i^T F^A_cstr,i                             (I2)
-//   E^A_cstr,i-1  = E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i            (I3)
+// Per body i, p = λ(i) its parent, with U_i = M^A_i S_i, D_i = d_i + S_i^T U_i and
+// P_i^T F = F − U_i D_i^-1 S_i^T F (I0), D_i^-1 := 0 where the joint-inertia policy locks joint i
+// (J1), each child i adds to its parent (on a chain p = i-1 has one child):
+//   M^A_p     += X_i^T P_i^T M^A_i X_i                       (from M^A_p = M_p)            (I1)
+//   F^A_cstr,p += X_i^T P_i^T F^A_cstr,i                     (from own_cstr,p)             (I2)
+//   E^A_cstr,p += E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i  (from 0)          (I3)
 // and for every track t, with Fc = F^A_t,i (+ M^A_i Ẍb_i if t carries the bias) and
 // u = Σ_{τ in t} τ_i − S_i^T Fc:
-//   F^A_t,i-1 = own_t,i-1 + X_i^T (Fc + U_i D_i^-1 u)                                (I4)
-//   E^A_t,i-1 = E^A_t,i + F^A_cstr,i^T ((Ẍb_i if bias) + S_i D_i^-1 u)              (I5)
+//   F^A_t,p += X_i^T (Fc + U_i D_i^-1 u)                     (from own_t,p)                (I4)
+//   E^A_t,p += E^A_t,i + F^A_cstr,i^T ((Ẍb_i if bias) + S_i D_i^-1 u)  (from 0)            (I5)
 // where own_t,i = (Fb_i if bias) − Σ_{external forces of t on body i} F_ext, and column k of
 // own_cstr,i is X_link^T α_k when direction k's set acts on a link that body i carries, else 0
 // (a set's columns start at its body: outboard of it they are exactly zero).
@@ -52,7 +53,7 @@ spatial::Force<Scalar> constraint_own_force(const SolverModel<Scalar>& model, co
 }
 
 // One step of a track's force recursion at body i: returns X_i^T (Fc + U_i D_i^-1 u), the
-// contribution handed to body i-1, and u through `u_out`.
+// contribution handed to its parent, and u through `u_out`.
 template <class Scalar>
 spatial::Force<Scalar> track_force_to_parent(const JointModel<Scalar>& joint, const BodyKinematics<Scalar>& body,
                                              const BodyArticulated<Scalar>& art, const spatial::Force<Scalar>& Fc,
@@ -69,22 +70,25 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
   const std::size_t nc = model.constraints();
   const auto& tracks = model.layout.tracks;
 
-  // Start values: M^A_i = M_i, F^A_t,i = own_t,i, F^A_cstr,N = own_cstr,N, all E^A_N = 0.
-  for (std::size_t i = 1; i <= n; ++i) {
-    art.body[i].articulated_inertia = model.inertia[i];
-    for (std::size_t t = 0; t < tracks.size(); ++t)
-      art.track[t][i].articulated_force = track_own_force(model, tracks[t], kin, inputs, i);
+  // Start values: M^A_i = M_i, F^A_t,i = own_t,i, F^A_cstr,i = own_cstr,i, every E^A_i = 0; the
+  // children of each body then add to it (a body's index is above its parent's, so all of its
+  // children are done before it is read).
+  for (std::size_t i = 0; i <= n; ++i) {
+    if (i > 0) art.body[i].articulated_inertia = model.inertia[i];
+    for (std::size_t t = 0; t < tracks.size(); ++t) {
+      if (i > 0) art.track[t][i].articulated_force = track_own_force(model, tracks[t], kin, inputs, i);
+      art.track[t][i].acceleration_energy.setZero(nc);
+    }
+    for (std::size_t k = 0; k < nc; ++k) art.body[i].constraint_force[k] = constraint_own_force(model, inputs, k, i);
+    art.body[i].constraint_energy.setZero(nc, nc);
   }
-  for (std::size_t k = 0; k < nc; ++k)
-    art.body[n].constraint_force[k] = constraint_own_force(model, inputs, k, n);
-  art.body[n].constraint_energy.setZero(nc, nc);
-  for (std::size_t t = 0; t < tracks.size(); ++t) art.track[t][n].acceleration_energy.setZero(nc);
 
   for (std::size_t i = n; i >= 1; --i) {
     const JointModel<Scalar>& joint = model.joints[i];
     const BodyKinematics<Scalar>& body = kin.body[i];
+    const std::size_t p = model.parent[i];
     BodyArticulated<Scalar>& a = art.body[i];
-    BodyArticulated<Scalar>& parent = art.body[i - 1];
+    BodyArticulated<Scalar>& parent = art.body[p];
 
     a.U = a.articulated_inertia * joint.S;  // (I0)
     a.D = joint.rotor_inertia + spatial::dot(a.U, joint.S);
@@ -95,7 +99,7 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
     a.locked = select_greater(a.D, threshold, Scalar(0), Scalar(1));
     a.inverse_D = select_greater(a.D, threshold, Scalar(1), Scalar(0)) / select_greater(a.D, threshold, a.D, Scalar(1));
 
-    if (i > 1)  // (I1)
+    if (p > 0)  // (I1)
       parent.articulated_inertia = parent.articulated_inertia +
                                    a.articulated_inertia.minus_outer(a.U, a.inverse_D).transformed_to_parent(body.X);
 
@@ -103,25 +107,26 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
     ConstraintVector<Scalar> s(nc);
     for (std::size_t k = 0; k < nc; ++k) s[k] = spatial::dot(a.constraint_force[k], joint.S);
     for (std::size_t k = 0; k < nc; ++k)
-      parent.constraint_force[k] = constraint_own_force(model, inputs, k, i - 1) +
+      parent.constraint_force[k] = parent.constraint_force[k] +
                                    body.X.apply_transpose(a.constraint_force[k] - a.U * (a.inverse_D * s[k]));
-    parent.constraint_energy = a.constraint_energy + s * (a.inverse_D * s.transpose());
+    parent.constraint_energy = parent.constraint_energy + (a.constraint_energy + s * (a.inverse_D * s.transpose()));
 
     // (I4), (I5)
     for (std::size_t t = 0; t < tracks.size(); ++t) {
       const TrackBody<Scalar>& here = art.track[t][i];
-      TrackBody<Scalar>& up = art.track[t][i - 1];
+      TrackBody<Scalar>& up = art.track[t][p];
       spatial::Force<Scalar> Fc = here.articulated_force;
       if (tracks[t].bias) Fc += a.articulated_inertia * body.bias_acceleration;
       Scalar u;
       const spatial::Force<Scalar> handed_up =
           track_force_to_parent(joint, body, a, Fc, track_torque(tracks[t], inputs, i), u);
-      if (i > 1) up.articulated_force += handed_up;
-      up.acceleration_energy = here.acceleration_energy;
+      if (p > 0) up.articulated_force += handed_up;
+      ConstraintVector<Scalar> energy = here.acceleration_energy;
       for (std::size_t k = 0; k < nc; ++k) {
-        up.acceleration_energy[k] += s[k] * (a.inverse_D * u);
-        if (tracks[t].bias) up.acceleration_energy[k] += spatial::dot(a.constraint_force[k], body.bias_acceleration);
+        energy[k] += s[k] * (a.inverse_D * u);
+        if (tracks[t].bias) energy[k] += spatial::dot(a.constraint_force[k], body.bias_acceleration);
       }
+      up.acceleration_energy = up.acceleration_energy + energy;
     }
   }
 }

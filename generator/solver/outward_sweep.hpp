@@ -1,5 +1,5 @@
-// Outward sweep, base to tip (docs/derivation.md, section 2): X_i (F2), then
-//   Ẋ_i  = X_i Ẋ_{i-1} + S_i q̇_i (O1),   Ẍb_i = Ẋ_i × (S_i q̇_i) (O2),   Fb_i = Ẋ_i ×* (M_i Ẋ_i) (O3).
+// Outward sweep, base to tip (docs/derivation.md, section 2): X_i (F2), then, λ(i) the parent,
+//   Ẋ_i  = X_i Ẋ_λ(i) + S_i q̇_i (O1),   Ẍb_i = Ẋ_i × (S_i q̇_i) (O2),   Fb_i = Ẋ_i ×* (M_i Ẋ_i) (O3).
 // External forces are not folded into Fb here: every track adds its own (decomposition_sweep).
 #pragma once
 
@@ -17,7 +17,7 @@ void outward_sweep_base_to_tip(const SolverModel<Scalar>& model, const JointVect
     BodyKinematics<Scalar>& body = kin.body[i];
     body.X = joint.transform(q[i - 1]);
     const spatial::Motion<Scalar> joint_velocity = joint.S * qd[i - 1];
-    body.velocity = body.X.apply(kin.body[i - 1].velocity) + joint_velocity;
+    body.velocity = body.X.apply(kin.body[model.parent[i]].velocity) + joint_velocity;
     body.bias_acceleration = spatial::cross_motion(body.velocity, joint_velocity);
     body.bias_force = spatial::cross_force(body.velocity, model.inertia[i] * body.velocity);
   }

@@ -61,7 +61,7 @@ struct JointModel {
   Scalar rotor_inertia;  // d_i
   Scalar effort_limit;   // used by the saturating policies
 
-  // X_i = X_J(q) X_T, the motion transform from body i-1 to body i (F2).
+  // X_i = X_J(q) X_T, the motion transform from body λ(i) to body i (F2).
   Transform<Scalar> transform(const Scalar& q) const {
     using std::cos;
     using std::sin;
@@ -89,6 +89,7 @@ template <class Scalar>
 struct SolverModel {
   std::vector<JointModel<Scalar>> joints;  // 0..N, [0] unused
   std::vector<Inertia<Scalar>> inertia;    // M_i, 0..N, [0] unused
+  std::vector<std::size_t> parent;         // λ(i) < i, 0..N (model::Chain::parent)
   Transform<Scalar> tip;                   // body N -> tip link frame
   std::vector<std::size_t> external_force_body;        // per external-force instance
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
@@ -114,6 +115,7 @@ struct SolverModel {
     const std::size_t n = chain.dof();
     joints.resize(n + 1);
     inertia.resize(n + 1);
+    parent = chain.parent;
     for (std::size_t i = 1; i <= n; ++i) {
       const model::Joint& j = chain.joints[i];
       JointModel<Scalar>& jm = joints[i];

@@ -6,7 +6,7 @@
 //           + S_i^T Σ_{t external} (−F^A_t,i)               Alg. 4 adds the external forces
 //           clamped to ±effort limit                        Eq. 1
 //   q̈_i     = D_i^-1 (τff_i + τctrl_i − S_i^T (Σ_{t composed} F^A_t,i + M^A_i a_i)),   (S4)
-//   a_i     = X_i Ẍ_{i-1} + Ẍb_i,      Ẍ_i = a_i + S_i q̈_i                              (S5)
+//   a_i     = X_i Ẍ_λ(i) + Ẍb_i,       Ẍ_i = a_i + S_i q̈_i                              (S5)
 // Refinement (original policy, pivoted factorisation): with r_k = E_cstr,k − α_kᵀ Ẍ_link(k) the
 // residual of the first pass, (S2)–(S5) once more with the setpoints E_cstr + r             (R1)
 // Exact saturation clamps τcmd instead and runs forward dynamics with it: the extra torque
@@ -72,7 +72,8 @@ void accelerations_base_to_tip(const SolverModel<Scalar>& model, const Kinematic
   for (std::size_t i = 1; i <= model.dof(); ++i) {
     const JointModel<Scalar>& joint = model.joints[i];
     const BodyArticulated<Scalar>& a = art.body[i];
-    const spatial::Motion<Scalar> a_i = kin.body[i].X.apply(sol.acceleration[i - 1]) + kin.body[i].bias_acceleration;
+    const spatial::Motion<Scalar> a_i =
+        kin.body[i].X.apply(sol.acceleration[model.parent[i]]) + kin.body[i].bias_acceleration;
     spatial::Force<Scalar> F = a.articulated_inertia * a_i;
     for (std::size_t t = 0; t < model.layout.tracks.size(); ++t)
       if (composes(model.layout.tracks[t], policy)) F += art.track[t][i].articulated_force;
@@ -103,7 +104,7 @@ void saturate_commanded_torque(const SolverModel<Scalar>& model, const Kinematic
     Scalar u;
     const spatial::Force<Scalar> handed_up = track_force_to_parent(
         model.joints[i], kin.body[i], art.body[i], sol.correction_force[i], sol.tau_ctrl[i - 1], u);
-    if (i > 1) sol.correction_force[i - 1] += handed_up;
+    if (model.parent[i] > 0) sol.correction_force[model.parent[i]] += handed_up;
   }
   // Forward dynamics: τff + Δτ applied, no constraint force, every real force acting.
   accelerations_base_to_tip(model, kin, art, inputs, Policy::original, &sol.correction_force, sol);

@@ -38,7 +38,7 @@ struct DriverInputs {
 
 template <class Scalar>
 struct BodyKinematics {
-  spatial::Transform<Scalar> X;           // X_i = iX_{i-1}(q_i)
+  spatial::Transform<Scalar> X;           // X_i = iX_λ(i)(q_i)
   spatial::Motion<Scalar> velocity;       // Ẋ_i
   spatial::Motion<Scalar> bias_acceleration;  // Ẍb_i = Ẋ_i × S_i q̇_i
   spatial::Force<Scalar> bias_force;      // Fb_i = Ẋ_i ×* (M_i Ẋ_i)
@@ -104,6 +104,7 @@ struct Solution {
   JointVector<Scalar> saturated;             // 1 where the policy clamped joint i's torque, else 0
   std::vector<spatial::Motion<Scalar>> acceleration;  // Ẍ_i (spatial, minus gravity), 0..N
   std::vector<spatial::Force<Scalar>> correction_force;  // saturate_exact: F^A of τ_applied − τff, 0..N
+  std::vector<spatial::Force<Scalar>> transmitted_force;  // f_i of (T1) or (T2): what joint i transmits, 0..N
   spatial::Motion<Scalar> tip_acceleration;  // Ẍ of the tip frame, in the tip frame
   // Ẍ of each listed constraint set's link, in its frame (DriverLayout::listed_sets; none for the
   // tip set of the short forms, whose Ẍ is tip_acceleration).
@@ -116,6 +117,7 @@ struct Solution {
     s.conf_energy.setZero(nc);
     s.acceleration.resize(n + 1);
     s.correction_force.resize(n + 1);
+    s.transmitted_force.resize(n + 1);
     s.set_acceleration.resize(listed_sets);
     return s;
   }

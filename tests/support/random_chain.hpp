@@ -1,5 +1,5 @@
-// Random serial chains built programmatically (no URDF), for tests over many kinematic and
-// inertial configurations: 1..10 joints, revolute about random unit axes or prismatic along
+// Random serial chains and trees built programmatically (no URDF), for tests over many
+// kinematic and inertial configurations: 1..10 joints (trees 2..12, any branching), revolute about random unit axes or prismatic along
 // them, random tree transforms, physically valid random inertias, rotor inertia on some joints,
 // lumped link frames on some bodies and, on about half of the chains, a tip frame behind a
 // (virtual) fixed joint.
@@ -60,55 +60,87 @@ class RandomChainGenerator {
   // A chain of `dof` joints (0: random 1..10).
   model::Chain chain(std::size_t dof = 0) {
     const std::size_t n = dof > 0 ? dof : static_cast<std::size_t>(std::uniform_int_distribution<int>(1, 10)(rng_));
-    model::Chain c;
-    c.source = "random chain " + std::to_string(++count_);
-    c.root_link = "base";
-    c.bodies.push_back(model::Body{"base", {}, model::Inertia{}, 0});
-    c.joints.push_back(model::Joint{});
-    c.frames["base"] = model::Frame{0, model::Transform::identity()};
-    for (std::size_t i = 1; i <= n; ++i) {
-      model::Joint j;
-      j.name = "joint" + std::to_string(i);
-      j.type = chance(0.25) ? model::JointType::prismatic : model::JointType::revolute;
-      j.axis = unit_vector();
-      j.tree_transform = transform(0.5);
-      if (chance(0.3)) j.rotor_inertia = uniform(0.01, 0.5);
-      j.effort_limit = uniform(5, 50);
-      j.velocity_limit = 3;
-      if (j.type == model::JointType::prismatic) {
-        j.lower = -0.5;
-        j.upper = 0.5;
-      } else if (chance(0.5)) {
-        j.continuous = true;  // unlimited: states drawn in [-pi, pi]
-      } else {
-        j.lower = -2.5;
-        j.upper = 2.5;
-      }
-      c.joints.push_back(j);
-      model::Body body;
-      body.link = "link" + std::to_string(i);
-      body.inertia = inertia(body.mass);
-      c.frames[body.link] = model::Frame{i, model::Transform::identity()};
-      // A massless link behind a fixed joint, addressable as a frame.
-      if (chance(0.3)) {
-        const std::string name = "frame" + std::to_string(i);
-        body.lumped_links.push_back({name, 0.0, ""});
-        c.frames[name] = model::Frame{i, transform(0.3)};
-      }
-      c.bodies.push_back(body);
-    }
-    c.tip_link = "link" + std::to_string(n);
-    if (chance(0.5)) {
-      c.tip_link = "tip";
-      c.bodies[n].lumped_links.push_back({"tip", 0.0, ""});
-      c.frames["tip"] = model::Frame{n, transform(0.3)};
-    }
+    model::Chain c = base("random chain ");
+    for (std::size_t i = 1; i <= n; ++i) add_body(c, i - 1);
+    add_tip(c, n);
+    return c;
+  }
+
+  // A tree of `dof` joints (0: random 2..12): body i hangs from a random earlier body, the base
+  // included, so depth and branching vary from a chain to a star. Its tip is the last body's
+  // link (or a frame behind it); every branch end is another tip.
+  model::Chain tree(std::size_t dof = 0) {
+    const std::size_t n = dof > 0 ? dof : static_cast<std::size_t>(std::uniform_int_distribution<int>(2, 12)(rng_));
+    model::Chain c = base("random tree ");
+    for (std::size_t i = 1; i <= n; ++i)
+      add_body(c, static_cast<std::size_t>(std::uniform_int_distribution<std::size_t>(0, i - 1)(rng_)));
+    add_tip(c, n);
+    std::vector<bool> has_child(n + 1, false);
+    for (std::size_t i = 1; i <= n; ++i) has_child[c.parent[i]] = true;
+    for (std::size_t i = 1; i < n; ++i)
+      if (!has_child[i]) c.branch_tips.push_back(c.bodies[i].link);
     return c;
   }
 
   std::mt19937_64& engine() { return rng_; }
 
  private:
+  model::Chain base(const std::string& kind) {
+    model::Chain c;
+    c.source = kind + std::to_string(++count_);
+    c.root_link = "base";
+    c.bodies.push_back(model::Body{"base", {}, model::Inertia{}, 0});
+    c.joints.push_back(model::Joint{});
+    c.parent.push_back(0);
+    c.frames["base"] = model::Frame{0, model::Transform::identity()};
+    return c;
+  }
+
+  // Body i = c.dof() + 1 on a random joint against body `parent`.
+  void add_body(model::Chain& c, std::size_t parent) {
+    const std::size_t i = c.bodies.size();
+    model::Joint j;
+    j.name = "joint" + std::to_string(i);
+    j.type = chance(0.25) ? model::JointType::prismatic : model::JointType::revolute;
+    j.axis = unit_vector();
+    j.tree_transform = transform(0.5);
+    if (chance(0.3)) j.rotor_inertia = uniform(0.01, 0.5);
+    j.effort_limit = uniform(5, 50);
+    j.velocity_limit = 3;
+    if (j.type == model::JointType::prismatic) {
+      j.lower = -0.5;
+      j.upper = 0.5;
+    } else if (chance(0.5)) {
+      j.continuous = true;  // unlimited: states drawn in [-pi, pi]
+    } else {
+      j.lower = -2.5;
+      j.upper = 2.5;
+    }
+    c.joints.push_back(j);
+    model::Body body;
+    body.link = "link" + std::to_string(i);
+    body.inertia = inertia(body.mass);
+    c.frames[body.link] = model::Frame{i, model::Transform::identity()};
+    // A massless link behind a fixed joint, addressable as a frame.
+    if (chance(0.3)) {
+      const std::string name = "frame" + std::to_string(i);
+      body.lumped_links.push_back({name, 0.0, ""});
+      c.frames[name] = model::Frame{i, transform(0.3)};
+    }
+    c.bodies.push_back(body);
+    c.parent.push_back(parent);
+  }
+
+  // The tip: body n's link, or on half of the chains a frame behind it.
+  void add_tip(model::Chain& c, std::size_t n) {
+    c.tip_link = "link" + std::to_string(n);
+    if (chance(0.5)) {
+      c.tip_link = "tip";
+      c.bodies[n].lumped_links.push_back({"tip", 0.0, ""});
+      c.frames["tip"] = model::Frame{n, transform(0.3)};
+    }
+  }
+
   std::mt19937_64 rng_;
   unsigned count_ = 0;
 };
