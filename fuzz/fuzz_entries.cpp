@@ -143,9 +143,12 @@ void check_chain(const model::Chain& chain, const model::ChainSpec& spec) {
     check_finite(frame.X.E, "frame of '" + link + "'");
     check_finite(frame.X.r, "frame of '" + link + "'");
   }
+  if (chain.parent.size() != chain.bodies.size() || chain.joints.size() != chain.bodies.size())
+    violation("parents, joints and bodies differ in number");
   for (std::size_t i = 1; i < chain.joints.size(); ++i) {
     const model::Joint& joint = chain.joints[i];
     const std::string what = "joint " + std::to_string(i) + " ('" + joint.name + "')";
+    if (chain.parent[i] >= i) violation(what + " hangs from a body that is not before it");
     check_finite(joint.axis, what + " axis");
     if (std::abs(joint.axis.norm() - 1) > 1e-9) violation(what + " axis is not a unit vector");
     check_finite(joint.tree_transform.E, what + " tree transform");
@@ -240,7 +243,8 @@ void check_problem(const cli::Problem& p, const model::Chain& chain) {
 
 // ---- Inputs ---------------------------------------------------------------------------------
 
-// Root and tip from an optional "<!-- chain root=LINK tip=LINK -->" anywhere in the URDF. A name
+// Root, tip and further tips from an optional "<!-- chain root=LINK tip=LINK branch=LINK ... -->"
+// anywhere in the URDF (branch= repeatable: the tree of all root-to-tip paths). A name
 // ends at white space or NUL: names come from the command line (--root, --tip), and argv
 // strings cannot hold NUL.
 void read_chain_directive(const std::string& input, model::ChainSpec& spec) {
@@ -254,6 +258,7 @@ void read_chain_directive(const std::string& input, model::ChainSpec& spec) {
     word = word.substr(0, word.find('\0'));
     if (word.rfind("root=", 0) == 0) spec.root_link = word.substr(5);
     if (word.rfind("tip=", 0) == 0) spec.tip_link = word.substr(4);
+    if (word.rfind("branch=", 0) == 0) spec.branch_tips.push_back(word.substr(7));
   }
 }
 

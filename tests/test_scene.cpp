@@ -523,7 +523,7 @@ TEST(SceneErrors, ConstraintSets) {
                "3 constraint directions on link 'panda_link2' but only 2 joints move them");
   const std::string over2 = sets("    - {link: panda_link1, count: 1}\n    - {link: panda_link2, count: 2}");
   expect_error(over2, position(over2, 14, "-"), "drivers.constraints",
-               "3 constraint directions on links up to 'panda_link2' but only 2 joints move them");
+               "3 constraint directions on links 'panda_link1', 'panda_link2' but only 2 joints move them");
   const std::string empty = with_urdf(replace(kFullScene, "constraints: 6", "constraints: []"));
   expect_error(empty, position(empty, 13, "[]"), "drivers.constraints", "an empty list of constraint sets");
 }

@@ -141,15 +141,18 @@ int run_generate(const GenerateOptions& options) {
 int run_info(const SceneOptions& options) {
   const scene::Scene s = resolve_scene(options);
   const model::Chain chain = scene::load_scene_chain(s);
-  std::cout << "chain " << chain.root_link << " -> " << chain.tip_link << " in " << chain.source << ": " << chain.dof()
-            << " moving joints\n";
+  std::string tips = chain.tip_link;
+  for (const std::string& tip : chain.branch_tips) tips += ", " + tip;
+  std::cout << (chain.is_chain() ? "chain " : "tree ") << chain.root_link << " -> " << tips << " in " << chain.source
+            << ": " << chain.dof() << " moving joints\n";
   for (std::size_t i = 1; i <= chain.dof(); ++i) {
     const auto& j = chain.joints[i];
     const auto& b = chain.bodies[i];
     const bool axis_aligned = (j.axis.array().abs() == 1.0).any();
     std::cout << "  " << i << ". " << j.name << " (" << (j.type == model::JointType::revolute ? (j.continuous ? "continuous" : "revolute") : "prismatic")
               << ", axis " << j.axis.transpose() << (axis_aligned ? ", axis-aligned: folds to one column" : "")
-              << ") moves " << b.link << ", mass " << b.mass << " kg";
+              << ") moves " << b.link << (chain.is_chain() ? "" : " against " + chain.bodies[chain.parent[i]].link)
+              << ", mass " << b.mass << " kg";
     std::cout << ", effort limit " << j.effort_limit << ", rotor inertia " << j.rotor_inertia << "\n";
   }
   std::cout << "links carried by the chain (lumped: fixed, or behind a locked joint off the chain), locked joints, links left out:\n";

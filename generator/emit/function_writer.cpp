@@ -125,6 +125,8 @@ class Writer {
         const auto& joint = chain_.joints[field.body];
         text_ << ", body " << field.body << ": link " << chain_.bodies[field.body].link << ", joint " << joint.name
               << " (" << (joint.type == model::JointType::revolute ? "revolute" : "prismatic") << ")";
+        if (!chain_.is_chain())
+          text_ << ", on body " << chain_.parent[field.body] << " (" << chain_.bodies[chain_.parent[field.body]].link << ")";
       } else if (field.body == 0) {
         text_ << ", base: link " << chain_.bodies[0].link;
       }

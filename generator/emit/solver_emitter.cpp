@@ -259,7 +259,9 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("provenance", request.provenance);
   values.set("robot", chain.source.substr(chain.source.find_last_of('/') + 1));
   values.set("root", chain.root_link);
-  values.set("tip", chain.tip_link);
+  std::string tips = chain.tip_link;
+  for (const std::string& tip : chain.branch_tips) tips += ", " + tip;
+  values.set("tip", chain.branch_tips.empty() ? tips : tips + " (a tree; tip_acceleration is " + chain.tip_link + "'s)");
   values.set("dof", std::to_string(n));
   data lumping{data::type::list};
   for (const std::string& line : model::lumping_summary(chain)) lumping.push_back(data("line", line));

@@ -70,7 +70,7 @@ class DenseDynamics {
   };
 
   explicit DenseDynamics(const model::Chain& chain, const model::Vec3& gravity = model::Vec3(0, 0, -9.81))
-      : n_(chain.dof()), gravity_(gravity.cast<Scalar>()) {
+      : n_(chain.dof()), parent_(chain.parent), gravity_(gravity.cast<Scalar>()) {
     joints_.resize(n_ + 1);
     bodies_.resize(n_ + 1);
     for (std::size_t i = 1; i <= n_; ++i) {
@@ -106,8 +106,9 @@ class DenseDynamics {
     std::vector<Pose> pose(n_ + 1);
     for (std::size_t i = 1; i <= n_; ++i) {
       const JointData& j = joints_[i];
-      const M3 R_joint = pose[i - 1].R * j.tree_rotation;  // joint frame at q = 0
-      pose[i].p = pose[i - 1].p + pose[i - 1].R * j.tree_offset;
+      const Pose& up = pose[parent_[i]];
+      const M3 R_joint = up.R * j.tree_rotation;  // joint frame at q = 0
+      pose[i].p = up.p + up.R * j.tree_offset;
       if (j.revolute) {
         pose[i].R = R_joint * M3(Eigen::AngleAxis<Scalar>(q[i - 1], j.axis));
       } else {
@@ -131,11 +132,11 @@ class DenseDynamics {
     if (with_gravity) m[0].acceleration = -gravity_;
     for (std::size_t i = 1; i <= n_; ++i) {
       const JointData& j = joints_[i];
-      const BodyMotion& up = m[i - 1];
+      const BodyMotion& up = m[parent_[i]];
       BodyMotion& b = m[i];
       b.pose = pose[i];
       b.axis = pose[i].R * j.axis;  // the joint's rotation leaves its own axis invariant
-      const V3 d = pose[i].p - pose[i - 1].p;
+      const V3 d = pose[i].p - pose[parent_[i]].p;
       b.omega = up.omega;
       b.omega_dot = up.omega_dot;
       b.velocity = up.velocity + up.omega.cross(d);
@@ -176,15 +177,16 @@ class DenseDynamics {
       force[l.body] -= f;
       moment[l.body] -= n_link + (body.R * l.offset).cross(f);
     }
+    // Bodies beyond i (higher indices) are done first: each adds what it transmits to its parent,
+    // the moment moved to the parent's origin.
     Vec tau(n_);
-    V3 f_child = V3::Zero(), n_child = V3::Zero();  // transmitted from body i+1, about p_{i+1}
     for (std::size_t i = n_; i >= 1; --i) {
-      V3 f = force[i] + f_child;
-      V3 n = moment[i] + n_child;
-      if (i < n_) n += (m[i + 1].pose.p - m[i].pose.p).cross(f_child);
+      const V3& f = force[i];
+      const V3& n = moment[i];
       tau[i - 1] = (joints_[i].revolute ? m[i].axis.dot(n) : m[i].axis.dot(f)) + joints_[i].rotor * qdd[i - 1];
-      f_child = f;
-      n_child = n;
+      const std::size_t up = parent_[i];
+      force[up] += f;
+      moment[up] += n + (m[i].pose.p - m[up].pose.p).cross(f);
     }
     return tau;
   }
@@ -207,7 +209,7 @@ class DenseDynamics {
     const std::vector<BodyMotion> m = body_motion(q, zero, zero, false);
     const Pose L = frame_pose(m[l.body].pose, l);
     Jacobian J = Jacobian::Zero(6, n_);
-    for (std::size_t j = 1; j <= l.body; ++j) {
+    for (std::size_t j = l.body; j > 0; j = parent_[j]) {  // the joints that move the link
       const V3& z = m[j].axis;
       if (joints_[j].revolute) {
         J.col(j - 1) << L.R.transpose() * z, L.R.transpose() * z.cross(L.p - m[j].pose.p);
@@ -384,6 +386,7 @@ class DenseDynamics {
   static Pose frame_pose(const Pose& body, const LinkData& l) { return {body.R * l.rotation, body.p + body.R * l.offset}; }
 
   std::size_t n_;
+  std::vector<std::size_t> parent_;  // model::Chain::parent
   V3 gravity_;
   std::vector<JointData> joints_;
   std::vector<BodyData> bodies_;

@@ -78,19 +78,46 @@ std::vector<std::string> constraint_set_summary(const DriverLayout& layout) {
 }
 
 std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, const model::Chain& chain) {
-  // Directions per body, then their running sum from the base out: body b's sum counts every
-  // direction whose link only joints 1..b move.
-  std::vector<std::size_t> on_body(chain.dof() + 1, 0);
-  for (const auto& set : sets) on_body.at(chain.frames.at(set.link.empty() ? chain.tip_link : set.link).body) += set.count;
-  std::size_t carried = 0;
-  for (std::size_t b = 0; b <= chain.dof(); ++b) {
-    carried += on_body[b];
-    if (carried > b)
-      return std::to_string(carried) + " constraint direction" + (carried == 1 ? "" : "s") + " on link" +
-             (carried == on_body[b] ? " " : "s up to ") + quote_name(chain.bodies[b].link) + " but only " +
-             std::to_string(b) + " joint" + (b == 1 ? "" : "s") + " move" + (b == 1 ? "s" : "") +
-             " them: the constraint over-determines the robot (every state would be rank-deficient)";
+  // Rows of the constraint Jacobian from sets on bodies B involve only the joints on the paths
+  // from the base to B: more directions than those joints, for any group of sets, are always
+  // rank-deficient (Hall's condition). Every group is tried, smallest first, up to 16 sets;
+  // beyond, each set alone and all of them together.
+  const std::size_t count = sets.size();
+  std::vector<std::size_t> body(count);
+  for (std::size_t c = 0; c < count; ++c) body[c] = chain.frames.at(sets[c].link.empty() ? chain.tip_link : sets[c].link).body;
+  const auto check = [&](const std::vector<std::size_t>& group) -> std::string {
+    std::vector<bool> moving(chain.dof() + 1, false);
+    std::size_t directions = 0, joints = 0;
+    for (std::size_t c : group) {
+      directions += sets[c].count;
+      for (std::size_t j = body[c]; j > 0; j = chain.parent[j])
+        if (!moving[j]) moving[j] = true, ++joints;
+    }
+    if (directions <= joints) return "";
+    std::string links;
+    for (std::size_t c : group)
+      links += (links.empty() ? "" : ", ") + quote_name(sets[c].link.empty() ? chain.tip_link : sets[c].link);
+    return std::to_string(directions) + " constraint direction" + (directions == 1 ? "" : "s") + " on link" +
+           (group.size() == 1 ? " " : "s ") + links + " but only " + std::to_string(joints) + " joint" +
+           (joints == 1 ? "" : "s") + " move" + (joints == 1 ? "s" : "") +
+           " them: the constraint over-determines the robot (every state would be rank-deficient)";
+  };
+  std::vector<std::vector<std::size_t>> groups;
+  if (count <= 16) {
+    for (std::size_t mask = 1; mask < (std::size_t{1} << count); ++mask) {
+      std::vector<std::size_t> group;
+      for (std::size_t c = 0; c < count; ++c)
+        if (mask & (std::size_t{1} << c)) group.push_back(c);
+      groups.push_back(group);
+    }
+    std::stable_sort(groups.begin(), groups.end(), [](const auto& x, const auto& y) { return x.size() < y.size(); });
+  } else {
+    std::vector<std::size_t> all;
+    for (std::size_t c = 0; c < count; ++c) groups.push_back({c}), all.push_back(c);
+    groups.push_back(all);
   }
+  for (const auto& group : groups)
+    if (const std::string problem = check(group); !problem.empty()) return problem;
   return "";
 }
 

@@ -95,9 +95,10 @@ std::vector<spatial::Force<double>> directions_with(const DriverLayout& layout, 
 // or their place in the run-time α. For `sweepgen info` and the generated header.
 std::vector<std::string> constraint_set_summary(const DriverLayout& layout);
 
-// Whether the sets ask more of the chain than its joints can give at every state: the
-// directions on links carried by bodies 1..b together exceed the b joints that move them
-// (rank of the stacked constraint Jacobian <= b), for some b. Returns the explanation, or "".
+// Whether the sets ask more of the robot than its joints can give at every state: a group of
+// sets with more directions than the joints on the paths from the base to their links (the
+// rank of their rows of the constraint Jacobian is at most that). Returns the explanation of
+// the smallest such group, or "".
 std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, const model::Chain& chain);
 
 }  // namespace sweepgen::solver

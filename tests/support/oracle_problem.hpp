@@ -44,9 +44,10 @@ inline std::vector<OracleCase> bundled_cases(bool rotor_inertia) {
   return cases;
 }
 
-// A random chain with one or two external forces on random moving links (lumped frames included).
-inline OracleCase random_case(RandomChainGenerator& generator) {
-  OracleCase c{"", generator.chain(), {}};
+// A random chain (or, with `tree`, a random tree) with one or two external forces on random
+// moving links (lumped frames included).
+inline OracleCase random_case(RandomChainGenerator& generator, bool tree = false) {
+  OracleCase c{"", tree ? generator.tree() : generator.chain(), {}};
   c.name = c.chain.source;
   std::vector<std::string> moving;
   for (const auto& [link, frame] : c.chain.frames)
