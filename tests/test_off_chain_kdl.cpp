@@ -43,6 +43,7 @@
 #include "report/kdl_convention.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
+#include "support/kdl_tree_dynamics.hpp"
 #include "support/oracle_problem.hpp"
 #include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
@@ -99,7 +100,7 @@ model::Chain load(double side_joint_lock) {
   return model::load_chain(spec);
 }
 
-KDL::Wrench to_kdl(const Force<double>& f) { return KDL::Wrench(kdl_vector(f.force), kdl_vector(f.moment)); }
+using test::to_kdl;
 
 // KDL's view of the URDF a chain was read from (chain.source), by kdl_parser: the whole tree for
 // inverse dynamics, and its path chain.root_link -> chain.tip_link (fixed segments included)
@@ -107,39 +108,19 @@ KDL::Wrench to_kdl(const Force<double>& f) { return KDL::Wrench(kdl_vector(f.for
 class KdlTreeOracle {
  public:
   KdlTreeOracle(const model::Chain& chain, const std::map<std::string, double>& locks)
-      : tree_(read_tree(chain.source)),
-        path_(path(tree_, chain)),
-        inverse_dynamics_(tree_, kdl_vector(kGravity)),
+      : dynamics_(chain, kGravity, locks),
+        path_(path(dynamics_.tree(), chain)),
         jacobian_(path_),
         jacobian_dot_(path_),
         forward_kinematics_(path_),
-        tip_link_(chain.tip_link),
-        locked_(tree_.getNrOfJoints()) {
-    std::map<std::string, unsigned> index;  // KDL's joint index (q_nr) of every moving joint, by name
-    for (const auto& [name, element] : tree_.getSegments()) {
-      const KDL::Joint& joint = GetTreeElementSegment(element).getJoint();
-      if (joint.getType() != KDL::Joint::None) index[joint.getName()] = GetTreeElementQNr(element);
-    }
-    for (const auto& [name, position] : locks) locked_(index.at(name)) = position;
-    for (std::size_t i = 1; i <= chain.dof(); ++i) tree_index_.push_back(index.at(chain.joints[i].name));
-  }
-  KdlTreeOracle(const KdlTreeOracle&) = delete;  // the KDL solvers hold references to tree_ and path_
+        tip_link_(chain.tip_link) {}
+  KdlTreeOracle(const KdlTreeOracle&) = delete;  // the KDL solvers hold references to path_
 
   // τ at the chain's joints = RNE of the whole tree at (q, q̇, q̈) with `wrenches` (per link,
   // its frame, acting on it).
   Eigen::VectorXd inverse_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                                    const KDL::WrenchMap& wrenches) {
-    KDL::JntArray kq = locked_, kqd(locked_.rows()), kqdd(locked_.rows()), torques(locked_.rows());
-    for (std::size_t i = 0; i < tree_index_.size(); ++i) {
-      kq(tree_index_[i]) = q[static_cast<Eigen::Index>(i)];
-      kqd(tree_index_[i]) = qd[static_cast<Eigen::Index>(i)];
-      kqdd(tree_index_[i]) = qdd[static_cast<Eigen::Index>(i)];
-    }
-    if (inverse_dynamics_.CartToJnt(kq, kqd, kqdd, wrenches, torques) < 0)
-      throw std::runtime_error("KDL tree RNE failed");
-    Eigen::VectorXd tau(static_cast<Eigen::Index>(tree_index_.size()));
-    for (std::size_t i = 0; i < tree_index_.size(); ++i) tau[static_cast<Eigen::Index>(i)] = torques(tree_index_[i]);
-    return tau;
+    return dynamics_.inverse_dynamics(q, qd, qdd, wrenches);
   }
 
   // The tip link's Ẍ as sweepgen defines it (spatial, minus gravity, in the tip frame,
@@ -174,11 +155,6 @@ class KdlTreeOracle {
   const std::string& tip_link() const { return tip_link_; }
 
  private:
-  static KDL::Tree read_tree(const std::string& urdf) {
-    KDL::Tree tree;
-    if (!kdl_parser::treeFromFile(urdf, tree)) throw std::runtime_error("kdl_parser cannot read " + urdf);
-    return tree;
-  }
   // The tree's path root -> tip; its moving joints must be the chain's, in order.
   static KDL::Chain path(const KDL::Tree& tree, const model::Chain& chain) {
     KDL::Chain path;
@@ -192,15 +168,12 @@ class KdlTreeOracle {
     return path;
   }
 
-  KDL::Tree tree_;
+  test::KdlTreeDynamics dynamics_;
   KDL::Chain path_;
-  KDL::TreeIdSolver_RNE inverse_dynamics_;
   KDL::ChainJntToJacSolver jacobian_;
   KDL::ChainJntToJacDotSolver jacobian_dot_;
   KDL::ChainFkSolverPos_recursive forward_kinematics_;
   std::string tip_link_;
-  KDL::JntArray locked_;              // every tree joint: the locks, 0 elsewhere
-  std::vector<unsigned> tree_index_;  // KDL's index of chain joint i + 1
 };
 
 // One state's checks: each error relative to the physical terms, and the growth γ of its
