@@ -649,6 +649,47 @@ TEST(SceneErrors, LockedJointsCheckedAtTheirEntry) {
   expect_error(twice, position(twice, 6, "side_joint", 2), "locked_joints.side_joint", "duplicate joint");
 }
 
+// `tips`: the tree of several root-to-tip paths (the bundled dual Panda).
+const std::string kTreeScene = R"(sweepgen_scene: 1
+solver: dual
+urdf: @URDF@
+root: station
+tips: [left_panda_hand, right_panda_hand]
+drivers:
+  constraints:
+    - {link: left_panda_hand, count: 6}
+    - {link: right_panda_link4, count: 2}
+)";
+
+TEST(Scene, TipsSpanATree) {
+  test::TempDir dir;
+  const std::string urdf = test::source_path("robots/dual_panda/dual_panda.urdf");
+  const Scene s = scene::load_scene(dir.write("scene.yaml", with_urdf(kTreeScene, urdf)));
+  EXPECT_EQ(s.chain.tip_link, "left_panda_hand");
+  EXPECT_EQ(s.chain.branch_tips, (std::vector<std::string>{"right_panda_hand"}));
+  const model::Chain chain = scene::load_scene_chain(s);
+  EXPECT_EQ(chain.dof(), 15u);
+  EXPECT_EQ(chain.parent[9], 1u) << "the right arm's first body hangs from the torso";
+  EXPECT_EQ(chain.frames.at("right_panda_link4").body, 12u);
+}
+
+TEST(SceneErrors, Tips) {
+  const std::string urdf = test::source_path("robots/dual_panda/dual_panda.urdf");
+  const std::string both = with_urdf(replace(kTreeScene, "root: station", "root: station\ntip: torso"), urdf);
+  expect_error(both, position(both, 6, "["), "tips", "give either 'tip' (one chain) or 'tips'");
+  const std::string twice = with_urdf(replace(kTreeScene, "right_panda_hand]", "left_panda_hand]"), urdf);
+  expect_error(twice, position(twice, 5, "left_panda_hand", 2), "tips[1]", "tip 'left_panda_hand' named twice");
+  const std::string unknown = with_urdf(replace(kTreeScene, "right_panda_hand]", "right_panda_hnd]"), urdf);
+  expect_error(unknown, position(unknown, 5, "["), "tip", "tip link 'right_panda_hnd'", "right_panda_hand");
+  // Five directions on the right elbow (moved by the torso and four arm joints) and six on the
+  // right hand are each within reach, but together they ask 11 of the 8 joints that move them.
+  const std::string over = with_urdf(replace(kTreeScene, "right_panda_link4, count: 2", "right_panda_link4, count: 5}\n"
+                                                                                       "    - {link: right_panda_hand, count: 6"),
+                                     urdf);
+  expect_error(over, position(over, 8, "-"), "drivers.constraints",
+               "11 constraint directions on links 'right_panda_link4', 'right_panda_hand' but only 8 joints move them");
+}
+
 TEST(SceneErrors, UrdfProblemsPointAtTheSceneEntry) {
   const std::string text = with_urdf(replace(kFullScene, "root: panda_link0", "root: panda_lnk0"));
   test::TempDir dir;

@@ -155,3 +155,41 @@ TEST(Trace, CanonicalGraphDoesNotDependOnTheOrderOfConstruction) {
 
 }  // namespace
 }  // namespace sweepgen
+
+namespace sweepgen {
+namespace {
+
+// A tree pays for constraint sets only along their paths: with a set on the left hand only,
+// every unit constraint force and constraint energy on the right arm of the dual Panda is the
+// constant 0 in the trace (so the emitted code has none of them), while on the left arm and the
+// shared torso they are computed; with sets on both hands both arms carry them.
+TEST(Trace, ABranchWithoutConstraintsCarriesNoConstraintTerms) {
+  model::ChainSpec spec;
+  spec.urdf = test::source_path("robots/dual_panda/dual_panda.urdf");
+  spec.root_link = "station";
+  spec.tip_link = "left_panda_hand";
+  spec.branch_tips = {"right_panda_hand"};
+  const model::Chain chain = model::load_chain(spec);
+  const auto is_right_arm = [&](int body) { return body >= 9; };  // right_panda_link1..7
+  const auto computed_terms = [&](std::vector<solver::ConstraintSet> sets, bool right) {
+    solver::DriverLayout layout;
+    layout.torques = {"tau_ff"};
+    for (const auto& set : sets) layout.constraints += set.count;
+    layout.sets = std::move(sets);
+    layout.decompose_all();
+    const symbolic::Trace trace = symbolic::trace_solver(
+        chain, {layout, {solver::Policy::original}, {}, std::numeric_limits<double>::epsilon()});
+    int terms = 0;
+    for (const auto& f : trace.fields)
+      if ((f.array == "constraint_force" || f.array == "constraint_energy") && f.body > 0 && is_right_arm(f.body) == right &&
+          trace.graph.node(f.node).op != symbolic::Op::constant)
+        ++terms;
+    return terms;
+  };
+  EXPECT_EQ(computed_terms({{"left_panda_hand", 6, {}}}, true), 0) << "the right arm computes constraint terms";
+  EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}}, false), 0);
+  EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}, {"right_panda_hand", 6, {}}}, true), 0);
+}
+
+}  // namespace
+}  // namespace sweepgen

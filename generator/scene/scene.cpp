@@ -597,6 +597,8 @@ model::Chain load_scene_chain(const Scene& scene) {
       if (!s.tip_link.empty() && (message.find(message_text("tip link " + quote_name(s.tip_link))) != std::string::npos ||
                                   message.find("not connected") != std::string::npos))
         element = "tip";
+      for (const std::string& tip : s.branch_tips)
+        if (message.find(message_text("tip link " + quote_name(tip))) != std::string::npos) element = "tip";
       throw InputError(scene.location(element), element, message);
     }
   };
