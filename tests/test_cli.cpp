@@ -145,6 +145,36 @@ TEST(CliSolve, ValidLinesAnswerOneObjectEachInOrder) {
   for (const auto& t : bias_only["tau_cmd"]) EXPECT_EQ(t.get<double>(), 0.0);
 }
 
+// Constraint sets on any links, and a tree (--branch-tip): the dual Panda with a set on the left
+// hand and one on the right elbow answers with each set's link acceleration, which meets its
+// setpoints; on the Panda, a set listed on the tip answers as alpha and beta on the tip do.
+TEST(CliSolve, ConstraintSetsOnATree) {
+  const std::string q = "[0.1,-0.2,0.3,-0.4,0.5,-0.6,0.7,0.1,-0.2,0.3,-1.4,0.5,1.6,0.7,0.2]";
+  const std::string line = R"({"q": )" + q + R"(, "qd": )" + q + R"(, "constraints": [
+      {"link": "left_panda_hand", "alpha": [[0,0,0,1,0,0],[0,0,0,0,1,0]], "beta": [0.5, -0.5]},
+      {"link": "right_panda_link4", "alpha": [[1,0,0,0,0,0]], "beta": [1]}]})";
+  CommandResult r = sweepgen({"solve", "--urdf", kSource + "/robots/dual_panda/dual_panda.urdf", "--root", "station",
+                              "--tip", "left_panda_hand", "--branch-tip", "right_panda_hand"},
+                             join_lines({line}));
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const ordered_json answer = ordered_json::parse(lines_of(r.out).at(0));
+  EXPECT_EQ(answer["status"], "ok");
+  EXPECT_EQ(answer["qdd"].size(), 15u);
+  EXPECT_EQ(answer["nu"].size(), 3u);
+  // The setpoints are met to rounding of terms of order 10 (relative 1e-12 would do; 1e-9 leaves room).
+  EXPECT_NEAR(answer["xdd_links"]["left_panda_hand"][3].get<double>(), 0.5, 1e-9);
+  EXPECT_NEAR(answer["xdd_links"]["left_panda_hand"][4].get<double>(), -0.5, 1e-9);
+  EXPECT_NEAR(answer["xdd_links"]["right_panda_link4"][0].get<double>(), 1.0, 1e-9);
+
+  const std::string on_tip = "{" + kState + R"(, "alpha": [[0,0,0,1,0,0]], "beta": [0.5]})";
+  const std::string as_set = "{" + kState + R"(, "constraints": [{"link": "panda_hand", "alpha": [[0,0,0,1,0,0]], "beta": [0.5]}]})";
+  const auto out = solve_lines({on_tip, as_set});
+  ASSERT_EQ(out.size(), 2u);
+  const ordered_json a = ordered_json::parse(out[0]), b = ordered_json::parse(out[1]);
+  for (const char* key : {"qdd", "tau_cmd", "nu", "xdd_tip"}) EXPECT_EQ(a[key], b[key]) << key;
+  EXPECT_EQ(b["xdd_links"]["panda_hand"], a["xdd_tip"]);
+}
+
 struct BadLine {
   const char* what;
   std::string line;
@@ -174,6 +204,19 @@ const std::vector<BadLine> kBadLines = {
         "beta": [0, 0, 0, 0, 0, 0, 0]})",
      {"key 'alpha'", "0 to 6 directions"}},
     {"unknown policy", "{" + kState + R"(, "policy": "fastest"})", {"key 'policy'", "saturate_exact"}},
+    {"constraint set on an unknown link",
+     "{" + kState + R"(, "constraints": [{"link": "panda_lnk4", "alpha": [[1,0,0,0,0,0]], "beta": [0]}]})",
+     {"key 'constraints[0].link'", "not on the chain", "did you mean 'panda_link4'"}},
+    {"two constraint sets on one link",
+     "{" + kState + R"(, "constraints": [{"link": "panda_link4", "alpha": [[1,0,0,0,0,0]], "beta": [0]},
+        {"link": "panda_link4", "alpha": [[0,1,0,0,0,0]], "beta": [0]}]})",
+     {"key 'constraints[1].link'", "a second set on 'panda_link4'"}},
+    {"alpha and constraints",
+     "{" + kState + R"(, "alpha": [[0,0,0,1,0,0]], "beta": [1], "constraints": [{"link": "panda_link4", "alpha": [[1,0,0,0,0,0]], "beta": [0]}]})",
+     {"key 'constraints'", "not both"}},
+    {"constraint sets that over-determine the robot",
+     "{" + kState + R"(, "constraints": [{"link": "panda_link2", "alpha": [[1,0,0,0,0,0],[0,1,0,0,0,0],[0,0,1,0,0,0]], "beta": [0,0,0]}]})",
+     {"key 'constraints'", "3 constraint directions on link 'panda_link2' but only 2 joints move them"}},
     {"invalid JSON", R"({"q": [0.1, -0.5,)", {"not valid JSON"}},
     {"a JSON array", "[1, 2, 3]", {"expected a JSON object"}},
     {"a JSON number", "42", {"expected a JSON object"}},

@@ -9,7 +9,7 @@ namespace {
 
 using nlohmann::json;
 
-const std::vector<std::string> kKeys = {"q", "qd", "tau_ff", "f_ext", "alpha", "beta", "policy"};
+const std::vector<std::string> kKeys = {"q", "qd", "tau_ff", "f_ext", "alpha", "beta", "constraints", "policy"};
 
 Eigen::VectorXd numbers(const json& value, const std::string& key, std::size_t expected) {
   if (!value.is_array()) throw KeyError(key, "expected an array of " + std::to_string(expected) + " numbers");
@@ -66,6 +66,41 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
     for (std::size_t k = 0; k < alpha.size(); ++k) p.alpha.push_back(wrench(alpha[k], "alpha[" + std::to_string(k) + "]"));
     p.beta = numbers(line["beta"], "beta", alpha.size());
   }
+  if (line.contains("constraints")) {
+    if (has_alpha) throw KeyError("constraints", "give either alpha and beta (on the tip) or constraints, not both");
+    const json& sets = line["constraints"];
+    if (!sets.is_array() || sets.empty())
+      throw KeyError("constraints", "expected an array of sets {\"link\": L, \"alpha\": [...], \"beta\": [...]}");
+    std::vector<std::string> links;
+    for (const auto& [name, frame] : chain.frames) links.push_back(name);
+    std::vector<double> beta;
+    for (std::size_t c = 0; c < sets.size(); ++c) {
+      const std::string key = "constraints[" + std::to_string(c) + "]";
+      const json& set = sets[c];
+      if (!set.is_object() || !set.contains("link") || !set["link"].is_string() || !set.contains("alpha") ||
+          !set.contains("beta") || set.size() != 3)
+        throw KeyError(key, "expected {\"link\": L, \"alpha\": [...], \"beta\": [...]}");
+      const std::string link = set["link"].get<std::string>();
+      const auto frame = chain.frames.find(link);
+      if (frame == chain.frames.end()) throw KeyError(key + ".link", "link is not on the chain" + nearest_name_hint(link, links));
+      if (frame->second.body == 0) throw KeyError(key + ".link", "link is fixed to the base; a constraint on it holds nothing");
+      for (const auto& earlier : p.sets)
+        if (earlier.link == link) throw KeyError(key + ".link", "a second set on " + quote_name(link));
+      const json& alpha = set["alpha"];
+      if (!alpha.is_array() || alpha.empty() || alpha.size() > solver::kMaxSetDirections)
+        throw KeyError(key + ".alpha", "expected an array of 1 to 6 directions, each [mx,my,mz,fx,fy,fz]");
+      for (std::size_t k = 0; k < alpha.size(); ++k)
+        p.alpha.push_back(wrench(alpha[k], key + ".alpha[" + std::to_string(k) + "]"));
+      const Eigen::VectorXd b = numbers(set["beta"], key + ".beta", alpha.size());
+      beta.insert(beta.end(), b.data(), b.data() + b.size());
+      p.sets.push_back({link, alpha.size(), {}});
+    }
+    if (const std::string problem = solver::structurally_overdetermined(p.sets, chain); !problem.empty())
+      throw KeyError("constraints", problem);
+    if (p.alpha.size() > solver::kMaxConstraints)
+      throw KeyError("constraints", "at most " + std::to_string(solver::kMaxConstraints) + " directions in all");
+    p.beta = Eigen::Map<const Eigen::VectorXd>(beta.data(), static_cast<Eigen::Index>(beta.size()));
+  }
   if (line.contains("policy")) {
     const json& policy = line["policy"];
     const auto parsed = policy.is_string() ? solver::policy_from_name(policy.get<std::string>()) : std::nullopt;
@@ -76,7 +111,8 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   return p;
 }
 
-nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsigned status, const model::Chain& chain) {
+nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsigned status, const model::Chain& chain,
+                                        const std::vector<solver::ConstraintSet>& sets) {
   nlohmann::ordered_json out;
   out["qdd"] = array(s.qdd);
   out["tau_ctrl"] = array(s.tau_ctrl);
@@ -85,6 +121,15 @@ nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsig
   Eigen::VectorXd tip(6);
   tip << s.tip_acceleration.angular, s.tip_acceleration.linear;
   out["xdd_tip"] = array(tip);
+  if (!sets.empty()) {  // each listed set's link acceleration, [angular; linear] in its frame
+    nlohmann::ordered_json links;
+    for (std::size_t c = 0; c < sets.size(); ++c) {
+      Eigen::VectorXd a(6);
+      a << s.set_acceleration[c].angular, s.set_acceleration[c].linear;
+      links[sets[c].link] = array(a);
+    }
+    out["xdd_links"] = links;
+  }
   std::vector<std::string> flags;
   if (status & solver::status_constraint_rank_deficient) flags.push_back("constraint_rank_deficient");
   if (status & solver::status_saturated) flags.push_back("saturated");

@@ -9,6 +9,7 @@
 
 #include "model/chain.hpp"
 #include "model/error.hpp"
+#include "solver/drivers.hpp"
 #include "solver/policy.hpp"
 #include "solver/state.hpp"
 
@@ -24,15 +25,17 @@ class KeyError : public std::runtime_error {
 struct Problem {
   Eigen::VectorXd q, qd, tau_ff;
   std::map<std::string, spatial::Force<double>> f_ext;  // link -> wrench [mx,my,mz,fx,fy,fz]
-  std::vector<spatial::Force<double>> alpha;             // tip frame, [moment; force]
+  std::vector<spatial::Force<double>> alpha;             // tip frame, or each set's link frame; [moment; force]
   Eigen::VectorXd beta;
+  std::vector<solver::ConstraintSet> sets;  // from "constraints" (empty: alpha, beta on the tip)
   solver::Policy policy = solver::Policy::original;
 };
 
 // Reads and checks a problem for `chain` (sizes, finiteness, link names). Throws KeyError.
 Problem parse_problem(const nlohmann::json& line, const model::Chain& chain);
 
+// `sets`: the problem's constraint sets (their link accelerations become "xdd_links").
 nlohmann::ordered_json solution_to_json(const solver::Solution<double>& solution, unsigned status,
-                                const model::Chain& chain);
+                                        const model::Chain& chain, const std::vector<solver::ConstraintSet>& sets = {});
 
 }  // namespace sweepgen::cli

@@ -37,6 +37,7 @@ nlohmann::ordered_json solve_problem(const Problem& p, const model::Chain& chain
   layout.torques = {"tau_ff"};
   for (const auto& [link, wrench] : p.f_ext) layout.external_forces.push_back({link, link});
   layout.constraints = p.alpha.size();
+  layout.sets = p.sets;
   layout.decompose_all();
   solver::ReferenceSolver<double> solver(chain, layout);
   solver.outward(p.q, p.qd);
@@ -48,7 +49,7 @@ nlohmann::ordered_json solve_problem(const Problem& p, const model::Chain& chain
   solver.decompose();
   solver::ConstraintVector<double> beta = p.beta.size() ? solver::ConstraintVector<double>(p.beta) : solver::ConstraintVector<double>(0);
   const auto& solution = solver.solve(p.policy, beta);
-  return solution_to_json(solution, solver.status(), chain);
+  return solution_to_json(solution, solver.status(), chain, p.sets);
 }
 
 }  // namespace
@@ -60,6 +61,8 @@ void add_solve_command(CLI::App& app, SolveOptions& options) {
   solve->add_option("--urdf", options.urdf, "URDF file")->required();
   solve->add_option("--root", options.root, "root link (default: the URDF's root)");
   solve->add_option("--tip", options.tip, "tip link (default: the deepest link of a single chain)");
+  solve->add_option("--branch-tip", options.branch_tips,
+                    "a further tip (repeatable): the moving joints on the paths to every tip form a tree");
   solve->add_option("--input", options.input, "file of JSON lines, or - for standard input")->capture_default_str();
   solve->add_option("--rotor-inertia", options.rotor_inertia, "JOINT=VALUE rotor inertia (repeatable)");
 }
@@ -69,6 +72,7 @@ int run_solve(const SolveOptions& options) {
   spec.urdf = options.urdf;
   spec.root_link = options.root;
   spec.tip_link = options.tip;
+  spec.branch_tips = options.branch_tips;
   spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
   const model::Chain chain = model::load_chain(spec);
 

@@ -11,6 +11,7 @@ struct SolveOptions {
   std::string urdf;
   std::string root;
   std::string tip;
+  std::vector<std::string> branch_tips;  // further tips: the tree of all root-to-tip paths
   std::string input = "-";
   std::vector<std::string> rotor_inertia;  // JOINT=VALUE
 };
