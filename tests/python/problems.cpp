@@ -50,10 +50,16 @@ ordered_json scene_line(const Scene& s, const sweepgen::model::Chain& chain) {
   ordered_json line;
   line["urdf"] = s.chain.urdf;
   line["cli_args"] = {"--root", chain.root_link, "--tip", chain.tip_link};
+  for (const std::string& tip : chain.branch_tips) {
+    line["cli_args"].push_back("--branch-tip");
+    line["cli_args"].push_back(tip);
+  }
   for (const auto& [joint, value] : s.chain.rotor_inertia)
     line["cli_args"].push_back("--rotor-inertia=" + joint + "=" + nlohmann::json(value).dump());
   line["dof"] = chain.dof();
   line["constraints"] = s.layout.constraints;
+  line["sets"] = s.layout.listed_sets();  // each reports its link's acceleration
+  line["run_time_directions"] = s.layout.run_time_directions();
   line["flat_in_size"] = s.flat_layout(chain.dof()).in_size();
   std::vector<std::string> joints, policies;
   for (std::size_t i = 1; i <= chain.dof(); ++i) joints.push_back(chain.joints[i].name);
@@ -89,7 +95,18 @@ ordered_json cli_problem(const Scene& s, const Problem& p) {
     for (std::size_t e = 0; e < p.wrenches.size(); ++e)
       line["f_ext"][s.layout.external_forces[e].link] = wrench(p.wrenches[e]);
   }
-  if (!p.alpha.empty()) {
+  if (s.layout.listed_sets() > 0) {  // sets on their links: `sweepgen solve`'s "constraints"
+    line["constraints"] = ordered_json::array();
+    std::size_t k = 0;
+    for (const auto& set : s.layout.sets) {
+      ordered_json entry{{"link", set.link}, {"alpha", ordered_json::array()}, {"beta", ordered_json::array()}};
+      for (std::size_t d = 0; d < set.count; ++d, ++k) {
+        entry["alpha"].push_back(wrench(p.alpha[k]));
+        entry["beta"].push_back(p.beta[static_cast<Eigen::Index>(k)]);
+      }
+      line["constraints"].push_back(entry);
+    }
+  } else if (!p.alpha.empty()) {
     line["alpha"] = ordered_json::array();
     for (const auto& direction : p.alpha) line["alpha"].push_back(wrench(direction));
     line["beta"] = values(p.beta);

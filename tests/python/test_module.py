@@ -110,7 +110,7 @@ class ProblemSet:
         problems = [json.loads(line) for line in lines[1:]]
         self.flat = np.array([p["in"] for p in problems], dtype=np.float64)
         self.kappa = np.array([p["kappa"] for p in problems])
-        self.dof, self.nc = self.info["dof"], self.info["constraints"]
+        self.dof, self.nc, self.sets = self.info["dof"], self.info["constraints"], self.info["sets"]
         self.oracle = {}  # policy -> one `sweepgen solve` answer per problem
         cli_input = "".join(json.dumps(dict(p["cli"], policy=policy)) + "\n"
                             for policy in self.info["policies"] for p in problems)
@@ -150,7 +150,7 @@ class ModuleTest:
         self.assertTrue(m.flat_out_layout.startswith("qdd (dof), tau_cmd (dof), tau_ctrl (dof), "), m.flat_out_layout)
         for name, v in self.variants():
             self.assertEqual(v.flat_in_size, info["flat_in_size"], name)
-            self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + 6 + 1, name)
+            self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + 6 + 6 * info["sets"] + 1, name)
             self.assertEqual(v.drivers_size, info["flat_in_size"] - 2 * info["dof"] - info["constraints"], name)
             self.assertEqual(list(v.policies), info["policies"], name)
             self.assertEqual(v.dtype, np.dtype(np.float64 if name == "f64" else np.float32), name)
@@ -187,8 +187,11 @@ class ModuleTest:
                 self.assertEqual((r["dropped_pivots"], r["locked_joints"]), (0, 0), where)
                 saturated = [j for j, s in zip(d.info["joints"], r["saturated"]) if s]
                 self.assertEqual(saturated, answer["saturated_joints"], where)
-                for key, cli_key, terms in OUTPUTS:
-                    error = relative_error(r[key], answer[cli_key], [answer[t] for t in terms])
+                outputs = OUTPUTS + ([("set_acceleration", "xdd_links", ("qdd",))] if d.sets else [])
+                for key, cli_key, terms in outputs:
+                    # xdd_links: each set's link acceleration by link, in the scene's set order.
+                    expected = np.concatenate(list(answer[cli_key].values())) if cli_key == "xdd_links" else answer[cli_key]
+                    error = relative_error(r[key], expected, [answer[t] for t in terms])
                     worst = max(worst, error / (EPS[name] * max(1.0, d.kappa[k])))
                     self.assertLessEqual(error, FACTORS[name] * max(1.0, d.kappa[k]), f"{where} {key}")
         share = max_share_beyond(name, d.directions, d.nc)
@@ -221,7 +224,8 @@ class ModuleTest:
                     out = v.solve_flat(flat[k], policy=policy)
                     self.assertTrue(np.array_equal(out, flat_batched[k]), where)
                     expected = np.concatenate([single["qdd"], single["tau_cmd"], single["tau_ctrl"], single["nu"],
-                                               single["tip_acceleration"], [single["status"]]]).astype(v.dtype)
+                                               single["tip_acceleration"], single.get("set_acceleration", []),
+                                               [single["status"]]]).astype(v.dtype)
                     self.assertTrue(np.array_equal(out, expected), where)
 
     def test_resolve_with_new_beta_equals_full_solve(self):
@@ -305,9 +309,10 @@ class ModuleTest:
             self.assertTrue(raised.exception.status & m.Status.not_finite)
             # A mask without the raised flags does not raise (the original policy saturates nothing).
             v.solve(bad_q, qd, drivers, beta, policy="original", raise_on_status=m.Status.saturated)
-            if d.nc > 0:
+            if d.info["run_time_directions"] > 0:
                 zero_alpha = drivers[0].copy()
-                alpha_0 = drivers.shape[-1] - 6 * d.nc  # the directions end the drivers (flat_in_layout)
+                # the run-time directions end the drivers (flat_in_layout)
+                alpha_0 = drivers.shape[-1] - 6 * d.info["run_time_directions"]
                 zero_alpha[alpha_0:alpha_0 + 6] = 0
                 with self.assertRaises(m.SolverStatusError) as raised:
                     v.solve(q[0], qd[0], zero_alpha, beta[0], raise_on_status=m.Status.constraint_rank_deficient)
