@@ -227,19 +227,11 @@ struct Worst {
   int states = 0, ill_conditioned = 0, rank_deficient = 0;
 };
 
-// Per constraint direction, the link its set acts on (the tip for the short form's set).
-std::vector<std::string> direction_links(const solver::DriverLayout& layout, const model::Chain& chain) {
-  std::vector<std::string> links;
-  for (const auto& set : layout.constraint_sets())
-    links.insert(links.end(), set.count, set.link.empty() ? chain.tip_link : set.link);
-  return links;
-}
-
 // One random state: the solver (double, policy original) against the oracle's KKT solve.
 void compare_state(const test::OracleCase& c, solver::ReferenceSolver<double>& reference, std::size_t nc,
                    test::RandomProblem& random, Worst& worst, test::SkipCount& skips) {
   const Oracle o(c.chain);
-  const std::vector<std::string> links = direction_links(reference.model().layout, c.chain);
+  const std::vector<std::string> links = solver::direction_links(reference.model().layout, c.chain);
   const test::OracleProblem p = test::draw_problem(random, c, nc);
   const solver::Solution<double>& sol = test::solve(reference, p, solver::Policy::original);
   const OracleVec q = test::to_long(p.q), qd = test::to_long(p.qd), tau = test::to_long(p.tau_ff);

@@ -45,15 +45,19 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   p.q = numbers(line["q"], "q", n);
   p.qd = numbers(line["qd"], "qd", n);
   p.tau_ff = line.contains("tau_ff") ? numbers(line["tau_ff"], "tau_ff", n) : Eigen::VectorXd::Zero(n);
+  std::vector<std::string> links;
+  for (const auto& [name, frame] : chain.frames) links.push_back(name);
+  // A link a driver acts on: on the chain, and not fixed to the base (`on_the_base` says why).
+  const auto check_link = [&](const std::string& key, const std::string& link, const std::string& on_the_base) {
+    const auto frame = chain.frames.find(link);
+    if (frame == chain.frames.end()) throw KeyError(key, "link is not on the chain" + nearest_name_hint(link, links));
+    if (frame->second.body == 0) throw KeyError(key, "link is fixed to the base; " + on_the_base);
+  };
   if (line.contains("f_ext")) {
     if (!line["f_ext"].is_object()) throw KeyError("f_ext", "expected an object {link: [mx,my,mz,fx,fy,fz]}");
-    std::vector<std::string> links;
-    for (const auto& [name, frame] : chain.frames) links.push_back(name);
     for (const auto& [link, value] : line["f_ext"].items()) {
       const std::string key = "f_ext." + link;
-      const auto frame = chain.frames.find(link);
-      if (frame == chain.frames.end()) throw KeyError(key, "link is not on the chain" + nearest_name_hint(link, links));
-      if (frame->second.body == 0) throw KeyError(key, "link is fixed to the base; a force on it moves nothing");
+      check_link(key, link, "a force on it moves nothing");
       p.f_ext[link] = wrench(value, key);
     }
   }
@@ -71,8 +75,6 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
     const json& sets = line["constraints"];
     if (!sets.is_array() || sets.empty())
       throw KeyError("constraints", "expected an array of sets {\"link\": L, \"alpha\": [...], \"beta\": [...]}");
-    std::vector<std::string> links;
-    for (const auto& [name, frame] : chain.frames) links.push_back(name);
     std::vector<double> beta;
     for (std::size_t c = 0; c < sets.size(); ++c) {
       const std::string key = "constraints[" + std::to_string(c) + "]";
@@ -81,9 +83,7 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
           !set.contains("beta") || set.size() != 3)
         throw KeyError(key, "expected {\"link\": L, \"alpha\": [...], \"beta\": [...]}");
       const std::string link = set["link"].get<std::string>();
-      const auto frame = chain.frames.find(link);
-      if (frame == chain.frames.end()) throw KeyError(key + ".link", "link is not on the chain" + nearest_name_hint(link, links));
-      if (frame->second.body == 0) throw KeyError(key + ".link", "link is fixed to the base; a constraint on it holds nothing");
+      check_link(key + ".link", link, "a constraint on it holds nothing");
       for (const auto& earlier : p.sets)
         if (earlier.link == link) throw KeyError(key + ".link", "a second set on " + quote_name(link));
       const json& alpha = set["alpha"];

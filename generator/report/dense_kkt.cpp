@@ -10,8 +10,7 @@ VariantResult measure_dense_kkt(const scene::Scene& s, const model::Chain& chain
   const Dynamics dynamics(chain, s.gravity);
   const std::string& tip = chain.tip_link;
   const std::size_t nc = s.layout.constraints;
-  std::vector<std::string> links;  // per direction, its set's link
-  for (const auto& set : s.layout.constraint_sets()) links.insert(links.end(), set.count, set.link.empty() ? tip : set.link);
+  const std::vector<std::string> links = solver::direction_links(s.layout, chain);  // per direction, its set's link
   struct Posed {
     std::vector<Dynamics::ExternalWrench> wrenches;
     Dynamics::Mat alpha;

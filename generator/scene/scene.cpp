@@ -629,32 +629,28 @@ model::Chain load_scene_chain(const Scene& scene) {
 
   std::vector<std::string> links;
   for (const auto& [name, frame] : chain.frames) links.push_back(name);
+  // A link a driver acts on (`what`: the driver, for messages, and why the base will not do): on
+  // the chain and not fixed to the base, checked at the scene entry `element`.
+  const auto check_link = [&](const std::string& element, const std::string& link, const std::string& what,
+                              const std::string& on_the_base) {
+    const auto frame = chain.frames.find(link);
+    if (frame == chain.frames.end())
+      throw InputError(scene.location(element), element,
+                       "link " + quote_name(link) + " of " + what + " is not on the chain from " + quote_name(chain.root_link) +
+                           " to " + quote_name(chain.tip_link) + nearest_name_hint(link, links));
+    if (frame->second.body == 0)
+      throw InputError(scene.location(element), element,
+                       "link " + quote_name(link) + " of " + what + " is fixed to the base; " + on_the_base);
+  };
   for (std::size_t i = 0; i < scene.layout.external_forces.size(); ++i) {
     const auto& ext = scene.layout.external_forces[i];
-    const std::string element = "drivers.external_forces[" + std::to_string(i) + "].link";
-    const auto frame = chain.frames.find(ext.link);
-    if (frame == chain.frames.end())
-      throw InputError(scene.location(element), element,
-                       "link " + quote_name(ext.link) + " of external force " + quote_name(ext.name) + " is not on the chain from " +
-                           quote_name(chain.root_link) + " to " + quote_name(chain.tip_link) + nearest_name_hint(ext.link, links));
-    if (frame->second.body == 0)
-      throw InputError(scene.location(element), element,
-                       "link " + quote_name(ext.link) + " of external force " + quote_name(ext.name) +
-                           " is fixed to the base; a force on it moves nothing");
+    check_link("drivers.external_forces[" + std::to_string(i) + "].link", ext.link, "external force " + quote_name(ext.name),
+               "a force on it moves nothing");
   }
-  for (std::size_t c = 0; c < scene.layout.sets.size(); ++c) {
-    const auto& set = scene.layout.sets[c];
-    if (set.link.empty()) continue;  // the tip
-    const std::string element = "drivers.constraints[" + std::to_string(c) + "].link";
-    const auto frame = chain.frames.find(set.link);
-    if (frame == chain.frames.end())
-      throw InputError(scene.location(element), element,
-                       "link " + quote_name(set.link) + " of a constraint set is not on the chain from " +
-                           quote_name(chain.root_link) + " to " + quote_name(chain.tip_link) + nearest_name_hint(set.link, links));
-    if (frame->second.body == 0)
-      throw InputError(scene.location(element), element,
-                       "link " + quote_name(set.link) + " of a constraint set is fixed to the base; a constraint on it holds nothing");
-  }
+  for (std::size_t c = 0; c < scene.layout.sets.size(); ++c)
+    if (!scene.layout.sets[c].link.empty())  // empty: the tip
+      check_link("drivers.constraints[" + std::to_string(c) + "].link", scene.layout.sets[c].link, "a constraint set",
+                 "a constraint on it holds nothing");
   if (const std::string problem = solver::structurally_overdetermined(scene.layout.constraint_sets(), chain); !problem.empty())
     throw InputError(scene.location("drivers.constraints"), "drivers.constraints", problem);
   solver::validate(scene.layout, chain, scene.path.empty() ? "command line" : scene.path);

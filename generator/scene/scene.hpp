@@ -45,8 +45,9 @@
 //                                   #   that link's frame; one set per link; directions are
 //                                   #   numbered in list order (alpha, beta, nu); each set's
 //                                   #   link acceleration is an output (set_acceleration). The
-//                                   #   sets must not over-determine the chain: the directions on
-//                                   #   links moved by joints 1..b number at most b
+//                                   #   sets must not over-determine the robot: no group of sets
+//                                   #   may hold more directions than the joints that move their
+//                                   #   links
 //   decomposition: decomposed       # optional: 'composed' (one track, Alg. 1), 'decomposed'
 //                                   #   (bias and every instance on a track of its own, Alg. 2;
 //                                   #   the default), or a list of groups, each a list of

@@ -29,8 +29,9 @@ void constraint_torque_tip_to_base(const SolverModel<Scalar>& model, const Kinem
   for (auto& f : sol.transmitted_force) f = spatial::Force<Scalar>{};
   for (std::size_t i = n; i >= 1; --i) {
     spatial::Force<Scalar>& f = sol.transmitted_force[i];
-    for (std::size_t k = 0; k < model.constraints(); ++k)
-      if (model.set_of(k).body == i) f += constraint_own_force(model, inputs, k, i) * sol.nu[k];
+    for (const ConstraintSetModel<Scalar>& set : model.constraint_sets)
+      for (std::size_t k = set.first; set.body == i && k < set.first + set.count; ++k)
+        f += constraint_own_force(model, inputs, k, i) * sol.nu[k];
     sol.tau_cmd[i - 1] = feedforward_torque(inputs, i) + spatial::dot(f, model.joints[i].S);
     if (model.parent[i] > 0)
       sol.transmitted_force[model.parent[i]] = sol.transmitted_force[model.parent[i]] + kin.body[i].X.apply_transpose(f);

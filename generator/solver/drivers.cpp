@@ -45,6 +45,12 @@ bool DriverLayout::external_forces_separable() const {
   return true;
 }
 
+std::vector<std::string> direction_links(const DriverLayout& layout, const model::Chain& chain) {
+  std::vector<std::string> links;
+  for (const auto& set : layout.constraint_sets()) links.insert(links.end(), set.count, set.link_in(chain));
+  return links;
+}
+
 std::vector<std::string> constraint_set_summary(const DriverLayout& layout) {
   const auto number = [](double v) {
     char text[32];
@@ -84,7 +90,7 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
   // beyond, each set alone and all of them together.
   const std::size_t count = sets.size();
   std::vector<std::size_t> body(count);
-  for (std::size_t c = 0; c < count; ++c) body[c] = chain.frames.at(sets[c].link.empty() ? chain.tip_link : sets[c].link).body;
+  for (std::size_t c = 0; c < count; ++c) body[c] = chain.frames.at(sets[c].link_in(chain)).body;
   const auto check = [&](const std::vector<std::size_t>& group) -> std::string {
     std::vector<bool> moving(chain.dof() + 1, false);
     std::size_t directions = 0, joints = 0;
@@ -96,7 +102,7 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
     if (directions <= joints) return "";
     std::string links;
     for (std::size_t c : group)
-      links += (links.empty() ? "" : ", ") + quote_name(sets[c].link.empty() ? chain.tip_link : sets[c].link);
+      links += (links.empty() ? "" : ", ") + quote_name(sets[c].link_in(chain));
     return std::to_string(directions) + " constraint direction" + (directions == 1 ? "" : "s") + " on link" +
            (group.size() == 1 ? " " : "s ") + links + " but only " + std::to_string(joints) + " joint" +
            (joints == 1 ? "" : "s") + " move" + (joints == 1 ? "s" : "") +
@@ -127,7 +133,7 @@ void validate(const DriverLayout& layout, const model::Chain& chain, const std::
   std::size_t directions = 0;
   std::vector<std::string> set_links;
   for (const auto& set : layout.constraint_sets()) {
-    const std::string link = set.link.empty() ? chain.tip_link : set.link;
+    const std::string& link = set.link_in(chain);
     const std::string element = "constraint set on " + quote_name(link);
     const auto frame = chain.frames.find(link);
     if (frame == chain.frames.end())

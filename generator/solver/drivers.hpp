@@ -38,6 +38,8 @@ struct ConstraintSet {
   std::vector<spatial::Force<double>> fixed;
 
   bool directions_fixed() const { return !fixed.empty(); }
+  // The link the set acts on: its own, or the chain's tip for the short forms.
+  const std::string& link_in(const model::Chain& chain) const { return link.empty() ? chain.tip_link : link; }
 };
 
 struct Track {
@@ -89,6 +91,9 @@ std::vector<spatial::Force<double>> directions_with(const DriverLayout& layout, 
     for (std::size_t k = 0; k < set.count; ++k) alpha.push_back(set.directions_fixed() ? set.fixed[k] : run_time());
   return alpha;
 }
+
+// Per constraint direction, sets in order, the link its set acts on.
+std::vector<std::string> direction_links(const DriverLayout& layout, const model::Chain& chain);
 
 // A line per listed set: its link, its directions
 // numbers (the indices of ν, β and set_acceleration), and the directions themselves when fixed

@@ -82,7 +82,6 @@ struct ConstraintSetModel {
   std::size_t body = 0;
   Transform<Scalar> frame;
   std::size_t first = 0, count = 0;
-  bool on_tip = false;  // the set's link is the chain's tip link (its Ẍ is Ẍ_tip)
 };
 
 template <class Scalar>
@@ -139,11 +138,10 @@ struct SolverModel {
       external_force_frame.push_back(frame.X.cast<Scalar>());
     }
     for (const auto& set : layout.constraint_sets()) {
-      const std::string& link = set.link.empty() ? chain.tip_link : set.link;
+      const std::string& link = set.link_in(chain);
       const model::Frame& frame = chain.frames.at(link);
       for (std::size_t k = 0; k < set.count; ++k) constraint_set_of.push_back(constraint_sets.size());
-      constraint_sets.push_back({frame.body, frame.X.cast<Scalar>(), constraint_set_of.size() - set.count, set.count,
-                                 link == chain.tip_link});
+      constraint_sets.push_back({frame.body, frame.X.cast<Scalar>(), constraint_set_of.size() - set.count, set.count});
     }
     base_acceleration.linear = (-options.gravity).cast<Scalar>();
     constraint_factorisation = options.constraint_factorisation;

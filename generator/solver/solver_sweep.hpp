@@ -133,9 +133,12 @@ template <class Scalar>
 ConstraintVector<Scalar> refined_setpoints(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
                                            const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
   ConstraintVector<Scalar> refined(model.constraints());
-  for (std::size_t k = 0; k < model.constraints(); ++k)
-    refined[k] = setpoints[k] + (setpoints[k] - spatial::dot(inputs.constraint_directions[k],
-                                                             set_acceleration(model, sol, model.constraint_set_of[k])));
+  for (std::size_t c = 0; c < model.constraint_sets.size(); ++c) {
+    const spatial::Motion<Scalar> achieved = set_acceleration(model, sol, c);
+    const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
+    for (std::size_t k = set.first; k < set.first + set.count; ++k)
+      refined[k] = setpoints[k] + (setpoints[k] - spatial::dot(inputs.constraint_directions[k], achieved));
+  }
   return refined;
 }
 
