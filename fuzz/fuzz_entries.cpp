@@ -137,7 +137,7 @@ void check_chain(const model::Chain& chain, const model::ChainSpec& spec) {
   if (!spec.tip_link.empty() && chain.tip_link != spec.tip_link) violation("tip link is not the one asked for");
   for (const std::string& link : {chain.root_link, chain.tip_link})
     if (!chain.frames.count(link)) violation("link '" + link + "' has no frame");
-  if (chain.frames.at(chain.root_link).body != 0) violation("root link is not on the base");
+  if (chain.frames.at(chain.root_link).body != chain.base_coordinates()) violation("root link is not on the base (body 6 of a floating base)");
   for (const auto& [link, frame] : chain.frames) {
     if (frame.body >= chain.bodies.size()) violation("frame of '" + link + "' on a body that does not exist");
     check_finite(frame.X.E, "frame of '" + link + "'");

@@ -175,6 +175,32 @@ TEST(CliSolve, ConstraintSetsOnATree) {
   EXPECT_EQ(b["xdd_links"]["panda_hand"], a["xdd_tip"]);
 }
 
+// A floating base (--floating-base, F5): the quadruped at rest, turned a quarter turn about x
+// (world_R_base first in q), falls freely: its base accelerates by gravity in its own frame,
+// R^T g = (0, -9.81, 0), and no joint moves (uniform gravity). A q whose first nine numbers are no
+// rotation is refused by name.
+TEST(CliSolve, FloatingBaseFallsFreely) {
+  const std::vector<std::string> args = {"solve", "--urdf", kSource + "/robots/quadruped/quadruped.urdf", "--root", "trunk",
+                                         "--tip", "FL_foot", "--branch-tip", "FR_foot", "--branch-tip", "RL_foot",
+                                         "--branch-tip", "RR_foot", "--floating-base"};
+  const std::string joints = "0.1,0.8,-1.5, -0.1,0.7,-1.4, 0.2,0.9,-1.6, -0.2,0.6,-1.3";
+  const std::string qd = R"(, "qd": [0,0,0,0,0,0, 0,0,0,0,0,0,0,0,0,0,0,0]})";
+  CommandResult r = sweepgen(args, join_lines({R"({"q": [1,0,0, 0,0,-1, 0,1,0, )" + joints + "]" + qd}));
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const ordered_json answer = ordered_json::parse(lines_of(r.out).at(0));
+  EXPECT_EQ(answer["status"], "ok");
+  ASSERT_EQ(answer["qdd"].size(), 18u);
+  // Terms of order g (9.81) rounded in a few hundred operations: 1e-12 is ~500 eps g.
+  const std::vector<double> expected = {0, 0, 0, 0, -9.81, 0};
+  for (std::size_t i = 0; i < 18; ++i)
+    EXPECT_NEAR(answer["qdd"][i].get<double>(), i < 6 ? expected[i] : 0.0, 1e-12) << "qdd[" << i << "]";
+
+  r = sweepgen(args, join_lines({R"({"q": [1,0,0, 0,1,0, 0,0,2, )" + joints + "]" + qd}));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("key 'q': the first 9 numbers (world_R_base, row-major) are not a rotation matrix"),
+            std::string::npos) << describe(r);
+}
+
 struct BadLine {
   const char* what;
   std::string line;

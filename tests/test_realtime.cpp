@@ -371,11 +371,11 @@ TEST(GeneratedSources, ExistAndIncludeOnlyTheirHeaderAndMath) {
 }
 
 TEST(GeneratedSources, EveryLoopHasACompileTimeBound) {
-  // The only loop form: for (int i = 0; i < BOUND; ++i) with BOUND the constexpr dof or
-  // constraints of the header, or an integer literal (6 for spatial vectors, the run-time
+  // The only loop form: for (int i = 0; i < BOUND; ++i) with BOUND the constexpr dof, nq (a
+  // floating base's q) or constraints of the header, or an integer literal (6 for spatial vectors, the run-time
   // directions and 6 per constraint set of a scene with listed sets); the body never writes
   // the counter.
-  static const std::regex loop(R"(\bfor \(int (\w+) = 0; (\w+) < (dof|constraints|[1-9][0-9]*); \+\+(\w+)\)(?: (.*))?$)");
+  static const std::regex loop(R"(\bfor \(int (\w+) = 0; (\w+) < (dof|nq|constraints|[1-9][0-9]*); \+\+(\w+)\)(?: (.*))?$)");
   static const std::regex any_for(R"(\bfor\b)");
   long loops = 0;
   for (const auto& file : generated_sources()) {

@@ -568,13 +568,15 @@ TEST(SceneErrors, UnknownScalar) {
   expect_error(text2, position(text2, 16, "double", 2), "scalars[1]", "duplicate scalar type 'double'");
 }
 
-TEST(SceneErrors, ExposeAndPivotTolerance) {
+TEST(SceneErrors, ExposeBaseAndPivotTolerance) {
   const std::string text = with_urdf(replace(kFullScene, "expose: all", "expose: everything"));
   expect_error(text, position(text, 17, "everything"), "expose", "unknown expose mode 'everything'");
   for (const std::string bad : {"0", "1", "-1e-9"}) {
     const std::string text2 = with_urdf(replace(kFullScene, "pivot_tolerance: 1e-12", "pivot_tolerance: " + bad));
     expect_error(text2, position(text2, 18, bad), "pivot_tolerance", "must be > 0 and < 1");
   }
+  const std::string text4 = with_urdf(replace(kFullScene, "expose: all", "expose: all\nbase: flaoting"));
+  expect_error(text4, position(text4, 18, "flaoting"), "base", "unknown base 'flaoting'", "floating");
   const std::string text3 = with_urdf(replace(kFullScene, "constraint_factorisation: damped", "constraint_factorisation: dampd"));
   expect_error(text3, position(text3, 19, "dampd"), "constraint_factorisation", "unknown constraint factorisation 'dampd'",
                "damped");

@@ -15,6 +15,7 @@
 
 #include "report/condition_number.hpp"
 #include "report/measure.hpp"
+#include "solver/flat_layout.hpp"
 #include "solver/reference_solver.hpp"
 #include "solver/state_fields.hpp"
 #include "support/bundled_robots.hpp"
@@ -68,12 +69,14 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
         for (std::size_t k = 0; k < nc; ++k) beta[k] = random.uniform(-1, 1);
 
         // The same values, by what each input stands for.
+        const std::vector<double> positions = solver::generated_positions(q, spatial::Mat3<double>::Identity(), false);
         const auto value_of = [&](const symbolic::Input& in) {
           const auto component = [&](const spatial::Force<double>& f) {
             return in.index < 3 ? f.moment[in.index] : f.force[in.index - 3];
           };
           switch (in.quantity) {
-            case symbolic::Quantity::joint_position: return q[in.index];
+            case symbolic::Quantity::joint_position:
+            case symbolic::Quantity::base_rotation: return positions[in.index];
             case symbolic::Quantity::joint_velocity: return qd[in.index];
             case symbolic::Quantity::feedforward_torque: return d.torques.at(in.instance)[in.index];
             case symbolic::Quantity::external_force: return component(d.external_forces.at(in.instance));

@@ -148,6 +148,11 @@ int run_info(const SceneOptions& options) {
   for (std::size_t i = 1; i <= chain.dof(); ++i) {
     const auto& j = chain.joints[i];
     const auto& b = chain.bodies[i];
+    if (j.floating_base_coordinate) {
+      std::cout << "  " << i << ". " << j.name << " (floating-base coordinate: " << (i <= 3 ? "angular" : "linear")
+                << " velocity of " << chain.root_link << " along its " << "xyz"[(i - 1) % 3] << " axis)\n";
+      continue;
+    }
     const bool axis_aligned = (j.axis.array().abs() == 1.0).any();
     std::cout << "  " << i << ". " << j.name << " (" << (j.type == model::JointType::revolute ? (j.continuous ? "continuous" : "revolute") : "prismatic")
               << ", axis " << j.axis.transpose() << (axis_aligned ? ", axis-aligned: folds to one column" : "")

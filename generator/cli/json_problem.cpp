@@ -42,7 +42,16 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   Problem p;
   for (const char* key : {"q", "qd"})
     if (!line.contains(key)) throw KeyError(key, "missing");
-  p.q = numbers(line["q"], "q", n);
+  // q as the generated code takes it: a floating base's world_R_base (9, row-major) first (F5).
+  const std::size_t base = chain.base_coordinates(), rotation = base > 0 ? 9 : 0;
+  const Eigen::VectorXd q = numbers(line["q"], "q", n - base + rotation);
+  p.q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  p.q.tail(static_cast<Eigen::Index>(n - base)) = q.tail(static_cast<Eigen::Index>(n - base));
+  for (Eigen::Index r = 0; r < static_cast<Eigen::Index>(rotation); ++r) p.base_rotation(r / 3, r % 3) = q[r];
+  const double orthonormality = (p.base_rotation.transpose() * p.base_rotation - spatial::Mat3<double>::Identity()).cwiseAbs().maxCoeff();
+  if (!(orthonormality <= 1e-9 && p.base_rotation.determinant() > 0))
+    throw KeyError("q", "the first 9 numbers (world_R_base, row-major) are not a rotation matrix (|R^T R - 1| = " +
+                            std::to_string(orthonormality) + ", det " + std::to_string(p.base_rotation.determinant()) + ")");
   p.qd = numbers(line["qd"], "qd", n);
   p.tau_ff = line.contains("tau_ff") ? numbers(line["tau_ff"], "tau_ff", n) : Eigen::VectorXd::Zero(n);
   std::vector<std::string> links;

@@ -23,7 +23,8 @@ class KeyError : public std::runtime_error {
 };
 
 struct Problem {
-  Eigen::VectorXd q, qd, tau_ff;
+  Eigen::VectorXd q, qd, tau_ff;  // N each (a floating base's first six q are 0: never read)
+  spatial::Mat3<double> base_rotation = spatial::Mat3<double>::Identity();  // world_R_base (F5)
   std::map<std::string, spatial::Force<double>> f_ext;  // link -> wrench [mx,my,mz,fx,fy,fz]
   std::vector<spatial::Force<double>> alpha;             // tip frame, or each set's link frame; [moment; force]
   Eigen::VectorXd beta;

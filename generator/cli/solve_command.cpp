@@ -40,7 +40,7 @@ nlohmann::ordered_json solve_problem(const Problem& p, const model::Chain& chain
   layout.sets = p.sets;
   layout.decompose_all();
   solver::ReferenceSolver<double> solver(chain, layout);
-  solver.outward(p.q, p.qd);
+  solver.outward(p.q, p.qd, p.base_rotation);
   auto& drivers = solver.drivers();
   drivers.torques[0] = p.tau_ff;
   std::size_t k = 0;
@@ -63,6 +63,9 @@ void add_solve_command(CLI::App& app, SolveOptions& options) {
   solve->add_option("--tip", options.tip, "tip link (default: the deepest link of a single chain)");
   solve->add_option("--branch-tip", options.branch_tips,
                     "a further tip (repeatable): the moving joints on the paths to every tip form a tree");
+  solve->add_flag("--floating-base", options.floating_base,
+                  "the root link moves freely (docs/derivation.md, F5): q starts with world_R_base (9, row-major), "
+                  "qd, tau_ff and qdd with the base's six coordinates");
   solve->add_option("--input", options.input, "file of JSON lines, or - for standard input")->capture_default_str();
   solve->add_option("--rotor-inertia", options.rotor_inertia, "JOINT=VALUE rotor inertia (repeatable)");
 }
@@ -73,6 +76,7 @@ int run_solve(const SolveOptions& options) {
   spec.root_link = options.root;
   spec.tip_link = options.tip;
   spec.branch_tips = options.branch_tips;
+  spec.floating_base = options.floating_base;
   spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
   const model::Chain chain = model::load_chain(spec);
 

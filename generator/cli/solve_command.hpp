@@ -12,6 +12,7 @@ struct SolveOptions {
   std::string root;
   std::string tip;
   std::vector<std::string> branch_tips;  // further tips: the tree of all root-to-tip paths
+  bool floating_base = false;
   std::string input = "-";
   std::vector<std::string> rotor_inertia;  // JOINT=VALUE
 };

@@ -8,7 +8,8 @@ std::string input_spelling(const symbolic::Trace& trace, const symbolic::Input& 
   using symbolic::Quantity;
   const auto at = [](std::uint32_t i) { return "[" + std::to_string(i) + "]"; };
   switch (input.quantity) {
-    case Quantity::joint_position: return "q" + at(input.index);
+    case Quantity::joint_position:
+    case Quantity::base_rotation: return "q" + at(input.index);
     case Quantity::joint_velocity: return "qd" + at(input.index);
     case Quantity::feedforward_torque: return "drivers." + trace.layout.torques.at(input.instance) + at(input.index);
     case Quantity::external_force:

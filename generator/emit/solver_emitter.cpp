@@ -113,8 +113,8 @@ std::string check_drivers(const symbolic::TraceRequest& request) {
 }
 
 // The order of solver::FlatLayout's `in` (solver/flat_layout.hpp).
-std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc) {
-  std::string text = "q (dof), qd (dof)";
+std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool floating_base) {
+  std::string text = floating_base ? "q (nq), qd (dof)" : "q (dof), qd (dof)";
   for (const auto& name : request.layout.torques) text += ", " + name + " (dof)";
   for (const auto& ext : request.layout.external_forces) text += ", " + ext.name + " (6)";
   if (request.layout.run_time_directions() > 0) text += ", alpha (" + alpha_extent(request.layout) + " x 6)";
@@ -242,9 +242,9 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       solves.push_back(solve);
     }
     variant.set("solves", solves);
-    variant.set("flat_in", flat_in(request.trace, nc));
+    variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
     variant.set("flat_out", flat_out(sets));
-    const auto flat = solver::FlatLayout::of(request.trace.layout, n);
+    const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base);
     variant.set("flat_in_size", std::to_string(flat.in_size()));
     variant.set("flat_out_size", std::to_string(flat.out_size()));
     variant.set("unpack_drivers", unpack_drivers(request.trace));
@@ -263,6 +263,25 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   for (const std::string& tip : chain.branch_tips) tips += ", " + tip;
   values.set("tip", chain.branch_tips.empty() ? tips : tips + " (a tree; tip_acceleration is " + chain.tip_link + "'s)");
   values.set("dof", std::to_string(n));
+  // A floating base (F5): q = [world_R_base (9); the joints' positions], qd etc. lead with the
+  // base's twist.
+  const bool floating = chain.floating_base;
+  values.set("floating_base_note",
+             floating ? "\n// Floating base (docs/derivation.md, F5): " + chain.root_link +
+                            " moves freely. q = [world_R_base (9 values,\n"
+                            "// row-major: base coordinates -> world; it turns gravity into the base frame, the base's\n"
+                            "// position does not enter), then the nq - 9 joints' positions]. qd, qdd, tau_ff, tau_cmd and\n"
+                            "// tau_ctrl have dof entries, the first six the base's: qd[0..5] its twist [omega; v] in its own\n"
+                            "// frame, qdd[0..5] its spatial acceleration (d/dt of those six numbers, gravity not included;\n"
+                            "// the classical acceleration of its origin is R (qdd[3..5] + omega x v)), tau[0..5] a wrench\n"
+                            "// [moment; force] on it about its origin, in its frame."
+                      : "");
+  values.set("nq_line", floating ? "\nconstexpr int nq = " + std::to_string(n + 3) +
+                                       ";  // values of q: world_R_base (9, row-major), then the joints'"
+                                 : "");
+  values.set("q_pre", floating ? "nq and dof values" : "dof values each");
+  values.set("q_size", floating ? "nq" : "dof");
+  values.set("drivers_offset", floating ? "nq + dof" : "2 * dof");
   data lumping{data::type::list};
   for (const std::string& line : model::lumping_summary(chain)) lumping.push_back(data("line", line));
   values.set("lumping", lumping);

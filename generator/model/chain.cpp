@@ -1,6 +1,7 @@
 #include "model/chain.hpp"
 
 #include <sstream>
+#include <stdexcept>
 
 namespace sweepgen::model {
 
@@ -21,6 +22,31 @@ bool Chain::supports(std::size_t ancestor, std::size_t body) const {
   return body == ancestor;
 }
 
+const std::vector<std::string>& floating_base_joint_names() {
+  static const std::vector<std::string> names = {"floating_base_rx", "floating_base_ry", "floating_base_rz",
+                                                 "floating_base_px", "floating_base_py", "floating_base_pz"};
+  return names;
+}
+
+void add_floating_base(Chain& chain, const Inertia& root_inertia, double root_mass) {
+  if (chain.bodies.size() != 1) throw std::logic_error("add_floating_base: the chain must hold only its base");
+  chain.floating_base = true;
+  chain.bodies[0].link = "world (where " + chain.root_link + " is now)";
+  for (std::size_t k = 0; k < 6; ++k) {
+    Joint joint;
+    joint.name = floating_base_joint_names()[k];
+    joint.type = k < 3 ? JointType::revolute : JointType::prismatic;
+    joint.continuous = k < 3;
+    joint.axis = Vec3::Unit(static_cast<Eigen::Index>(k % 3));
+    joint.floating_base_coordinate = true;
+    chain.joints.push_back(joint);
+    const bool root = k == 5;
+    chain.bodies.push_back(Body{chain.root_link, {}, root ? root_inertia : Inertia{}, root ? root_mass : 0.0});
+    chain.parent.push_back(k);
+  }
+  chain.frames[chain.root_link] = Frame{6, Transform::identity()};
+}
+
 std::vector<std::string> lumping_summary(const Chain& chain) {
   std::vector<std::string> lines;
   const auto line = [&lines](auto&&... parts) {
@@ -28,7 +54,10 @@ std::vector<std::string> lumping_summary(const Chain& chain) {
     (text << ... << parts);
     lines.push_back(text.str());
   };
-  for (std::size_t i = 1; i <= chain.dof(); ++i) {
+  if (chain.floating_base)
+    line("floating base: joints 1..6 (floating_base_rx .. floating_base_pz) are the coordinates [omega; v] of ",
+         chain.root_link, "'s twist in its own frame; bodies 1..5 are massless");
+  for (std::size_t i = 1 + (chain.floating_base ? 5 : 0); i <= chain.dof(); ++i) {
     const Body& body = chain.bodies[i];
     double own = body.mass;
     for (const auto& lumped : body.lumped_links) own -= lumped.mass;

@@ -38,6 +38,9 @@ struct Joint {
   double velocity_limit = std::numeric_limits<double>::infinity();
   double lower = -std::numeric_limits<double>::infinity();
   double upper = std::numeric_limits<double>::infinity();
+  // One of the six coordinates of a floating base (docs/derivation.md, F5): held at q = 0 (its
+  // q is never read), without a velocity-product term (O2).
+  bool floating_base_coordinate = false;
 };
 
 // A link merged into a body's inertia.
@@ -87,8 +90,14 @@ struct Chain {
   std::map<std::string, Frame> frames;  // every link on the chain, lumped ones included
   std::vector<LockedJoint> locked_joints;  // moving joints off the chain, URDF tree order
   std::vector<LeftOutLink> left_out;       // links not carried by the chain, by name
+  // A floating base (F5): joints 1..6 are the base's coordinates (rotations about x, y, z, then
+  // translations along x, y, z of the root link's frame), bodies 1..5 massless, body 6 the root
+  // link; body 0 is the inertial frame that coincides with the root link's at this instant.
+  bool floating_base = false;
 
   std::size_t dof() const { return bodies.size() - 1; }
+  // The base's coordinates among the joints: 6 for a floating base, else 0.
+  std::size_t base_coordinates() const { return floating_base ? 6 : 0; }
   // Whether every body hangs from the one before it (parent[i] == i - 1).
   bool is_chain() const;
   // Whether body `ancestor` is `body` or lies on its path to the base.
@@ -97,6 +106,14 @@ struct Chain {
   // Index (1..N) of the joint named `name`, or 0 if there is none.
   std::size_t joint_index(const std::string& name) const;
 };
+
+// The names of a floating base's six coordinates, joints 1..6 (F5).
+const std::vector<std::string>& floating_base_joint_names();
+
+// Makes body 0 of `chain` (the root link, no other body yet) a floating base (F5): body 0 becomes
+// the inertial frame where the root link is now, six coordinates with massless bodies follow,
+// and body 6 is the root link with `root_inertia` (about its origin, its frame) and `root_mass`.
+void add_floating_base(Chain& chain, const Inertia& root_inertia, double root_mass);
 
 // What the chain made of the URDF, a line each, for `sweepgen info` and the generated header:
 // per moving body its own link and mass and every link lumped into it (with its mass, and the

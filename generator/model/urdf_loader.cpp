@@ -446,7 +446,16 @@ Chain load_chain(const ChainSpec& spec) {
   chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, 0});
   chain.joints.push_back(Joint{});
   chain.parent.push_back(0);
-  chain.frames[chain.root_link] = Frame{0, Transform::identity()};
+  if (spec.floating_base) {
+    for (const std::string& name : floating_base_joint_names())
+      if (model->getJoint(name))
+        throw InputError(urdf_path, named("joint", name),
+                         "the name is taken by the floating base's coordinates; rename the joint for a floating base");
+    double mass = 0;
+    const Inertia inertia = link_inertia(*root, urdf_path, mass);
+    add_floating_base(chain, inertia, mass);
+  }
+  chain.frames[chain.root_link] = Frame{chain.dof(), Transform::identity()};
   std::vector<std::string> chain_links{chain.root_link};  // every link on a root-to-tip path
 
   // The tips: the paths from the root to each, in order; a joint met again on a later path

@@ -22,6 +22,7 @@ struct ChainSpec {
   std::map<std::string, double> locked_joints;
   std::map<std::string, std::string> locked_joint_locations;
   std::vector<std::string> branch_tips;  // further tips: the tree of all root-to-tip paths (Chain)
+  bool floating_base = false;  // the root link moves freely (Chain::floating_base, F5)
 };
 
 // Reads and validates the chain, lumping every link that a moving body carries (chain.hpp).

@@ -9,7 +9,10 @@
 //   Newton–Euler about each body's origin (f = m a_o + ω̇×h + ω×(ω×h),
 //   n_o = I_o ω̇ + ω×I_o ω + h×a_o, h = m c the first moment), forces carried inward.
 // Only the chain's *data* (model::Chain: axes, tree transforms, inertias, frames) is read; the
-// spatial types serve as plain containers of that data.
+// spatial types serve as plain containers of that data. A floating base's six coordinates (F5)
+// are ordinary joints here, held at q = 0 (whatever q holds for them), with their own
+// velocity-product terms: `in_solver_coordinates` turns their q̈ into the base's spatial
+// acceleration, the solver's.
 //
 // Conventions shared with the solver (docs/derivation.md, section 1):
 //   * a link frame's twist is [ω; v] in that frame's own coordinates, v the velocity of the
@@ -70,13 +73,14 @@ class DenseDynamics {
   };
 
   explicit DenseDynamics(const model::Chain& chain, const model::Vec3& gravity = model::Vec3(0, 0, -9.81))
-      : n_(chain.dof()), parent_(chain.parent), gravity_(gravity.cast<Scalar>()) {
+      : n_(chain.dof()), root_body_(chain.base_coordinates()), parent_(chain.parent), gravity_(gravity.cast<Scalar>()) {
     joints_.resize(n_ + 1);
     bodies_.resize(n_ + 1);
     for (std::size_t i = 1; i <= n_; ++i) {
       const model::Joint& j = chain.joints[i];
       JointData& jd = joints_[i];
       jd.revolute = j.type == model::JointType::revolute;
+      jd.held_at_zero = j.floating_base_coordinate;
       jd.axis = j.axis.cast<Scalar>();
       // Tree transform {E, r}: E rotates parent coordinates into joint-frame coordinates,
       // so the joint frame's orientation in the parent is E^T; r is its origin in the parent.
@@ -101,6 +105,19 @@ class DenseDynamics {
 
   std::size_t dof() const { return n_; }
 
+  // q̈ in the solver's coordinates: for a floating base, q̈_1..6 replaced by the root link's
+  // spatial acceleration [ω̇; v̇] in its frame, gravity taken out (F5).
+  Vec in_solver_coordinates(const Vec& q, const Vec& qd, const Vec& qdd) const {
+    Vec out = qdd;
+    if (root_body_ == 0) return out;
+    const BodyMotion root = body_motion(q, qd, qdd)[root_body_];
+    const M3 Rt = root.pose.R.transpose();
+    const V3 omega = Rt * root.omega;
+    out.head(3) = Rt * root.omega_dot;
+    out.segment(3, 3) = Rt * (root.acceleration + gravity_) - omega.cross(Rt * root.velocity);
+    return out;
+  }
+
   // Poses of bodies 0..N.
   std::vector<Pose> body_poses(const Vec& q) const {
     std::vector<Pose> pose(n_ + 1);
@@ -110,10 +127,10 @@ class DenseDynamics {
       const M3 R_joint = up.R * j.tree_rotation;  // joint frame at q = 0
       pose[i].p = up.p + up.R * j.tree_offset;
       if (j.revolute) {
-        pose[i].R = R_joint * M3(Eigen::AngleAxis<Scalar>(q[i - 1], j.axis));
+        pose[i].R = R_joint * M3(Eigen::AngleAxis<Scalar>(position(q, i), j.axis));
       } else {
         pose[i].R = R_joint;
-        pose[i].p += R_joint * (j.axis * q[i - 1]);
+        pose[i].p += R_joint * (j.axis * position(q, i));
       }
     }
     return pose;
@@ -367,6 +384,7 @@ class DenseDynamics {
  private:
   struct JointData {
     bool revolute = true;
+    bool held_at_zero = false;  // a floating base's coordinate
     V3 axis = V3::UnitZ();
     M3 tree_rotation = M3::Identity();
     V3 tree_offset = V3::Zero();
@@ -385,7 +403,11 @@ class DenseDynamics {
 
   static Pose frame_pose(const Pose& body, const LinkData& l) { return {body.R * l.rotation, body.p + body.R * l.offset}; }
 
+  // Joint i's position: q_i, or 0 for a floating base's coordinate.
+  Scalar position(const Vec& q, std::size_t i) const { return joints_[i].held_at_zero ? Scalar(0) : q[i - 1]; }
+
   std::size_t n_;
+  std::size_t root_body_ = 0;  // the root link's body of a floating base (6), else 0
   std::vector<std::size_t> parent_;  // model::Chain::parent
   V3 gravity_;
   std::vector<JointData> joints_;

@@ -39,6 +39,7 @@ struct KdlInput {
 
 VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
                           const TimingOptions& timing) {
+  if (chain.floating_base) return unavailable("KDL's Vereshchagin solver takes a fixed base");
   if (!chain.is_chain()) return unavailable("KDL's Vereshchagin solver takes a chain, not a tree");
   if (s.layout.listed_sets() > 0)
     return unavailable("KDL's Vereshchagin solver takes one constraint set, on the chain's tip");

@@ -1,5 +1,6 @@
 #include "report/measure.hpp"
 
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <cmath>
 #include <random>
@@ -134,6 +135,9 @@ std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& 
     });
     p.beta.resize(static_cast<Eigen::Index>(nc));
     for (auto& b : p.beta) b = random.uniform(-3, 3);
+    if (chain.floating_base)
+      p.base_rotation = Eigen::Quaterniond(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1),
+                                           random.uniform(-1, 1)).normalized().toRotationMatrix();
 
     pack_flat(s, p);
   }

@@ -388,7 +388,7 @@ std::string Scene::location(const std::string& element) const {
 }
 
 solver::FlatLayout Scene::flat_layout(std::size_t dof) const {
-  return solver::FlatLayout::of(layout, dof);
+  return solver::FlatLayout::of(layout, dof, chain.floating_base);
 }
 
 solver::SolverOptions Scene::solver_options() const {
@@ -423,7 +423,7 @@ Scene load_scene(const std::string& path) {
 
   Scene scene;
   scene.path = path;
-  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip", "tips",
+  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip", "tips", "base",
                                          "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
                                          "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation",
                                          "refinement"};
@@ -486,6 +486,11 @@ Scene load_scene(const std::string& path) {
       (scene.chain.tip_link.empty() ? scene.chain.tip_link : scene.chain.branch_tips.emplace_back()) = link;
     }
     scene.locations["tip"] = reader.where(*item);
+  }
+
+  if (const auto item = get("base")) {
+    scene.chain.floating_base = reader.choice(*item, {"fixed", "floating"}, "base") == "floating";
+    scene.locations["base"] = reader.where(*item);
   }
 
   if (const auto item = get("gravity")) {

@@ -17,8 +17,13 @@
 //                                   #   the root to each form a tree (shared trunk once); the
 //                                   #   first tip is `tip` (tip_acceleration's frame); not with
 //                                   #   'tip'. Constraint sets and forces may act on any of its links
-//   gravity: [0, 0, -9.81]          # optional: gravity in the root frame [m/s^2];
-//                                   #   default [0, 0, -9.81]
+//   base: fixed                     # optional: 'fixed' (default) or 'floating': the root link
+//                                   #   moves freely (docs/derivation.md, F5); the generated q
+//                                   #   starts with its orientation world_R_base (9, row-major),
+//                                   #   qd, qdd and the torques with its six coordinates (twist
+//                                   #   [omega; v] in its frame, spatial acceleration, wrench)
+//   gravity: [0, 0, -9.81]          # optional: gravity in the root frame, or the world's for a
+//                                   #   floating base [m/s^2]; default [0, 0, -9.81]
 //   rotor_inertia:                  # optional: armature d_i (>= 0) by moving-joint name;
 //     panda_joint1: 0.1             #   joints not listed get 0
 //   locked_joints:                  # optional: position [rad or m] by name of a moving joint

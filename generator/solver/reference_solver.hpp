@@ -19,8 +19,10 @@ class ReferenceSolver {
   const SolverModel<Scalar>& model() const { return model_; }
   std::size_t dof() const { return model_.dof(); }
 
-  // Outward sweep for joint positions and velocities (N each).
-  void outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd);
+  // Outward sweep for joint positions and velocities (N each; a floating base's first six q are
+  // not read, its orientation world_R_base is `base_rotation`, F5).
+  void outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd,
+               const Mat3<Scalar>& base_rotation = Mat3<Scalar>::Identity());
   // Driver values used by the next decompose(); sizes as in the layout.
   DriverInputs<Scalar>& drivers() { return inputs_; }
   // Inward sweep over the layout's tracks (Alg. 1, Alg. 2 or any grouping between).
@@ -57,9 +59,11 @@ ReferenceSolver<Scalar>::ReferenceSolver(const model::Chain& chain, const Driver
       solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints(), layout.listed_sets())) {}
 
 template <class Scalar>
-void ReferenceSolver<Scalar>::outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd) {
-  outward_sweep_base_to_tip(model_, q, qd, kinematics_);
-  kinematics_finite_ = all_finite(q) && all_finite(qd);
+void ReferenceSolver<Scalar>::outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd,
+                                      const Mat3<Scalar>& base_rotation) {
+  outward_sweep_base_to_tip(model_, q, qd, kinematics_, base_rotation);
+  kinematics_finite_ = all_finite(q.tail(q.size() - model_.base_coordinates())) && all_finite(qd) &&
+                       (!model_.floating_base || all_finite(base_rotation));
 }
 
 template <class Scalar>
@@ -82,7 +86,7 @@ const Solution<Scalar>& ReferenceSolver<Scalar>::solve(Policy policy, const Cons
 
 template <class Scalar>
 void ReferenceSolver<Scalar>::prepare(const SolveInputs<Scalar>& in) {
-  outward(in.q, in.qd);
+  outward(in.q, in.qd, in.base_rotation);
   for (std::size_t t = 0; t < in.torques.size(); ++t) inputs_.torques[t] = in.torques[t];
   for (std::size_t e = 0; e < in.wrenches.size(); ++e) inputs_.external_forces[e] = in.wrenches[e];
   for (std::size_t k = 0; k < in.alpha.size(); ++k) inputs_.constraint_directions[k] = in.alpha[k];

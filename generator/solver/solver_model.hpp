@@ -26,7 +26,7 @@ enum class ConstraintFactorisation {
 };
 
 struct SolverOptions {
-  model::Vec3 gravity{0, 0, -9.81};  // in the root link's frame [m/s^2]
+  model::Vec3 gravity{0, 0, -9.81};  // in the root link's frame, or the world's for a floating base [m/s^2]
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
   // Relative tolerance of the E^A_cstr,0 factorisation (docs/derivation.md, "Singular
   // constraints"): the pivot threshold (pivoted_ldlt) or the damping (damped), both relative to
@@ -60,12 +60,15 @@ struct JointModel {
   Vec3<Scalar> axis;
   Scalar rotor_inertia;  // d_i
   Scalar effort_limit;   // used by the saturating policies
+  bool floating_base_coordinate = false;  // held at q = 0, no velocity-product term (F5, O2)
 
-  // X_i = X_J(q) X_T, the motion transform from body λ(i) to body i (F2).
+  // X_i = X_J(q) X_T, the motion transform from body λ(i) to body i (F2); X_T for a floating
+  // base's coordinate, which is held at q = 0 (F5).
   Transform<Scalar> transform(const Scalar& q) const {
     using std::cos;
     using std::sin;
     Transform<Scalar> joint;
+    if (floating_base_coordinate) return tree_transform;
     if (type == model::JointType::revolute) {
       joint.E = axis_outer + axis_complement * cos(q) - axis_skew * sin(q);
     } else {
@@ -94,7 +97,9 @@ struct SolverModel {
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
   std::vector<ConstraintSetModel<Scalar>> constraint_sets;
   std::vector<std::size_t> constraint_set_of;          // per direction k, its set
-  Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g] (O4)
+  Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g] (O4) of a fixed base
+  bool floating_base = false;              // Ẍ_0 = −[0; Rᵀ g] at run time (O4, F5)
+  Vec3<Scalar> gravity;                    // g in the root link's (fixed) or the world's (floating) frame
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
   Scalar pivot_tolerance;
   Scalar joint_inertia_tolerance;
@@ -102,6 +107,7 @@ struct SolverModel {
   DriverLayout layout;
 
   std::size_t dof() const { return joints.size() - 1; }
+  std::size_t base_coordinates() const { return floating_base ? 6 : 0; }
   std::size_t constraints() const { return layout.constraints; }
   const ConstraintSetModel<Scalar>& set_of(std::size_t direction) const {
     return constraint_sets[constraint_set_of[direction]];
@@ -129,6 +135,7 @@ struct SolverModel {
       jm.axis = j.axis.cast<Scalar>();
       jm.rotor_inertia = Scalar(j.rotor_inertia);
       jm.effort_limit = Scalar(j.effort_limit);
+      jm.floating_base_coordinate = j.floating_base_coordinate;
       inertia[i] = chain.bodies[i].inertia.cast<Scalar>();
     }
     tip = chain.tip().X.cast<Scalar>();
@@ -144,6 +151,8 @@ struct SolverModel {
       constraint_sets.push_back({frame.body, frame.X.cast<Scalar>(), constraint_set_of.size() - set.count, set.count});
     }
     base_acceleration.linear = (-options.gravity).cast<Scalar>();
+    floating_base = chain.floating_base;
+    gravity = options.gravity.cast<Scalar>();
     constraint_factorisation = options.constraint_factorisation;
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
     joint_inertia_tolerance = Scalar(options.joint_inertia_tolerance_for(epsilon));

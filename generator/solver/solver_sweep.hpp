@@ -22,7 +22,8 @@ namespace sweepgen::solver {
 
 // (ν): E_conf, ν and the number of dropped pivots.
 template <class Scalar>
-void constraint_multipliers(const SolverModel<Scalar>& model, const ArticulatedState<Scalar>& art,
+void constraint_multipliers(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                            const ArticulatedState<Scalar>& art,
                             const ConstraintVector<Scalar>& setpoints, Policy policy, Solution<Scalar>& sol) {
   const std::size_t nc = model.constraints();
   sol.conf_energy.setZero(nc);
@@ -30,7 +31,7 @@ void constraint_multipliers(const SolverModel<Scalar>& model, const ArticulatedS
     if (composes(model.layout.tracks[t], policy)) sol.conf_energy += art.track[t][0].acceleration_energy;
   ConstraintVector<Scalar> rhs(nc);
   for (std::size_t k = 0; k < nc; ++k)
-    rhs[k] = setpoints[k] - spatial::dot(art.body[0].constraint_force[k], model.base_acceleration) - sol.conf_energy[k];
+    rhs[k] = setpoints[k] - spatial::dot(art.body[0].constraint_force[k], kin.base_acceleration) - sol.conf_energy[k];
   sol.nu = solve_constraint_multipliers(art.body[0].constraint_energy, rhs, model.constraint_factorisation,
                                         model.pivot_tolerance, sol.dropped_pivots);
 }
@@ -68,7 +69,7 @@ template <class Scalar>
 void accelerations_base_to_tip(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
                                const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs, Policy policy,
                                const std::vector<spatial::Force<Scalar>>* extra_force, Solution<Scalar>& sol) {
-  sol.acceleration[0] = model.base_acceleration;
+  sol.acceleration[0] = kin.base_acceleration;
   for (std::size_t i = 1; i <= model.dof(); ++i) {
     const JointModel<Scalar>& joint = model.joints[i];
     const BodyArticulated<Scalar>& a = art.body[i];
@@ -152,7 +153,7 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
   for (std::size_t i = 1; i <= model.dof(); ++i) sol.locked_joints += art.body[i].locked;
   const std::vector<spatial::Force<Scalar>>* no_extra_force = nullptr;
   const auto constrained_motion = [&](const ConstraintVector<Scalar>& targets) {  // (S2)–(S5)
-    constraint_multipliers(model, art, targets, constraint_policy, sol);
+    constraint_multipliers(model, kin, art, targets, constraint_policy, sol);
     control_torques(model, art, constraint_policy, sol);
     accelerations_base_to_tip(model, kin, art, inputs, constraint_policy, no_extra_force, sol);
   };

@@ -47,8 +47,9 @@ struct BodyKinematics {
 template <class Scalar>
 struct KinematicsState {
   std::vector<BodyKinematics<Scalar>> body;  // 0..N
+  spatial::Motion<Scalar> base_acceleration;  // Ẍ_0 = −[0; g], or −[0; Rᵀ g] for a floating base (O4)
 
-  static KinematicsState sized(std::size_t n) { return {std::vector<BodyKinematics<Scalar>>(n + 1)}; }
+  static KinematicsState sized(std::size_t n) { return {std::vector<BodyKinematics<Scalar>>(n + 1), {}}; }
 };
 
 template <class Scalar>

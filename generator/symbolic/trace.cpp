@@ -13,6 +13,7 @@ namespace {
 Stage stage_of(Quantity quantity) {
   switch (quantity) {
     case Quantity::joint_position:
+    case Quantity::base_rotation:
     case Quantity::joint_velocity: return stage_outward;
     case Quantity::feedforward_torque:
     case Quantity::external_force:
@@ -38,13 +39,19 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
     trace.inputs.push_back({quantity, static_cast<std::uint32_t>(instance), static_cast<std::uint32_t>(index)});
     return Symbol::from_node(trace.graph.input());
   };
+  // q as generated: a floating base's rotation (9), then the joints' positions; its six
+  // coordinates have no position (F5).
+  const std::size_t base = model.base_coordinates(), rotation = base > 0 ? 9 : 0;
+  spatial::Mat3<Symbol> base_rotation = spatial::Mat3<Symbol>::Identity();
+  for (std::size_t r = 0; r < rotation; ++r)
+    base_rotation(static_cast<Eigen::Index>(r / 3), static_cast<Eigen::Index>(r % 3)) = input(Quantity::base_rotation, 0, r);
   solver::JointVector<Symbol> q(n), qd(n);
   for (std::size_t i = 0; i < n; ++i) {
-    q[i] = input(Quantity::joint_position, 0, i);
+    if (i >= base) q[i] = input(Quantity::joint_position, 0, rotation + i - base);
     qd[i] = input(Quantity::joint_velocity, 0, i);
   }
   auto kin = solver::KinematicsState<Symbol>::sized(n);
-  solver::outward_sweep_base_to_tip(model, q, qd, kin);
+  solver::outward_sweep_base_to_tip(model, q, qd, kin, base_rotation);
 
   auto drivers = solver::DriverInputs<Symbol>::sized(layout, n);
   for (std::size_t t = 0; t < layout.torques.size(); ++t)

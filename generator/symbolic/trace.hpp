@@ -18,14 +18,16 @@ namespace sweepgen::symbolic {
 // inputs, so each function computes exactly what depends on its own arguments.
 enum Stage : int {
   stage_constant = 0,
-  stage_outward = 1,    // q, q̇
+  stage_outward = 1,    // q (with a floating base's rotation), q̇
   stage_decompose = 2,  // τff, F_ext, α (when not fixed)
   stage_solve = 3,      // E_cstr (β)
 };
 
 // What an input of the traced solve stands for, in the math's terms (the emitter spells it).
 enum class Quantity : std::uint8_t {
-  joint_position,        // q_i: index = joint (0-based)
+  joint_position,        // q_i: index = its place in the generated q (the joint, 0-based; after
+                         // the base rotation for a floating base)
+  base_rotation,         // world_R_base of a floating base, row-major: index = its place in q (0..8)
   joint_velocity,        // q̇_i: index = joint
   feedforward_torque,    // τff of torque driver `instance` (DriverLayout::torques): index = joint
   external_force,        // F_ext of driver `instance` (DriverLayout::external_forces): index = component

@@ -25,6 +25,7 @@ inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene
   p.alpha = solver::directions_with(s.layout, [&random] { return random.unit_direction(); });
   p.beta.resize(nc);
   for (auto& b : p.beta) b = random.uniform(-3, 3);
+  if (chain.floating_base) p.base_rotation = random.rotation();
   p.in = solver::flat_input(p, s.flat_layout(chain.dof()));
   return p;
 }

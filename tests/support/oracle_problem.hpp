@@ -44,10 +44,10 @@ inline std::vector<OracleCase> bundled_cases(bool rotor_inertia) {
   return cases;
 }
 
-// A random chain (or, with `tree`, a random tree) with one or two external forces on random
+// A random chain (or, with `tree`, a random tree; with `floating_tree`, one on a floating base) with one or two external forces on random
 // moving links (lumped frames included).
-inline OracleCase random_case(RandomChainGenerator& generator, bool tree = false) {
-  OracleCase c{"", tree ? generator.tree() : generator.chain(), {}};
+inline OracleCase random_case(RandomChainGenerator& generator, bool tree = false, bool floating_tree = false) {
+  OracleCase c{"", floating_tree ? generator.floating_tree() : tree ? generator.tree() : generator.chain(), {}};
   c.name = c.chain.source;
   std::vector<std::string> moving;
   for (const auto& [link, frame] : c.chain.frames)
@@ -90,6 +90,13 @@ struct OracleProblem {
   std::vector<spatial::Force<double>> wrenches;
   solver::ConstraintForces<double> alpha_columns{};
   solver::ConstraintVector<double> beta;
+  model::Mat3 base_rotation = model::Mat3::Identity();  // world_R_base of a floating base (F5)
+
+  // Gravity in the root link's frame: the oracle's fixed gravity (for a floating base, turned by
+  // base_rotation).
+  model::Vec3 base_gravity(const model::Vec3& gravity = model::Vec3(0, 0, -9.81)) const {
+    return base_rotation.transpose() * gravity;
+  }
 
   std::vector<Oracle::ExternalWrench> oracle_wrenches(const OracleCase& c) const {
     std::vector<Oracle::ExternalWrench> ext;
@@ -114,13 +121,14 @@ inline OracleProblem draw_problem(RandomProblem& random, const OracleCase& c, st
   for (std::size_t k = 0; k < nc; ++k) p.alpha_columns[k] = random.unit_direction();
   p.beta.resize(nc);
   for (std::size_t k = 0; k < nc; ++k) p.beta[k] = random.uniform(-1, 1);
+  if (c.chain.floating_base) p.base_rotation = random.rotation();
   return p;
 }
 
 // Runs the reference solver on `p` (outward, decompose, solve).
 inline const solver::Solution<double>& solve(solver::ReferenceSolver<double>& s, const OracleProblem& p,
                                              solver::Policy policy) {
-  s.outward(p.q, p.qd);
+  s.outward(p.q, p.qd, p.base_rotation);
   auto& d = s.drivers();
   d.torques[0] = p.tau_ff;
   for (std::size_t k = 0; k < p.wrenches.size(); ++k) d.external_forces[k] = p.wrenches[k];

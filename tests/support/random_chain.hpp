@@ -82,6 +82,24 @@ class RandomChainGenerator {
     return c;
   }
 
+  // A random tree (2..12 joints) on a floating base (F5) with a random root body: joints 1..6
+  // are the base's coordinates, every further body hangs from the root body or a later one.
+  model::Chain floating_tree(std::size_t dof = 0) {
+    const std::size_t n = dof > 0 ? dof : static_cast<std::size_t>(std::uniform_int_distribution<int>(1, 10)(rng_));
+    model::Chain c = base("random floating tree ");
+    double mass = 0;
+    const model::Inertia root = inertia(mass);
+    model::add_floating_base(c, root, mass);
+    for (std::size_t i = 7; i <= n + 6; ++i)
+      add_body(c, static_cast<std::size_t>(std::uniform_int_distribution<std::size_t>(6, i - 1)(rng_)));
+    add_tip(c, n + 6);
+    std::vector<bool> has_child(n + 7, false);
+    for (std::size_t i = 7; i <= n + 6; ++i) has_child[c.parent[i]] = true;
+    for (std::size_t i = 7; i < n + 6; ++i)
+      if (!has_child[i]) c.branch_tips.push_back(c.bodies[i].link);
+    return c;
+  }
+
   std::mt19937_64& engine() { return rng_; }
 
  private:

@@ -1,6 +1,8 @@
 // Seeded random states and drivers for the numerical tests.
 #pragma once
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 
@@ -53,6 +55,10 @@ class RandomProblem {
     spatial::Force<double> f = wrench(1.0, 1.0);
     const double norm = std::sqrt(f.moment.squaredNorm() + f.force.squaredNorm());
     return f * (1.0 / norm);
+  }
+  // A rotation matrix from a random unit quaternion (a floating base's world_R_base).
+  model::Mat3 rotation() {
+    return Eigen::Quaterniond(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)).normalized().toRotationMatrix();
   }
 
  private:
