@@ -13,7 +13,8 @@
 # solve), and outward + decompose; every f32 variant, full solve with the original policy; the
 # Panda scenes' re-solves (solve_<policy> only, new setpoints); KDL's Vereshchagin solver on
 # the Panda at Nc = 0, 3, 6 and the iiwa 14 and UR5 at Nc = 6 (bench/support/kdl_bench.hpp);
-# ReferenceSolver<double> on every scene (original).
+# ReferenceSolver<double> on every scene (original); the report's dense KKT solve on the trees,
+# floating bases and panda_nc6.
 # Prints a table with the floating-point operation counts the generator wrote into each header
 # and the ratio instructions / operation, then ratios against KDL, re-solve / full, reference /
 # generated; writes everything to BUILD_DIR/bench/instructions.csv.
@@ -43,7 +44,7 @@ trap 'rm -rf "$tmp"' EXIT
 cases=()
 while read -r id policies; do
   case $id in
-    kdl/*) cases+=("$id - full") ;;
+    kdl/* | dense_kkt/*) cases+=("$id - full") ;;
     reference/*) cases+=("$id original full") ;;
     */f32) cases+=("$id original full") ;;  # float: the original policy only (keeps the run short)
     *)
@@ -100,7 +101,7 @@ done < "$tmp/runs" > "$tmp/results"
 #               "//   f64::solve_original: ... (total 588)", "//   f64::outward: ...".
 ops() {  # <id> <policy> <mode>
   local id=$1 policy=$2 mode=$3
-  case $id in kdl/* | reference/*) return 0 ;; esac
+  case $id in kdl/* | reference/* | dense_kkt/*) return 0 ;; esac
   local stem=${id%/*} tag=${id#*/}
   local header=$build/sweepgen/${stem}_solver/${stem}_solver.hpp
   local total='s/.*(total \([0-9]*\)).*/\1/p'
@@ -176,6 +177,15 @@ while read -r vid _; do
   stem=${vid#reference/}
   printf '  %-18s %10s / %8s = %s\n' "$stem" "${per_call[$vid original full]:--}" "${per_call[$stem/f64 original full]:--}" \
     "$(ratio "$vid original full" "$stem/f64 original full")"
+done < <("$driver" --list)
+
+echo
+echo "Dense KKT (the report's row: M(q), Jacobians, one LDL^T) / generated f64, full solve (original):"
+while read -r vid _; do
+  [[ $vid == dense_kkt/* ]] || continue
+  stem=${vid#dense_kkt/}
+  printf '  %-18s %10s / %8s = %s\n' "$stem" "${per_call[$vid - full]:--}" "${per_call[$stem/f64 original full]:--}" \
+    "$(ratio "$vid - full" "$stem/f64 original full")"
 done < <("$driver" --list)
 
 echo

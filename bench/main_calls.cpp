@@ -15,12 +15,15 @@
 //   kdl/<robot>/nc<K>         KDL's ChainHdSolver_Vereshchagin (bench/support/kdl_bench.hpp:
 //                             panda at K = 0, 3, 6; iiwa14, ur5 at K = 6; if built with KDL);
 //                             policy ignored (pass "-"), mode full
+//   dense_kkt/<scene>         the report's dense KKT solve (bench/support/dense_kkt_bench.hpp) on
+//                             the trees, floating bases and panda_nc6; policy "-", mode full
 // --list prints one line per id: "<id> <policy> <policy>..." ("kdl/<robot>/ncK -" for KDL).
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <string>
 
+#include "support/dense_kkt_bench.hpp"
 #include "support/generated_variant.hpp"
 #include "support/reference_bench.hpp"
 #include "support/scene_list.hpp"
@@ -49,6 +52,14 @@ int run(const std::string& id, const std::string& policy, long calls, Mode mode)
 #else
     throw std::runtime_error("built without KDL");
 #endif
+  } else if (id.rfind("dense_kkt/", 0) == 0) {
+    if (mode != Mode::full) throw std::runtime_error("dense KKT: only mode full");
+    const std::string stem = id.substr(10);
+    const auto scenes = bundled_scenes();
+    const auto scene = std::find_if(scenes.begin(), scenes.end(), [&](const auto& s) { return s.first == stem; });
+    if (scene == scenes.end()) throw std::runtime_error("no scene " + stem);
+    const DenseKktBench bench(scene->second);
+    for (long c = 0; c < calls; ++c) checksum += bench.call(static_cast<std::size_t>(c) % bench.count());
   } else if (id.rfind("reference/", 0) == 0) {
     const std::string stem = id.substr(10);
     const auto scenes = bundled_scenes();
@@ -94,7 +105,10 @@ int main(int argc, char** argv) {
       for (const auto& p : v.policies) std::cout << " " << p;
       std::cout << "\n";
     }
-    for (const auto& [stem, path] : bundled_scenes()) std::cout << "reference/" << stem << " original\n";
+    for (const auto& [stem, path] : bundled_scenes()) {
+      std::cout << "reference/" << stem << " original\n";
+      if (counts_dense_kkt(make_inputs(path, 1))) std::cout << "dense_kkt/" << stem << " -\n";
+    }
 #ifdef SWEEPGEN_BENCH_HAVE_KDL
     for (const auto& [robot, nc] : kdl_cases()) std::cout << "kdl/" << robot << "/nc" << nc << " -\n";
 #endif

@@ -49,6 +49,7 @@
 namespace dual_panda_box {
 
 constexpr int dof = 15;
+constexpr int nq = 15;  // values of q (= dof: a fixed base)
 constexpr int constraints = 12;
 // Whether solves check inputs and results for NaN/Inf (scene key check_inputs).
 constexpr bool checks_inputs = true;

@@ -52,6 +52,7 @@
 namespace iiwa14_nc6 {
 
 constexpr int dof = 7;
+constexpr int nq = 7;  // values of q (= dof: a fixed base)
 constexpr int constraints = 6;
 // Whether solves check inputs and results for NaN/Inf (scene key check_inputs).
 constexpr bool checks_inputs = true;

@@ -48,6 +48,7 @@
 namespace planar_nc2 {
 
 constexpr int dof = 3;
+constexpr int nq = 3;  // values of q (= dof: a fixed base)
 constexpr int constraints = 2;
 // Whether solves check inputs and results for NaN/Inf (scene key check_inputs).
 constexpr bool checks_inputs = true;

@@ -51,6 +51,7 @@
 namespace ur5_nc6 {
 
 constexpr int dof = 6;
+constexpr int nq = 6;  // values of q (= dof: a fixed base)
 constexpr int constraints = 6;
 // Whether solves check inputs and results for NaN/Inf (scene key check_inputs).
 constexpr bool checks_inputs = true;

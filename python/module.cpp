@@ -5,7 +5,7 @@
 //   SWEEPGEN_MODULE_SCENE      the scene's C++ namespace (the scene's `solver:` entry)
 //   SWEEPGEN_MODULE_HAS_F64/32 whether the header has namespace f64 / f32 (the scene's `scalars:`)
 //   SWEEPGEN_MODULE_FLAT_IN/OUT the flat layout as the header's comment states it
-// Only the generated API common to every scene is bound: dof, constraints, checks_inputs, Status,
+// Only the generated API common to every scene is bound: dof, nq, constraints, checks_inputs, Status,
 // and per scalar outward, decompose (through drivers_from_flat), the solves and flat_solves
 // tables and the Solution members nu (when constraints > 0), qdd, tau_ctrl, tau_cmd,
 // tip_acceleration, set_acceleration (when the scene lists constraint sets), saturated,
@@ -34,6 +34,7 @@ namespace scene = SWEEPGEN_MODULE_SCENE;
 namespace {
 
 constexpr int dof = scene::dof;
+constexpr int nq = scene::nq;  // values of q: dof, or a floating base's world_R_base (9) and the joints'
 constexpr int constraints = scene::constraints;
 
 // Entries of Solution::set_acceleration (6 per listed constraint set), 0 when it has none.
@@ -283,7 +284,7 @@ std::size_t policy_index(const Table& table, const std::string& policy) {
 
 // The flat input between q, qd and beta: the drivers (SWEEPGEN_MODULE_FLAT_IN).
 template <class Api>
-constexpr int drivers_size = Api::flat_in_size - 2 * dof - constraints;
+constexpr int drivers_size = Api::flat_in_size - nq - dof - constraints;
 
 // outward() and decompose() results of one state or of K (a batched outward()).
 template <class Api>
@@ -308,6 +309,7 @@ void bind_variant(py::module_& module, const char* doc) {
   for (const auto& entry : Api::solves) policies.append(entry.policy);
   const std::string default_policy = Api::solves[0].policy;
   m.attr("dof") = dof;
+  m.attr("nq") = nq;
   m.attr("constraints") = constraints;
   m.attr("drivers_size") = n_drivers;
   m.attr("flat_in_size") = Api::flat_in_size;
@@ -325,7 +327,7 @@ void bind_variant(py::module_& module, const char* doc) {
   m.def(
       "outward",
       [](const py::object& q, const py::object& qd) {
-        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", dof), qd_rows = rows_of<Scalar>(qd, "qd", dof);
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof);
         const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows});
         State state;
         state.batched = batch.batched;
@@ -334,7 +336,7 @@ void bind_variant(py::module_& module, const char* doc) {
         return state;
       },
       py::arg("q"), py::arg("qd"),
-      "Outward sweep: everything that depends on q, qd only. q, qd: (dof,) or (K, dof). Returns a State.");
+      "Outward sweep: everything that depends on q, qd only. q: (nq,) or (K, nq), qd: (dof,) or (K, dof). Returns a State.");
 
   m.def(
       "decompose",
@@ -378,7 +380,7 @@ void bind_variant(py::module_& module, const char* doc) {
       "solve",
       [prefix](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
          const std::string& policy, unsigned mask) {
-        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", dof), qd_rows = rows_of<Scalar>(qd, "qd", dof),
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
                            d = rows_of<Scalar>(drivers, "drivers", n_drivers),
                            b = rows_of<Scalar>(beta, "beta", constraints);
         const auto solve = Api::solves[policy_index(Api::solves, policy)].solve;
@@ -399,7 +401,7 @@ void bind_variant(py::module_& module, const char* doc) {
       },
       py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),
       py::arg("policy") = default_policy, py::arg("raise_on_status") = 0u,
-      "outward + decompose + solve_<policy>. q, qd: (dof,); drivers: (drivers_size,); beta: (constraints,); "
+      "outward + decompose + solve_<policy>. q: (nq,), qd: (dof,); drivers: (drivers_size,); beta: (constraints,); "
       "each also (K, width) for K states (1-D ones shared by every row). Returns a dict: qdd, tau_cmd, "
       "tau_ctrl (dof), nu (constraints), tip_acceleration (6), saturated (dof, bool), dropped_pivots, "
       "locked_joints, status (ints; (K,) arrays when batched). raise_on_status: a mask of Status flags; "
@@ -441,6 +443,7 @@ PYBIND11_MODULE(SWEEPGEN_MODULE_NAME, m) {
             "solve_flat. Flat input: [" SWEEPGEN_MODULE_FLAT_IN "]; the drivers are the part after q and qd, "
             "without beta.";
   m.attr("dof") = dof;
+  m.attr("nq") = nq;
   m.attr("constraints") = constraints;
   m.attr("checks_inputs") = scene::checks_inputs;
   m.attr("flat_in_layout") = SWEEPGEN_MODULE_FLAT_IN;

@@ -276,9 +276,9 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
                             "// the classical acceleration of its origin is R (qdd[3..5] + omega x v)), tau[0..5] a wrench\n"
                             "// [moment; force] on it about its origin, in its frame."
                       : "");
-  values.set("nq_line", floating ? "\nconstexpr int nq = " + std::to_string(n + 3) +
-                                       ";  // values of q: world_R_base (9, row-major), then the joints'"
-                                 : "");
+  values.set("nq_line", "\nconstexpr int nq = " + std::to_string(floating ? n + 3 : n) +
+                            (floating ? ";  // values of q: world_R_base (9, row-major), then the joints'"
+                                      : ";  // values of q (= dof: a fixed base)"));
   values.set("q_pre", floating ? "nq and dof values" : "dof values each");
   values.set("q_size", floating ? "nq" : "dof");
   values.set("drivers_offset", floating ? "nq + dof" : "2 * dof");
