@@ -405,9 +405,25 @@ TEST(DenseOracle, ReferenceSolverMatchesKktWithConstraintSetsOnAnyLinks) {
   report("constraint_sets", worst);
 }
 
+// A bundled robot's tree (the paths from `root` to each of `tips`), forces on the root link and
+// the last tip.
+test::OracleCase bundled_tree(const std::string& urdf, const std::string& root, const std::vector<std::string>& tips,
+                              bool floating_base) {
+  model::ChainSpec spec;
+  spec.urdf = test::source_path(urdf);
+  spec.root_link = root;
+  spec.tip_link = tips.front();
+  spec.branch_tips.assign(tips.begin() + 1, tips.end());
+  spec.floating_base = floating_base;
+  test::OracleCase c{urdf, model::load_chain(spec), {}};
+  c.external_links = {floating_base ? root : tips.front(), tips.back()};
+  return c;
+}
+
 // Random trees (2 to 12 joints, each body on a random earlier one: chains, stars and everything
-// between), Nc = 0 and constraint sets on random links of any branches: the same equations over
-// λ(i), against the KKT system whose Jacobians and inverse dynamics walk the tree on their own.
+// between) and, every fifth case, the bundled dual Panda; Nc = 0 and constraint sets on random
+// links of any branches: the same equations over λ(i), against the KKT system whose Jacobians and
+// inverse dynamics walk the tree on their own.
 TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomTrees) {
   test::RandomProblem random(51);
   test::RandomChainGenerator generator(52);
@@ -415,8 +431,10 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomTrees) {
   // Measured: 0 of 2000 states beyond cond 1e9 (4 beyond 1e6).
   test::SkipCount skips("dense oracle, random trees", 0.05);
   std::size_t branched = 0, sets_on_two_branches = 0;
+  const test::OracleCase dual_panda =
+      bundled_tree("robots/dual_panda/dual_panda.urdf", "station", {"left_panda_hand", "right_panda_hand"}, false);
   for (int k = 0; k < test::state_count(1000); ++k) {
-    const test::OracleCase c = test::random_case(generator, true);
+    const test::OracleCase c = k % 5 == 0 ? dual_panda : test::random_case(generator, true);
     branched += c.chain.is_chain() ? 0 : 1;
     solver::ReferenceSolver<double> free(c.chain, test::oracle_layout(c, 0));
     compare_state(c, free, 0, random, worst, skips);
@@ -446,21 +464,9 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnFloatingBases) {
   Worst worst;
   // Measured: 0 of 2000 states beyond cond 1e9.
   test::SkipCount skips("dense oracle, floating bases", 0.05);
-  std::vector<test::OracleCase> bundled;
-  for (const auto& [urdf, root, tips] :
-       std::vector<std::tuple<std::string, std::string, std::vector<std::string>>>{
-           {"robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}},
-           {"robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}}}) {
-    model::ChainSpec spec;
-    spec.urdf = test::source_path(urdf);
-    spec.root_link = root;
-    spec.tip_link = tips.front();
-    spec.branch_tips.assign(tips.begin() + 1, tips.end());
-    spec.floating_base = true;
-    test::OracleCase c{urdf, model::load_chain(spec), {}};
-    c.external_links = {root, tips.back()};
-    bundled.push_back(c);
-  }
+  const std::vector<test::OracleCase> bundled = {
+      bundled_tree("robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}, true),
+      bundled_tree("robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}, true)};
   for (int k = 0; k < test::state_count(1000); ++k) {
     const test::OracleCase c =
         k % 4 == 0 ? bundled.at(static_cast<std::size_t>(k / 4) % bundled.size()) : test::random_case(generator, false, true);

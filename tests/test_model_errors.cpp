@@ -88,10 +88,44 @@ TEST(ModelErrors, MissingFile) {
 }
 
 TEST(ModelErrors, FloatingAndPlanarJointsAreRejected) {
-  for (const std::string type : {"floating", "planar"}) {
-    const std::string message = load_error(arm(type));
-    expect_contains(message, "joint 'j2'");
-    expect_contains(message, type + " joints are not supported");
+  const std::string planar = load_error(arm("planar"));
+  expect_contains(planar, "joint 'j2'");
+  expect_contains(planar, "planar joints are not supported");
+  // A floating joint: the message says how to model a free-floating robot instead.
+  const std::string floating = load_error(arm("floating"));
+  expect_contains(floating, "joint 'j2'");
+  expect_contains(floating, "a floating joint inside the chain is not supported");
+  expect_contains(floating, "as the root and let the base float (scene: base: floating");
+}
+
+// A floating base (F5): six coordinates before the root link, which becomes body 6 with its own
+// inertial and every link fixed to it (a sensor on the base moves with it: lumped, not left out);
+// a URDF joint named like one of the six is refused.
+TEST(ModelErrors, FloatingBaseCarriesTheLinksFixedToTheRoot) {
+  test::TempDir dir;
+  const std::string sensor =
+      R"(<joint name="mount" type="fixed"><parent link="base"/><child link="sensor"/><origin xyz="0 0 0.1"/></joint>
+  <link name="sensor"><inertial><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>)";
+  model::ChainSpec spec;
+  spec.urdf = dir.write("robot.urdf", arm("revolute", R"(<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>)", sensor));
+  spec.floating_base = true;
+  const model::Chain chain = model::load_chain(spec);
+  ASSERT_EQ(chain.dof(), 8u);
+  EXPECT_EQ(chain.base_coordinates(), 6u);
+  for (std::size_t i = 1; i <= 6; ++i) EXPECT_TRUE(chain.joints[i].floating_base_coordinate) << i;
+  EXPECT_EQ(chain.frames.at("base").body, 6u);
+  EXPECT_EQ(chain.frames.at("sensor").body, 6u);
+  EXPECT_EQ(chain.bodies[6].mass, 0.5);
+  EXPECT_TRUE(chain.left_out.empty());
+
+  spec.urdf = dir.write("taken.urdf", arm("revolute", R"(<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>)",
+                                          R"(<joint name="floating_base_pz" type="fixed"><parent link="l2"/><child link="l3"/></joint><link name="l3"/>)"));
+  try {
+    model::load_chain(spec);
+    ADD_FAILURE() << "a joint named floating_base_pz was accepted";
+  } catch (const InputError& e) {
+    expect_contains(e.what(), "joint 'floating_base_pz'");
+    expect_contains(e.what(), "the name is taken by the floating base's coordinates");
   }
 }
 

@@ -522,11 +522,15 @@ Chain load_chain(const ChainSpec& spec) {
           break;
         }
         case urdf::Joint::FLOATING:
+          throw InputError(urdf_path, element,
+                           "a floating joint inside the chain is not supported; for a free-floating robot take its "
+                           "child " + quote_name(child->name) +
+                               " as the root and let the base float (scene: base: floating; sweepgen solve: "
+                               "--floating-base)");
         case urdf::Joint::PLANAR:
           throw InputError(urdf_path, element,
-                           std::string(urdf_joint->type == urdf::Joint::FLOATING ? "floating" : "planar") +
-                               " joints are not supported (trees of revolute, continuous, prismatic and fixed joints "
-                               "only)");
+                           "planar joints are not supported (trees of revolute, continuous, prismatic and fixed joints "
+                           "only)");
         default:
           throw InputError(urdf_path, element, "joint type unknown");
       }
