@@ -5,6 +5,8 @@
 //    sweepgen's q̈ and its constraint wrenches α_k ν_k, applied on each set's link with the
 //    external force, must give back τff at every joint (the round trip; no code of sweepgen's
 //    loader or sweeps is shared with it);
+//  - the same round trip on floating bases (the quadruped, the mobile Panda), the URDF's tree
+//    hung on six KDL joints;
 //  - the chain solver (reduction): with the torso fixed (root = torso) the arms share no moving
 //    joint, so the tree's q̈ on each arm is the chain solver's on that arm, constrained as the
 //    tree's sets on it are.
@@ -158,6 +160,63 @@ TEST(TreeKdl, ATreeOfUnconnectedBranchesIsTheChainSolverOnEachBranch) {
   std::cout << "[reduction] largest relative difference tree vs chains: " << worst << "\n";
   // A few roundings of q̈'s scale (4 eps): the two run the same operations on each branch.
   EXPECT_LE(worst, 4 * std::numeric_limits<double>::epsilon());
+}
+
+// Floating bases (F5) through KDL: the quadruped with its four feet held (3 directions each) or
+// free, and the mobile Panda with its hand held (6) and a push on its base, random base
+// orientations and twists. sweepgen's q̈ (the base's six as its spatial acceleration), its
+// constraint wrenches α_k ν_k on the feet or the hand and the push, fed to KDL's inverse dynamics
+// of the URDF's tree hung on six KDL joints (support/kdl_tree_dynamics.hpp), give back τff at
+// every joint and the base wrench τff_1..6. Bound and skips as above.
+TEST(TreeKdl, FloatingBasesReproduceTheTorquesThroughKdl) {
+  struct Case {
+    std::string urdf, root;
+    std::vector<std::string> tips;
+    std::vector<solver::ConstraintSet> sets;
+  };
+  const std::vector<Case> cases = {
+      {"robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}, {}},
+      {"robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"},
+       {{"FL_foot", 3, {}}, {"FR_foot", 3, {}}, {"RL_foot", 3, {}}, {"RR_foot", 3, {}}}},
+      {"robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}, {{"panda_hand", 6, {}}}},
+  };
+  test::RandomProblem random(63);
+  test::SkipCount skips("floating-base round trip through KDL's TreeIdSolver_RNE", kMaxSkippedShare);
+  test::WorstRatio worst("floating-base round trip");
+  int states = 0;
+  for (const Case& c : cases) {
+    model::ChainSpec spec;
+    spec.urdf = test::source_path(c.urdf);
+    spec.root_link = c.root;
+    spec.tip_link = c.tips.front();
+    spec.branch_tips.assign(c.tips.begin() + 1, c.tips.end());
+    spec.floating_base = true;
+    const model::Chain chain = model::load_chain(spec);
+    test::KdlTreeDynamics kdl(chain, kGravity);
+    const solver::DriverLayout l = layout(c.root, c.sets);
+    solver::ReferenceSolver<double> reference(chain, l);
+    for (int s = 0; s < test::state_count(300); ++s) {
+      solver::SolveInputs<double> in = draw(random, chain, l);
+      in.base_rotation = random.rotation();
+      const solver::Solution<double>& sol = reference.run(in, solver::Policy::original);
+      KDL::WrenchMap wrenches;
+      wrenches[c.root] += test::to_kdl(in.wrenches[0]);
+      for (std::size_t k = 0; k < l.constraints; ++k) {
+        const std::string& link = l.sets[reference.model().constraint_set_of[k]].link;
+        wrenches[link] += test::to_kdl(in.alpha[k] * sol.nu[static_cast<Eigen::Index>(k)]);
+      }
+      const Eigen::VectorXd tau = kdl.inverse_dynamics(in.q, in.qd, sol.qdd, wrenches, in.base_rotation);
+      const double scale =
+          std::max({1.0, in.torques[0].lpNorm<Eigen::Infinity>(), (sol.tau_cmd - in.torques[0]).lpNorm<Eigen::Infinity>()});
+      const double error = (tau - in.torques[0]).lpNorm<Eigen::Infinity>() / scale;
+      const double growth = std::max(1.0, sol.nu.lpNorm<1>() / scale);
+      ++states;
+      if (skips.skip(!kTorqueRounding.judged(growth), "growth beyond the ceiling")) continue;
+      worst.add(error, growth);
+      EXPECT_LE(error, kTorqueRounding(growth)) << c.urdf << " sets " << c.sets.size() << " state " << s;
+    }
+  }
+  std::cout << "[floating] " << states << " states on the quadruped and the mobile Panda\n";
 }
 
 }  // namespace
