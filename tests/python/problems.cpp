@@ -54,9 +54,11 @@ ordered_json scene_line(const Scene& s, const sweepgen::model::Chain& chain) {
     line["cli_args"].push_back("--branch-tip");
     line["cli_args"].push_back(tip);
   }
+  if (chain.floating_base) line["cli_args"].push_back("--floating-base");
   for (const auto& [joint, value] : s.chain.rotor_inertia)
     line["cli_args"].push_back("--rotor-inertia=" + joint + "=" + nlohmann::json(value).dump());
   line["dof"] = chain.dof();
+  line["nq"] = s.flat_layout(chain.dof()).positions();
   line["constraints"] = s.layout.constraints;
   line["sets"] = s.layout.listed_sets();  // each reports its link's acceleration
   line["run_time_directions"] = s.layout.run_time_directions();
@@ -87,7 +89,7 @@ void use_axis_directions(const Scene& s, Problem& p) {
 
 ordered_json cli_problem(const Scene& s, const Problem& p) {
   ordered_json line;
-  line["q"] = values(p.q);
+  line["q"] = sweepgen::solver::generated_positions(p.q, p.base_rotation, s.chain.floating_base);  // as `in` holds it
   line["qd"] = values(p.qd);
   line["tau_ff"] = values(p.tau_ff);
   if (!p.wrenches.empty()) {

@@ -30,7 +30,7 @@ import unittest
 
 import numpy as np
 
-STATES = 16
+STATES = 64
 SEED = 2024
 
 # The error measure of tests/generated (report/relative_error.hpp): ||a - b||_inf / max(1, ||b||_inf),
@@ -48,9 +48,10 @@ SEED = 2024
 #     stability suite's factor); judged for kappa <= 1e3 (ceiling 1.2e-2). Six random directions
 #     on a 7-joint arm are nearly always beyond 1e3 (tests/generated: Panda Nc = 6, 1000 of 1000),
 #     so there the share is not bounded; the unit-axis directions (python_test_problems `axes`)
-#     are mostly within it (25% allowed; on the Panda 3 of 40 states beyond, 1 of the 16 here), and
-#     Nc = 0 has no directions (5% allowed; tests/generated: 0 of 1000 beyond). With 16 states a
-#     5% share allows none.
+#     are mostly within it (25% allowed; on the Panda 3 of the 64 here), and Nc = 0 has no
+#     directions (5% allowed; tests/generated: 0 of 1000 beyond). 64 states, so that a 5% share
+#     allows 3 (16 allowed none, where the floating mobile Panda's measured 1.15% beyond 1e8 in
+#     tests/generated put 1 of 16 there; here 2 of 64).
 EPS = {"f64": float(np.finfo(np.float64).eps), "f32": float(np.finfo(np.float32).eps)}
 MAX_KAPPA = {"f64": 1e8, "f32": 1e3}
 FACTORS = {"f64": 40 * EPS["f64"], "f32": 100 * EPS["f32"] + 100 * EPS["f64"]}
@@ -111,6 +112,7 @@ class ProblemSet:
         self.flat = np.array([p["in"] for p in problems], dtype=np.float64)
         self.kappa = np.array([p["kappa"] for p in problems])
         self.dof, self.nc, self.sets = self.info["dof"], self.info["constraints"], self.info["sets"]
+        self.nq = self.info["nq"]  # values of q: dof, or a floating base's rotation (9) and the joints' positions
         self.oracle = {}  # policy -> one `sweepgen solve` answer per problem
         cli_input = "".join(json.dumps(dict(p["cli"], policy=policy)) + "\n"
                             for policy in self.info["policies"] for p in problems)
@@ -122,8 +124,9 @@ class ProblemSet:
 
     def split(self, flat):
         """q, qd, drivers, beta of flat inputs (1-D or 2-D): the module's flat_in_layout."""
-        n, nc = self.dof, self.nc
-        return flat[..., :n], flat[..., n:2 * n], flat[..., 2 * n:flat.shape[-1] - nc], flat[..., flat.shape[-1] - nc:]
+        n, nq, nc = self.dof, self.nq, self.nc
+        return (flat[..., :nq], flat[..., nq:nq + n], flat[..., nq + n:flat.shape[-1] - nc],
+                flat[..., flat.shape[-1] - nc:])
 
 
 class ModuleTest:
@@ -143,15 +146,17 @@ class ModuleTest:
     def test_constants(self):
         info, m = self.data.info, self.m
         self.assertEqual(m.scalars, ("f64", "f32"))  # both bundled scenes emit double and float
-        self.assertEqual((m.dof, m.constraints, m.checks_inputs), (info["dof"], info["constraints"], True))
+        self.assertEqual((m.dof, m.nq, m.constraints, m.checks_inputs),
+                         (info["dof"], info["nq"], info["constraints"], True))
         for flag, value in info["status"].items():
             self.assertEqual(int(getattr(m.Status, flag)), value, flag)
-        self.assertTrue(m.flat_in_layout.startswith("q (dof), qd (dof), "), m.flat_in_layout)
+        q_size = "nq" if info["nq"] != info["dof"] else "dof"  # a floating base's q (world_R_base first)
+        self.assertTrue(m.flat_in_layout.startswith(f"q ({q_size}), qd (dof), "), m.flat_in_layout)
         self.assertTrue(m.flat_out_layout.startswith("qdd (dof), tau_cmd (dof), tau_ctrl (dof), "), m.flat_out_layout)
         for name, v in self.variants():
             self.assertEqual(v.flat_in_size, info["flat_in_size"], name)
             self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + 6 + 6 * info["sets"] + 1, name)
-            self.assertEqual(v.drivers_size, info["flat_in_size"] - 2 * info["dof"] - info["constraints"], name)
+            self.assertEqual(v.drivers_size, info["flat_in_size"] - info["nq"] - info["dof"] - info["constraints"], name)
             self.assertEqual(list(v.policies), info["policies"], name)
             self.assertEqual(v.dtype, np.dtype(np.float64 if name == "f64" else np.float32), name)
 
@@ -257,13 +262,13 @@ class ModuleTest:
 
     def test_bad_arguments_raise_value_errors(self):
         d = self.data
-        n = d.dof
+        n, nq = d.dof, d.nq
         for name, v in self.variants():
             q, qd, drivers, beta = d.split(d.flat[0])
             Q, QD, D, B = d.split(d.flat)
-            expected_q = rf"q: expected shape \({n},\) or \(K, {n}\), got "
-            self.assertValueError(expected_q + rf"\({n - 1},\)", v.solve, q[:-1], qd, drivers, beta)
-            self.assertValueError(expected_q + rf"\(1, 2, {n}\)", v.solve, np.stack([q, q])[None], qd, drivers,
+            expected_q = rf"q: expected shape \({nq},\) or \(K, {nq}\), got "
+            self.assertValueError(expected_q + rf"\({nq - 1},\)", v.solve, q[:-1], qd, drivers, beta)
+            self.assertValueError(expected_q + rf"\(1, 2, {nq}\)", v.solve, np.stack([q, q])[None], qd, drivers,
                                   beta)
             self.assertValueError(rf"qd: 3 rows, but q has {STATES}", v.solve, Q, QD[:3], D, B)
             self.assertValueError("q: expected real numbers, got dtype complex128", v.solve, q + 0j, qd, drivers, beta)
@@ -305,7 +310,7 @@ class ModuleTest:
                 v.solve(bad_q[3], qd[3], drivers[3], beta[3], raise_on_status=m.Status.not_finite)
             self.assertIsNone(raised.exception.index)
             with self.assertRaises(m.SolverStatusError) as raised:
-                v.solve_flat(np.concatenate([bad_q[3], flat[3, d.dof:]]), raise_on_status=m.Status.not_finite)
+                v.solve_flat(np.concatenate([bad_q[3], flat[3, d.nq:]]), raise_on_status=m.Status.not_finite)
             self.assertTrue(raised.exception.status & m.Status.not_finite)
             # A mask without the raised flags does not raise (the original policy saturates nothing).
             v.solve(bad_q, qd, drivers, beta, policy="original", raise_on_status=m.Status.saturated)
