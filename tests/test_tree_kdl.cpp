@@ -72,6 +72,27 @@ solver::SolveInputs<double> draw(test::RandomProblem& random, const model::Chain
 constexpr test::RoundingBound kTorqueRounding{1000, 1e-6};
 constexpr double kMaxSkippedShare = 0.05;
 
+// One round trip: KDL's inverse dynamics of sweepgen's q̈ with the push on `pushed_link` and each
+// direction's constraint wrench α_k ν_k on its set's link, against τff: the error relative to
+// `scale` = max(1, ‖τff‖∞, ‖τcmd − τff‖∞) and the growth max(1, ‖ν‖₁ / scale).
+struct RoundTrip {
+  double error, growth, scale;
+};
+RoundTrip round_trip(test::KdlTreeDynamics& kdl, const solver::DriverLayout& l,
+                     const solver::ReferenceSolver<double>& reference, const solver::SolveInputs<double>& in,
+                     const solver::Solution<double>& sol, const std::string& pushed_link) {
+  KDL::WrenchMap wrenches;
+  wrenches[pushed_link] += test::to_kdl(in.wrenches[0]);
+  for (std::size_t k = 0; k < l.constraints; ++k) {
+    const std::string& link = l.sets[reference.model().constraint_set_of[k]].link;
+    wrenches[link] += test::to_kdl(in.alpha[k] * sol.nu[static_cast<Eigen::Index>(k)]);
+  }
+  const Eigen::VectorXd tau = kdl.inverse_dynamics(in.q, in.qd, sol.qdd, wrenches, in.base_rotation);
+  const double scale =
+      std::max({1.0, in.torques[0].lpNorm<Eigen::Infinity>(), (sol.tau_cmd - in.torques[0]).lpNorm<Eigen::Infinity>()});
+  return {(tau - in.torques[0]).lpNorm<Eigen::Infinity>() / scale, std::max(1.0, sol.nu.lpNorm<1>() / scale), scale};
+}
+
 TEST(TreeKdl, ConstraintWrenchesAndAccelerationsReproduceTheTorquesOnTheWholeTree) {
   const model::Chain tree = load("station", "left_panda_hand", {"right_panda_hand"});
   ASSERT_EQ(tree.dof(), 15u);
@@ -93,21 +114,11 @@ TEST(TreeKdl, ConstraintWrenchesAndAccelerationsReproduceTheTorquesOnTheWholeTre
     for (int s = 0; s < test::state_count(300); ++s) {
       const solver::SolveInputs<double> in = draw(random, tree, l);
       const solver::Solution<double>& sol = reference.run(in, solver::Policy::original);
-      KDL::WrenchMap wrenches;
-      wrenches["torso"] += test::to_kdl(in.wrenches[0]);
-      for (std::size_t k = 0; k < l.constraints; ++k) {
-        const std::string& link = l.sets[reference.model().constraint_set_of[k]].link;
-        wrenches[link] += test::to_kdl(in.alpha[k] * sol.nu[static_cast<Eigen::Index>(k)]);
-      }
-      const Eigen::VectorXd tau = kdl.inverse_dynamics(in.q, in.qd, sol.qdd, wrenches);
-      const double scale =
-          std::max({1.0, in.torques[0].lpNorm<Eigen::Infinity>(), (sol.tau_cmd - in.torques[0]).lpNorm<Eigen::Infinity>()});
-      const double error = (tau - in.torques[0]).lpNorm<Eigen::Infinity>() / scale;
-      const double growth = std::max(1.0, sol.nu.lpNorm<1>() / scale);
+      const RoundTrip trip = round_trip(kdl, l, reference, in, sol, "torso");
       ++states;
-      if (skips.skip(!kTorqueRounding.judged(growth), "growth beyond the ceiling")) continue;
-      worst.add(error, growth);
-      EXPECT_LE(error, kTorqueRounding(growth)) << "sets " << sets.size() << " state " << s;
+      if (skips.skip(!kTorqueRounding.judged(trip.growth), "growth beyond the ceiling")) continue;
+      worst.add(trip.error, trip.growth);
+      EXPECT_LE(trip.error, kTorqueRounding(trip.growth)) << "sets " << sets.size() << " state " << s;
       // Negative control: the wrenches on the wrong links (all on the torso) must miss τff.
       if (l.constraints > 0) {
         KDL::WrenchMap wrong;
@@ -115,7 +126,7 @@ TEST(TreeKdl, ConstraintWrenchesAndAccelerationsReproduceTheTorquesOnTheWholeTre
         for (std::size_t k = 0; k < l.constraints; ++k)
           wrong["torso"] += test::to_kdl(in.alpha[k] * sol.nu[static_cast<Eigen::Index>(k)]);
         const Eigen::VectorXd off = kdl.inverse_dynamics(in.q, in.qd, sol.qdd, wrong);
-        if ((off - in.torques[0]).lpNorm<Eigen::Infinity>() / scale < 1e-4) ++negative_controls_missed;
+        if ((off - in.torques[0]).lpNorm<Eigen::Infinity>() / trip.scale < 1e-4) ++negative_controls_missed;
       }
     }
   }
@@ -199,21 +210,11 @@ TEST(TreeKdl, FloatingBasesReproduceTheTorquesThroughKdl) {
       solver::SolveInputs<double> in = draw(random, chain, l);
       in.base_rotation = random.rotation();
       const solver::Solution<double>& sol = reference.run(in, solver::Policy::original);
-      KDL::WrenchMap wrenches;
-      wrenches[c.root] += test::to_kdl(in.wrenches[0]);
-      for (std::size_t k = 0; k < l.constraints; ++k) {
-        const std::string& link = l.sets[reference.model().constraint_set_of[k]].link;
-        wrenches[link] += test::to_kdl(in.alpha[k] * sol.nu[static_cast<Eigen::Index>(k)]);
-      }
-      const Eigen::VectorXd tau = kdl.inverse_dynamics(in.q, in.qd, sol.qdd, wrenches, in.base_rotation);
-      const double scale =
-          std::max({1.0, in.torques[0].lpNorm<Eigen::Infinity>(), (sol.tau_cmd - in.torques[0]).lpNorm<Eigen::Infinity>()});
-      const double error = (tau - in.torques[0]).lpNorm<Eigen::Infinity>() / scale;
-      const double growth = std::max(1.0, sol.nu.lpNorm<1>() / scale);
+      const RoundTrip trip = round_trip(kdl, l, reference, in, sol, c.root);
       ++states;
-      if (skips.skip(!kTorqueRounding.judged(growth), "growth beyond the ceiling")) continue;
-      worst.add(error, growth);
-      EXPECT_LE(error, kTorqueRounding(growth)) << c.urdf << " sets " << c.sets.size() << " state " << s;
+      if (skips.skip(!kTorqueRounding.judged(trip.growth), "growth beyond the ceiling")) continue;
+      worst.add(trip.error, trip.growth);
+      EXPECT_LE(trip.error, kTorqueRounding(trip.growth)) << c.urdf << " sets " << c.sets.size() << " state " << s;
     }
   }
   std::cout << "[floating] " << states << " states on the quadruped and the mobile Panda\n";

@@ -14,8 +14,9 @@ template <class Scalar>
 void outward_sweep_base_to_tip(const SolverModel<Scalar>& model, const JointVector<Scalar>& q,
                                const JointVector<Scalar>& qd, KinematicsState<Scalar>& kin,
                                const Mat3<Scalar>& base_rotation = Mat3<Scalar>::Identity()) {
-  kin.base_acceleration = model.base_acceleration;
-  if (model.floating_base) kin.base_acceleration.linear = -(base_rotation.transpose() * model.gravity);  // (O4)
+  kin.base_acceleration = {};  // (O4)
+  kin.base_acceleration.linear = model.floating_base ? Vec3<Scalar>(-(base_rotation.transpose() * model.gravity))
+                                                     : Vec3<Scalar>(-model.gravity);
   for (std::size_t i = 1; i <= model.dof(); ++i) {
     const JointModel<Scalar>& joint = model.joints[i];
     BodyKinematics<Scalar>& body = kin.body[i];

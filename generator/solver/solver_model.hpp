@@ -97,9 +97,8 @@ struct SolverModel {
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
   std::vector<ConstraintSetModel<Scalar>> constraint_sets;
   std::vector<std::size_t> constraint_set_of;          // per direction k, its set
-  Motion<Scalar> base_acceleration;        // Ẍ_0 = −[0; g] (O4) of a fixed base
-  bool floating_base = false;              // Ẍ_0 = −[0; Rᵀ g] at run time (O4, F5)
   Vec3<Scalar> gravity;                    // g in the root link's (fixed) or the world's (floating) frame
+  bool floating_base = false;              // Ẍ_0 = −[0; Rᵀ g] at run time (O4, F5), else −[0; g]
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
   Scalar pivot_tolerance;
   Scalar joint_inertia_tolerance;
@@ -150,7 +149,6 @@ struct SolverModel {
       for (std::size_t k = 0; k < set.count; ++k) constraint_set_of.push_back(constraint_sets.size());
       constraint_sets.push_back({frame.body, frame.X.cast<Scalar>(), constraint_set_of.size() - set.count, set.count});
     }
-    base_acceleration.linear = (-options.gravity).cast<Scalar>();
     floating_base = chain.floating_base;
     gravity = options.gravity.cast<Scalar>();
     constraint_factorisation = options.constraint_factorisation;

@@ -43,6 +43,13 @@ def arm(prefix):
     return elements
 
 
+def write_urdf(robot, out):
+    """Writes the <robot> element to `out`, indented by two spaces."""
+    ET.indent(robot, space="  ")
+    with open(out, "w") as f:
+        f.write('<?xml version="1.0"?>\n' + ET.tostring(robot, encoding="unicode") + "\n")
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else OUT
     robot = ET.Element("robot", name="dual_panda")
@@ -71,9 +78,7 @@ def main():
         ET.SubElement(mount, "origin", xyz="0 %s 0.5" % side, rpy="%s 0 0" % roll)
         for element in arm(prefix):
             robot.append(element)
-    ET.indent(robot, space="  ")
-    with open(out, "w") as f:
-        f.write('<?xml version="1.0"?>\n' + ET.tostring(robot, encoding="unicode") + "\n")
+    write_urdf(robot, out)
 
 
 if __name__ == "__main__":

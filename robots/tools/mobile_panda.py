@@ -24,7 +24,7 @@ import sys
 import xml.etree.ElementTree as ET
 
 sys.dont_write_bytecode = True  # no __pycache__ in robots/tools from the import below
-from dual_panda import arm, box_inertia  # noqa: E402  (robots/tools/dual_panda.py: the Panda's links and joints)
+from dual_panda import arm, box_inertia, write_urdf  # noqa: E402  (robots/tools/dual_panda.py: the Panda's links and joints)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "mobile_panda", "mobile_panda.urdf")
@@ -53,9 +53,7 @@ def main():
     ET.SubElement(mount, "origin", xyz="0 0 %r" % MOUNT_Z, rpy="0 0 0")
     for element in arm(""):
         robot.append(element)
-    ET.indent(robot, space="  ")
-    with open(out, "w") as f:
-        f.write('<?xml version="1.0"?>\n' + ET.tostring(robot, encoding="unicode") + "\n")
+    write_urdf(robot, out)
 
 
 if __name__ == "__main__":
