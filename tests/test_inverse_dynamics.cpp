@@ -47,9 +47,10 @@ constexpr double kTrapShare = 0.9;
 constexpr double kLastJointTolerance = 1e-12;
 
 // Calls fn(case, solver, problem) for kStatesPerRobot states of every bundled robot and one
-// state of each of kRandomChains random chains, all with Nc constraints.
+// state of each of kRandomChains random chains, all with Nc constraints; `floating_bases`: also
+// one state of each of kRandomChains random trees on a floating base (F5).
 template <class Fn>
-void over_cases(std::size_t nc, unsigned seed, double torque_fraction, Fn&& fn) {
+void over_cases(std::size_t nc, unsigned seed, double torque_fraction, Fn&& fn, bool floating_bases = false) {
   test::RandomProblem random(seed);
   for (const auto& c : test::bundled_cases(true)) {
     solver::ReferenceSolver<double> reference(c.chain, test::oracle_layout(c, nc));
@@ -58,6 +59,11 @@ void over_cases(std::size_t nc, unsigned seed, double torque_fraction, Fn&& fn) 
   test::RandomChainGenerator generator(seed + 1);
   for (int k = 0; k < kRandomChains; ++k) {
     const test::OracleCase c = test::random_case(generator);
+    solver::ReferenceSolver<double> reference(c.chain, test::oracle_layout(c, nc));
+    fn(c, reference, test::draw_problem(random, c, nc, torque_fraction));
+  }
+  for (int k = 0; floating_bases && k < kRandomChains; ++k) {
+    const test::OracleCase c = test::random_case(generator, false, true);
     solver::ReferenceSolver<double> reference(c.chain, test::oracle_layout(c, nc));
     fn(c, reference, test::draw_problem(random, c, nc, torque_fraction));
   }
@@ -71,13 +77,14 @@ struct ForwardDynamics {
 };
 ForwardDynamics forward_dynamics(const test::OracleCase& c, const test::OracleProblem& p, const Eigen::VectorXd& tau,
                                  const Eigen::VectorXd& qdd_solver) {
-  const Oracle o(c.chain);
+  const Oracle o(c.chain, p.base_gravity());
   const OracleVec q = test::to_long(p.q), qd = test::to_long(p.qd);
   const auto ext = p.oracle_wrenches(c);
   const Oracle::Mat M = o.mass_matrix(q);
   const Oracle::Mat M_inverse = M.inverse();
   ForwardDynamics fd;
-  fd.qdd = M_inverse * (test::to_long(tau) + o.external_torque(q, ext) - o.bias(q, qd));
+  // (a floating base's six as its spatial acceleration, as the solver's)
+  fd.qdd = o.in_solver_coordinates(q, qd, M_inverse * (test::to_long(tau) + o.external_torque(q, ext) - o.bias(q, qd)));
   const LongDouble growth = tau.cwiseAbs().maxCoeff() * M_inverse.cwiseAbs().rowwise().sum().maxCoeff() /
                             std::max<LongDouble>(1, qdd_solver.cwiseAbs().maxCoeff());
   fd.tolerance = kForwardDynamicsTolerance * static_cast<double>(std::max<LongDouble>(1, growth));
@@ -133,7 +140,7 @@ TEST(CommandedTorque, ForwardDynamicsOfTheCommandedTorqueReproducesTheAccelerati
                    EXPECT_LE(e, fd.tolerance) << c.name << " " << solver::name(policy) << " Nc=" << nc;
                    worst = std::max(worst, e / fd.tolerance * kForwardDynamicsTolerance);
                    ++states;
-                 });
+                 }, true);
   std::cout << "[commanded torque] " << states << " states, max relative error of FD(tau_cmd) (normalised) "
             << worst << "\n";
   RecordProperty("max_fd_error", std::to_string(worst));
@@ -160,7 +167,7 @@ TEST(CommandedTorque, FeedForwardPlusControlTorqueIsNotTheTorqueThatRealisesTheM
                  if ((articulated - sol.tau_cmd).head(n - 1).cwiseAbs().maxCoeff() > kMaterialDifference * scale) ++differ;
                  const ForwardDynamics fd = forward_dynamics(c, p, articulated, sol.qdd);
                  if (test::relative_error(sol.qdd, fd.qdd) > kMaterialDifference) ++fd_differs;
-               });
+               }, true);
   std::cout << "[trap] " << constrained << " constrained states with N >= 2: tau_ff + tau_ctrl differs from tau_cmd in "
             << differ << ", its forward dynamics misses qdd in " << fd_differs
             << "; max relative gap at the last joint " << worst_last << "\n";
@@ -183,7 +190,7 @@ TEST(CommandedTorque, SaturatePolicyCommandRealisesItsAccelerations) {
                  worst = std::max(worst, e / fd.tolerance * kForwardDynamicsTolerance);
                  ++states;
                  if (reference.status() & solver::status_saturated) ++saturated;
-               });
+               }, true);
   std::cout << "[saturate] " << states << " states (" << saturated << " saturated), max relative error of FD(tau_cmd) "
             << "(normalised) " << worst << "\n";
   EXPECT_GT(saturated, states / 10);  // the clamp is exercised
@@ -206,7 +213,7 @@ TEST(CommandedTorque, ExactSaturationStaysWithinTheLimitsAndRealisesItsAccelerat
                  worst = std::max(worst, e / fd.tolerance * kForwardDynamicsTolerance);
                  ++states;
                  if (reference.status() & solver::status_saturated) ++saturated;
-               });
+               }, true);
   std::cout << "[saturate_exact] " << states << " states (" << saturated
             << " saturated), max relative error of FD(tau_cmd) (normalised) " << worst << "\n";
   EXPECT_GT(saturated, states / 10);
