@@ -137,7 +137,11 @@ void check_chain(const model::Chain& chain, const model::ChainSpec& spec) {
   if (!spec.tip_link.empty() && chain.tip_link != spec.tip_link) violation("tip link is not the one asked for");
   for (const std::string& link : {chain.root_link, chain.tip_link})
     if (!chain.frames.count(link)) violation("link '" + link + "' has no frame");
+  if (chain.floating_base != spec.floating_base) violation("floating base not as asked for");
   if (chain.frames.at(chain.root_link).body != chain.base_coordinates()) violation("root link is not on the base (body 6 of a floating base)");
+  for (std::size_t i = 1; i < chain.joints.size(); ++i)
+    if (chain.joints[i].floating_base_coordinate != (i <= chain.base_coordinates()))
+      violation("joint " + std::to_string(i) + " is a floating-base coordinate out of place");
   for (const auto& [link, frame] : chain.frames) {
     if (frame.body >= chain.bodies.size()) violation("frame of '" + link + "' on a body that does not exist");
     check_finite(frame.X.E, "frame of '" + link + "'");
@@ -244,7 +248,8 @@ void check_problem(const cli::Problem& p, const model::Chain& chain) {
 // ---- Inputs ---------------------------------------------------------------------------------
 
 // Root, tip and further tips from an optional "<!-- chain root=LINK tip=LINK branch=LINK ... -->"
-// anywhere in the URDF (branch= repeatable: the tree of all root-to-tip paths). A name
+// anywhere in the URDF (branch= repeatable: the tree of all root-to-tip paths; the word
+// `floating` lets the root link float, F5). A name
 // ends at white space or NUL: names come from the command line (--root, --tip), and argv
 // strings cannot hold NUL.
 void read_chain_directive(const std::string& input, model::ChainSpec& spec) {
@@ -259,6 +264,7 @@ void read_chain_directive(const std::string& input, model::ChainSpec& spec) {
     if (word.rfind("root=", 0) == 0) spec.root_link = word.substr(5);
     if (word.rfind("tip=", 0) == 0) spec.tip_link = word.substr(4);
     if (word.rfind("branch=", 0) == 0) spec.branch_tips.push_back(word.substr(7));
+    if (word == "floating") spec.floating_base = true;
   }
 }
 

@@ -97,7 +97,7 @@ def main():
         " Unitree's a1_description (github.com/unitreerobotics/unitree_ros, urdf/a1.urdf and xacro/const.xacro);"
         " sources and omissions in ../README.md. "))
     # The tree for the fuzzers' seed run (fuzz/fuzz_entries.cpp, read_chain_directive).
-    robot.append(ET.Comment(" chain root=trunk tip=FL_foot branch=FR_foot branch=RL_foot branch=RR_foot "))
+    robot.append(ET.Comment(" chain root=trunk tip=FL_foot branch=FR_foot branch=RL_foot branch=RR_foot floating "))
     add_link(robot, "trunk", TRUNK)
     for leg, sx, sy in LEGS:
         add_joint(robot, leg + "_hip_joint", "revolute", "trunk", leg + "_hip",
