@@ -170,23 +170,23 @@ while read -r vid _; do
   printf '  %-18s %s\n' "${vid%/f64}" "$(ratio "$vid - decompose" "$vid original full")"
 done < <("$driver" --list)
 
+against_generated() {  # <id prefix> <policy>: "<prefix>/<scene> <policy> full" / "<scene>/f64 original full", per scene
+  local prefix=$1 policy=$2 vid stem
+  while read -r vid _; do
+    [[ $vid == $prefix/* ]] || continue
+    stem=${vid#"$prefix"/}
+    printf '  %-18s %10s / %8s = %s\n' "$stem" "${per_call[$vid $policy full]:--}" "${per_call[$stem/f64 original full]:--}" \
+      "$(ratio "$vid $policy full" "$stem/f64 original full")"
+  done < <("$driver" --list)
+}
+
 echo
 echo "ReferenceSolver<double> / generated f64, full solve (original):"
-while read -r vid _; do
-  [[ $vid == reference/* ]] || continue
-  stem=${vid#reference/}
-  printf '  %-18s %10s / %8s = %s\n' "$stem" "${per_call[$vid original full]:--}" "${per_call[$stem/f64 original full]:--}" \
-    "$(ratio "$vid original full" "$stem/f64 original full")"
-done < <("$driver" --list)
+against_generated reference original
 
 echo
 echo "Dense KKT (the report's row: M(q), Jacobians, one LDL^T) / generated f64, full solve (original):"
-while read -r vid _; do
-  [[ $vid == dense_kkt/* ]] || continue
-  stem=${vid#dense_kkt/}
-  printf '  %-18s %10s / %8s = %s\n' "$stem" "${per_call[$vid - full]:--}" "${per_call[$stem/f64 original full]:--}" \
-    "$(ratio "$vid - full" "$stem/f64 original full")"
-done < <("$driver" --list)
+against_generated dense_kkt -
 
 echo
 echo "panda_bias_only / panda_nc6 (f64 full, original): $(ratio "panda_bias_only/f64 original full" "panda_nc6/f64 original full")"
