@@ -409,13 +409,7 @@ TEST(DenseOracle, ReferenceSolverMatchesKktWithConstraintSetsOnAnyLinks) {
 // the last tip.
 test::OracleCase bundled_tree(const std::string& urdf, const std::string& root, const std::vector<std::string>& tips,
                               bool floating_base) {
-  model::ChainSpec spec;
-  spec.urdf = test::source_path(urdf);
-  spec.root_link = root;
-  spec.tip_link = tips.front();
-  spec.branch_tips.assign(tips.begin() + 1, tips.end());
-  spec.floating_base = floating_base;
-  test::OracleCase c{urdf, model::load_chain(spec), {}};
+  test::OracleCase c{urdf, test::load_tree(urdf, root, tips, floating_base), {}};
   c.external_links = {floating_base ? root : tips.front(), tips.back()};
   return c;
 }

@@ -167,12 +167,8 @@ namespace {
 // constant 0 in the trace (so the emitted code has none of them), while on the left arm and the
 // shared torso they are computed; with sets on both hands both arms carry them.
 TEST(Trace, ABranchWithoutConstraintsCarriesNoConstraintTerms) {
-  model::ChainSpec spec;
-  spec.urdf = test::source_path("robots/dual_panda/dual_panda.urdf");
-  spec.root_link = "station";
-  spec.tip_link = "left_panda_hand";
-  spec.branch_tips = {"right_panda_hand"};
-  const model::Chain chain = model::load_chain(spec);
+  const model::Chain chain =
+      test::load_tree("robots/dual_panda/dual_panda.urdf", "station", {"left_panda_hand", "right_panda_hand"});
   const auto is_right_arm = [&](int body) { return body >= 9; };  // right_panda_link1..7
   const auto computed_terms = [&](std::vector<solver::ConstraintSet> sets, bool right) {
     solver::DriverLayout layout;

@@ -26,16 +26,11 @@
 namespace sweepgen {
 namespace {
 
-const std::string kDualPanda = test::source_path("robots/dual_panda/dual_panda.urdf");
 const Eigen::Vector3d kGravity(0, 0, -9.81);
 
-model::Chain load(const std::string& root, const std::string& tip, std::vector<std::string> branches) {
-  model::ChainSpec spec;
-  spec.urdf = kDualPanda;
-  spec.root_link = root;
-  spec.tip_link = tip;
-  spec.branch_tips = std::move(branches);
-  return model::load_chain(spec);
+// The dual Panda from `root` to `tips`.
+model::Chain load(const std::string& root, const std::vector<std::string>& tips) {
+  return test::load_tree("robots/dual_panda/dual_panda.urdf", root, tips);
 }
 
 // Feed-forward torques, a push on the torso (or, torso fixed, on the left upper arm) and the
@@ -94,7 +89,7 @@ RoundTrip round_trip(test::KdlTreeDynamics& kdl, const solver::DriverLayout& l,
 }
 
 TEST(TreeKdl, ConstraintWrenchesAndAccelerationsReproduceTheTorquesOnTheWholeTree) {
-  const model::Chain tree = load("station", "left_panda_hand", {"right_panda_hand"});
+  const model::Chain tree = load("station", {"left_panda_hand", "right_panda_hand"});
   ASSERT_EQ(tree.dof(), 15u);
   ASSERT_FALSE(tree.is_chain());
   test::KdlTreeDynamics kdl(tree, kGravity);
@@ -144,8 +139,8 @@ double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 // the same bodies, so to a few roundings (the tree sums E over both branches, where the right
 // arm's columns are exactly zero; measured: identical to the last bit on this seed).
 TEST(TreeKdl, ATreeOfUnconnectedBranchesIsTheChainSolverOnEachBranch) {
-  const model::Chain tree = load("torso", "left_panda_hand", {"right_panda_hand"});
-  const model::Chain left = load("torso", "left_panda_hand", {}), right = load("torso", "right_panda_hand", {});
+  const model::Chain tree = load("torso", {"left_panda_hand", "right_panda_hand"});
+  const model::Chain left = load("torso", {"left_panda_hand"}), right = load("torso", {"right_panda_hand"});
   ASSERT_EQ(tree.dof(), 14u);
   const solver::DriverLayout tree_layout = layout("left_panda_link2", {{"left_panda_hand", 4, {}}, {"left_panda_link4", 1, {}}});
   const solver::DriverLayout left_layout = layout("left_panda_link2", {{"left_panda_hand", 4, {}}, {"left_panda_link4", 1, {}}});
@@ -196,13 +191,7 @@ TEST(TreeKdl, FloatingBasesReproduceTheTorquesThroughKdl) {
   test::WorstRatio worst("floating-base round trip");
   int states = 0;
   for (const Case& c : cases) {
-    model::ChainSpec spec;
-    spec.urdf = test::source_path(c.urdf);
-    spec.root_link = c.root;
-    spec.tip_link = c.tips.front();
-    spec.branch_tips.assign(c.tips.begin() + 1, c.tips.end());
-    spec.floating_base = true;
-    const model::Chain chain = model::load_chain(spec);
+    const model::Chain chain = test::load_tree(c.urdf, c.root, c.tips, true);
     test::KdlTreeDynamics kdl(chain, kGravity);
     const solver::DriverLayout l = layout(c.root, c.sets);
     solver::ReferenceSolver<double> reference(chain, l);

@@ -36,4 +36,17 @@ inline model::Chain load_bundled(const BundledRobot& robot, bool to_last_moving_
   return model::load_chain(spec);
 }
 
+// The tree of the paths from `root` to each of `tips` (the first is the chain's tip) of a URDF
+// under robots/ (path relative to the source tree), on a fixed or a floating base.
+inline model::Chain load_tree(const std::string& urdf, const std::string& root, const std::vector<std::string>& tips,
+                              bool floating_base = false) {
+  model::ChainSpec spec;
+  spec.urdf = source_path(urdf);
+  spec.root_link = root;
+  spec.tip_link = tips.front();
+  spec.branch_tips.assign(tips.begin() + 1, tips.end());
+  spec.floating_base = floating_base;
+  return model::load_chain(spec);
+}
+
 }  // namespace sweepgen::test

@@ -72,17 +72,11 @@ class RandomChainGenerator {
   model::Chain tree(std::size_t dof = 0) {
     const std::size_t n = dof > 0 ? dof : static_cast<std::size_t>(std::uniform_int_distribution<int>(2, 12)(rng_));
     model::Chain c = base("random tree ");
-    for (std::size_t i = 1; i <= n; ++i)
-      add_body(c, static_cast<std::size_t>(std::uniform_int_distribution<std::size_t>(0, i - 1)(rng_)));
-    add_tip(c, n);
-    std::vector<bool> has_child(n + 1, false);
-    for (std::size_t i = 1; i <= n; ++i) has_child[c.parent[i]] = true;
-    for (std::size_t i = 1; i < n; ++i)
-      if (!has_child[i]) c.branch_tips.push_back(c.bodies[i].link);
+    grow_tree(c, n);
     return c;
   }
 
-  // A random tree (2..12 joints) on a floating base (F5) with a random root body: joints 1..6
+  // A random tree of 1..10 joints on a floating base (F5) with a random root body: joints 1..6
   // are the base's coordinates, every further body hangs from the root body or a later one.
   model::Chain floating_tree(std::size_t dof = 0) {
     const std::size_t n = dof > 0 ? dof : static_cast<std::size_t>(std::uniform_int_distribution<int>(1, 10)(rng_));
@@ -90,13 +84,7 @@ class RandomChainGenerator {
     double mass = 0;
     const model::Inertia root = inertia(mass);
     model::add_floating_base(c, root, mass);
-    for (std::size_t i = 7; i <= n + 6; ++i)
-      add_body(c, static_cast<std::size_t>(std::uniform_int_distribution<std::size_t>(6, i - 1)(rng_)));
-    add_tip(c, n + 6);
-    std::vector<bool> has_child(n + 7, false);
-    for (std::size_t i = 7; i <= n + 6; ++i) has_child[c.parent[i]] = true;
-    for (std::size_t i = 7; i < n + 6; ++i)
-      if (!has_child[i]) c.branch_tips.push_back(c.bodies[i].link);
+    grow_tree(c, n);
     return c;
   }
 
@@ -112,6 +100,20 @@ class RandomChainGenerator {
     c.parent.push_back(0);
     c.frames["base"] = model::Frame{0, model::Transform::identity()};
     return c;
+  }
+
+  // `n` bodies after the chain's last, each on a random joint against a random one of the bodies
+  // from that last one on; the tip is the last body's link (or a frame behind it), every other
+  // branch end a further tip.
+  void grow_tree(model::Chain& c, std::size_t n) {
+    const std::size_t first = c.bodies.size(), last = first + n - 1;
+    for (std::size_t i = first; i <= last; ++i)
+      add_body(c, static_cast<std::size_t>(std::uniform_int_distribution<std::size_t>(first - 1, i - 1)(rng_)));
+    add_tip(c, last);
+    std::vector<bool> has_child(last + 1, false);
+    for (std::size_t i = first; i <= last; ++i) has_child[c.parent[i]] = true;
+    for (std::size_t i = first; i < last; ++i)
+      if (!has_child[i]) c.branch_tips.push_back(c.bodies[i].link);
   }
 
   // Body i = c.dof() + 1 on a random joint against body `parent`.
