@@ -6,7 +6,10 @@
 //  (a) per state, the q̈ error within max(2 × KDL's, 4 eps) (the target), on all but
 //      kLuckShare of the states: on a single well-conditioned state two backward-stable solvers
 //      of different operation order differ in luck by a few eps (the misses measured here are
-//      all below 12 eps, where KDL happened to be 2.5-11x closer; the printed lines);
+//      all below 12 eps, where KDL happened to be 2.5-11x closer; the printed lines), and on
+//      fewer states than KDL misses the same criterion judged against ours (measured: 0-3 of 400
+//      against 55-400 of 400): per state, the criterion is luck both ways, and this asserts which
+//      way it leans;
 //  (b) the worst error (q̈, τcmd and ν together) at most kWorstEpsKappa eps κ over all states;
 //  (c) the refinement matters: without it the worst q̈ error of the ill-conditioned scenes is at
 //      least kGain times the refined one (measured 290x on ur5_nc6 to 40000x on panda_nc6, the
@@ -46,6 +49,7 @@ constexpr double kGain = 10;
 
 struct Outcome {
   double worst_eps_kappa = 0, worst_qdd = 0, kdl_worst_eps_kappa = 0;
+  int behind_kdl = 0, kdl_behind = 0;  // states where one misses max(2 x the other's, 4 eps)
 };
 
 // One scene: every state judged with and without the refinement; (a) and (b) asserted here.
@@ -80,14 +84,22 @@ Outcome check_scene(const scene::Scene& s, bool refinement, int states) {
     if (theirs.full_rank())
       outcome.kdl_worst_eps_kappa = std::max(outcome.kdl_worst_eps_kappa, theirs.error() / (kEps * theirs.kappa()));
     if (!refinement) continue;
-    if (luck->skip(!(mine.qdd <= std::max(2 * theirs.qdd, 4 * kEps)), "behind KDL"))
+    // The same criterion the other way round: where KDL misses max(2 x ours, 4 eps).
+    if (theirs.full_rank() && theirs.qdd > std::max(2 * mine.qdd, 4 * kEps)) ++outcome.kdl_behind;
+    const bool behind = !(mine.qdd <= std::max(2 * theirs.qdd, 4 * kEps));
+    outcome.behind_kdl += behind;
+    if (luck->skip(behind, "behind KDL"))
       std::printf("[refinement] %s state %zu: qdd error %.2e (%.1f eps), KDL %.2e, kappa %.2e\n", s.solver.c_str(), k,
                   mine.qdd, mine.qdd / kEps, theirs.qdd, mine.kappa());
   }
   std::printf("[refinement] %s: %d states, worst error %.2f eps kappa (KDL %.2f), worst qdd error %.2e\n",
               what.c_str(), states, outcome.worst_eps_kappa, outcome.kdl_worst_eps_kappa, outcome.worst_qdd);
   if (refinement) {
+    std::printf("[refinement] %s: per state, sweepgen misses max(2 x KDL, 4 eps) on %d, KDL misses max(2 x "
+                "sweepgen, 4 eps) on %d\n",
+                what.c_str(), outcome.behind_kdl, outcome.kdl_behind);
     EXPECT_LE(outcome.worst_eps_kappa, kWorstEpsKappa) << what;
+    EXPECT_LT(outcome.behind_kdl, outcome.kdl_behind) << what;
   }
   return outcome;
 }
