@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# bench/code_stats.sh and bench/instructions_by_quantity.sh on the smallest bundled scene: they run
+# from a clean clone and print figures that add up (bench/README.md).
+set -euo pipefail
+root=$1
+scene=planar_nc2
+fail() { echo "bench scripts test: $*" >&2; exit 1; }
+
+# code_stats: the operation count is the header's, and the object has instructions and spills.
+line=$(RUNS=1 bash "$root/bench/code_stats.sh" "$scene" | awk -v s="$scene" '$1 == s')
+echo "$line"
+read -r _ ops seconds _ _ text instructions spills reloads <<<"$line"
+header_ops=$(grep -m1 -F '//   f64: outward + decompose + solve_' "$root/generated/$scene.hpp" | sed -n 's/.*(total \([0-9]*\)).*/\1/p')
+[ "$ops" = "$header_ops" ] || fail "code_stats ops $ops, header $header_ops"
+for value in "$text" "$instructions" "$spills" "$reloads"; do
+  [ "$value" -gt 0 ] || fail "code_stats: a count is not positive: $line"
+done
+awk -v t="$seconds" 'BEGIN { exit !(t > 0) }' || fail "code_stats: compile time $seconds"
+
+# instructions_by_quantity: the rows printed add up to the total, within what rows under one
+# instruction per call leave out (at most one per quantity: < 1 % of ~1 400 here).
+out=$(CALLS=200 bash "$root/bench/instructions_by_quantity.sh" "$scene")
+echo "$out"
+grep -q ' outward / articulated_inertia$' <<<"$out" || fail "instructions_by_quantity: no articulated inertia row"
+# And the total is the whole program's count but for the driver's loop (index, call, checksum:
+# measured 24 instructions per call).
+awk '/total per call/ { total = $1; next } /whole program/ { program = $1; next } { sum += $1 }
+     END { if (total < 500 || sum > total || sum < 0.99 * total || program < total || program > total + 40) {
+             print "sum", sum, "total", total, "program", program; exit 1 } }' <<<"$out" ||
+  fail "instructions_by_quantity: rows, total and the whole program's count disagree"
+echo "bench scripts test: ok"
