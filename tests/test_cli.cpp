@@ -523,6 +523,29 @@ TEST(CliGenerate, DefaultSceneFilesAreNamedAfterTheUrdfAndByteStable) {
   EXPECT_FALSE(has_temporaries(dir.path()));
 }
 
+// --floating-base (the scene key base: floating) for the default scene of a URDF and over a scene
+// file: six base coordinates before the joints, q of nq = dof + 3 values (F5); info says so.
+TEST(CliGenerate, FloatingBaseFlag) {
+  test::TempDir dir;
+  const CommandResult fixed = sweepgen({"generate", "--urdf", kPlanar, "--out", (dir.path() / "fixed").string()});
+  ASSERT_EQ(fixed.exit_code, 0) << describe(fixed);
+  expect_contains(snapshot(dir.path() / "fixed").at("planar_rpr.hpp"), "constexpr int dof = 3;");
+  const CommandResult floating =
+      sweepgen({"generate", "--urdf", kPlanar, "--floating-base", "--out", (dir.path() / "floating").string()});
+  ASSERT_EQ(floating.exit_code, 0) << describe(floating);
+  const std::string header = snapshot(dir.path() / "floating").at("planar_rpr.hpp");
+  expect_contains(header, "constexpr int dof = 9;");
+  expect_contains(header, "constexpr int nq = 12;  // values of q: world_R_base (9, row-major), then the joints'");
+  const std::string scene = kSource + "/robots/panda/panda_nc0.yaml";
+  const CommandResult over_scene =
+      sweepgen({"generate", "--scene", scene, "--floating-base", "--out", (dir.path() / "scene").string()});
+  ASSERT_EQ(over_scene.exit_code, 0) << describe(over_scene);
+  expect_contains(snapshot(dir.path() / "scene").at("panda_nc0.hpp"), "constexpr int dof = 13;");
+  const CommandResult info = sweepgen({"info", "--urdf", kPlanar, "--floating-base"});
+  ASSERT_EQ(info.exit_code, 0) << describe(info);
+  expect_contains(info.out, "1. floating_base_rx (floating-base coordinate");
+}
+
 // Constraint sets on two links: `info` and the generated header list each set with its link, its
 // directions' numbers and where its α comes from.
 TEST(CliGenerate, ConstraintSetsAreListed) {

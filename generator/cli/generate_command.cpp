@@ -22,6 +22,8 @@ void add_scene_options(CLI::App* command, SceneOptions& options) {
   command->add_option("--expose", options.expose, "all | outputs")->check(CLI::IsMember({"all", "outputs"}));
   command->add_option("--scalar", options.scalars, "double and/or float (repeatable)")
       ->check(CLI::IsMember({"double", "float"}));
+  command->add_flag("--floating-base", options.floating_base,
+                    "the root link moves freely (scene key base: floating; docs/derivation.md, F5)");
   // Neither a scene nor a URDF is a usage error (exit 2), like any other missing option.
   command->parse_complete_callback([&options] {
     if (options.scene.empty() && options.urdf.empty()) throw CLI::RequiredError("--scene or --urdf");
@@ -49,6 +51,10 @@ scene::Scene resolve_scene(const SceneOptions& options) {
     if (!scene::is_identifier(options.solver))
       throw InputError("--solver", quote_name(options.solver), "not a usable C++ identifier");
     s.solver = options.solver;
+  }
+  if (options.floating_base) {
+    s.chain.floating_base = true;
+    s.locations["base"] = "--floating-base";
   }
   if (!options.expose.empty()) s.expose_all = options.expose == "all";
   if (!options.scalars.empty()) s.scalars = options.scalars;

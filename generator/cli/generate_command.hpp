@@ -16,6 +16,7 @@ struct SceneOptions {
   std::string solver;
   std::string expose;
   std::vector<std::string> scalars;
+  bool floating_base = false;
 };
 
 struct GenerateOptions {
