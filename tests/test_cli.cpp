@@ -251,6 +251,25 @@ const std::vector<BadLine> kBadLines = {
      {"number overflow", "1e999"}},
 };
 
+// A joint whose articulated inertia vanishes is locked (J1) and the status says so: a massless
+// base set free (--floating-base) above a continuous joint about its z axis cannot turn about z
+// (the link beyond turns freely), so the base's rz coordinate is locked, q̈ there is 0.
+TEST(CliSolve, LockedJointIsReported) {
+  test::TempDir dir;
+  const std::string urdf = dir.write("massless_base.urdf", R"(<robot name="r">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="turn" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+</robot>)");
+  const CommandResult r = sweepgen({"solve", "--urdf", urdf, "--floating-base"},
+                                   join_lines({R"({"q": [1,0,0, 0,1,0, 0,0,1, 0.3], "qd": [0,0,0,0,0,0, 1]})"}));
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  const ordered_json answer = ordered_json::parse(lines_of(r.out).at(0));
+  EXPECT_EQ(answer["status"], "joint_inertia_singular") << r.out;
+  EXPECT_EQ(answer["qdd"][2].get<double>(), 0.0) << r.out;
+}
+
 // Finite inputs whose results overflow: the line is answered, the non-finite values are null
 // and the status says not_finite (README, "sweepgen solve"); a result, not an input error.
 TEST(CliSolve, ResultsThatOverflowAreFlaggedNotFinite) {

@@ -143,6 +143,7 @@ nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsig
   if (status & solver::status_constraint_rank_deficient) flags.push_back("constraint_rank_deficient");
   if (status & solver::status_saturated) flags.push_back("saturated");
   if (status & solver::status_not_finite) flags.push_back("not_finite");
+  if (status & solver::status_joint_inertia_singular) flags.push_back("joint_inertia_singular");
   std::string text = flags.empty() ? "ok" : flags[0];
   for (std::size_t k = 1; k < flags.size(); ++k) text += "," + flags[k];
   out["status"] = text;
