@@ -293,6 +293,31 @@ TEST(Report, SameSeedSameErrors) {
   EXPECT_EQ(errors[0], errors[1]);
 }
 
+// A robot whose every state locks a joint (a massless free base above a joint about its z axis:
+// the base cannot turn about z, J1): no state can be judged, and the report says why instead of
+// printing NaN statistics.
+TEST(Report, SceneWhereNoStateCanBeJudgedSaysWhy) {
+  TempDir dir;
+  dir.write("massless_base.urdf", R"(<robot name="r">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="turn" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+</robot>)");
+  const std::string scene = dir.write("locked.yaml",
+                                      "sweepgen_scene: 1\nsolver: locked\nurdf: massless_base.urdf\nbase: floating\n"
+                                      "drivers:\n  torques: [tau_ff]\n");
+  const auto out = dir.path() / "report";
+  const auto result = run_command(shell_command(
+      {SWEEPGEN_EXECUTABLE, "report", "--scene", scene, "--states", "4", "--repetitions", "1", "--out", out.string()}));
+  ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find(": no state could be judged: in every one, a joint locked (J1)"), std::string::npos)
+      << result.out;
+  const std::string md = test::read_text(out / "report.md");
+  EXPECT_NE(md.find("| none judged | none judged | none judged | none judged | 100.0% |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("nan"), std::string::npos) << md;
+}
+
 TEST(Report, BadSceneIsAnInputError) {
   TempDir dir;
   const std::string scene = dir.write("bad.yaml", "sweepgen_scene: 1\nsolver: x\nurdf: missing.urdf\n");

@@ -181,17 +181,33 @@ std::string recommend(const SceneStudy& study, const std::vector<std::string>& c
         (!best || v.ns_median < best->ns_median))
       best = &v;
   if (!best) return "no generated double variant was measured";
+  const std::string timing = format("%.0f", best->ns_median) + " ns median and " + format("%.0f", best->ns_p99) +
+                             " ns p99 per solve";
+  if (best->all.judged == 0) {
+    unsigned raised = 0;
+    for (const StatePoint& p : best->states) raised |= (p.status | p.referee_status) & kNotJudged;
+    std::string why;
+    for (const auto& [bit, name] : {std::pair{solver::status_joint_inertia_singular, "a joint locked (J1)"},
+                                    std::pair{solver::status_constraint_rank_deficient, "a constraint direction dropped"},
+                                    std::pair{solver::status_not_finite, "a value not finite"}})
+      if (raised & bit) why += std::string(why.empty() ? "" : " or ") + name;
+    if (why.empty()) why = "a result beyond the scalar's range";
+    return best->name + ": no state could be judged: in every one, " + why +
+           " for this solver or its referee (sweepgen info lists each joint's mass; a joint without inertia about its "
+           "axis is locked at every state), " + timing;
+  }
   double kappa_max = 1, ratio = 0;
   for (const StatePoint& p : best->states)
     if (p.judged) {
       kappa_max = std::max(kappa_max, p.kappa);
       ratio = std::max(ratio, p.error() / (std::numeric_limits<double>::epsilon() * p.kappa));
     }
-  std::string sentence = best->name + ": error ≤ " + scientific(best->families.front().max) + " on " +
-                         best->families.front().family + " states and ≤ " + format("%.2g", ratio) +
-                         " ε κ on every judged state up to κ = " + format("%.1e", kappa_max) + ", " +
-                         format("%.0f", best->ns_median) + " ns median and " + format("%.0f", best->ns_p99) +
-                         " ns p99 per solve";
+  const FamilyErrors& first = best->families.front();
+  std::string sentence = best->name + ": " +
+                         (first.judged > 0 ? "error ≤ " + scientific(first.max) + " on " + first.family + " states and "
+                                           : "no " + first.family + " state judged; ") +
+                         "≤ " + format("%.2g", ratio) + " ε κ on every judged state up to κ = " +
+                         format("%.1e", kappa_max) + ", " + timing;
   if (std::isnan(study.float_domain_kappa)) return sentence;
   if (study.float_domain_kappa == 0)
     return sentence + "; float answered none of these states to " + format("%.0e", kFloatGoal) +

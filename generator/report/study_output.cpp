@@ -16,6 +16,8 @@ namespace {
 constexpr double kPlotFloor = 1e-20;
 
 std::string ns(double value) { return format("%.0f", value); }
+// An error statistic of `e`'s judged states, or why there is none.
+std::string error_cell(const FamilyErrors& e, double value) { return e.judged == 0 ? "none judged" : scientific(value); }
 std::string share(std::size_t part, std::size_t whole) {
   return whole == 0 ? "-" : format("%.1f%%", 100.0 * static_cast<double>(part) / static_cast<double>(whole));
 }
@@ -41,10 +43,10 @@ std::vector<std::string> summary_cells(const SceneStudy& s, const VariantStudy& 
           ns(v.ns_p99),
           ns(v.ns_max),
           kdl_ratio(s, v),
-          scientific(v.all.median),
-          scientific(v.all.p99),
-          scientific(v.all.max),
-          scientific(v.all.max_residual),
+          error_cell(v.all, v.all.median),
+          error_cell(v.all, v.all.p99),
+          error_cell(v.all, v.all.max),
+          error_cell(v.all, v.all.max_residual),
           share(v.all.status_raised, v.all.states)};
 }
 
@@ -259,7 +261,7 @@ std::string report_markdown(const std::vector<SceneStudy>& studies, const std::s
       if (!v.note.empty() || v.referee) continue;
       std::vector<std::string> cells{v.name};
       for (const FamilyErrors& e : v.families)
-        cells.push_back(scientific(e.max) + " (" + share(e.status_raised, e.states) + ")");
+        cells.push_back(error_cell(e, e.max) + " (" + share(e.status_raised, e.states) + ")");
       md << markdown_row(cells);
     }
     md << "\nWhat each row solves:\n\n";
