@@ -21,6 +21,7 @@
 //
 // What the chain carries (links lumped into each body's inertia, off-chain joints locked, links
 // left out), masses in kg:
+//   base (fixed, moves nothing): 0 kg = station 0 kg
 //   body 1 (joint torso_joint): 16.2595 kg = torso 15 kg + lumped left_panda_link0 0.629769 kg, right_panda_link0 0.629769 kg
 //   body 2 (joint left_panda_joint1): 4.97068 kg = left_panda_link1 4.97068 kg
 //   body 3 (joint left_panda_joint2): 0.646926 kg = left_panda_link2 0.646926 kg

@@ -18,6 +18,7 @@
 //
 // What the chain carries (links lumped into each body's inertia, off-chain joints locked, links
 // left out), masses in kg:
+//   base (fixed, moves nothing): 5 kg = lbr_iiwa_link_0 5 kg
 //   body 1 (joint lbr_iiwa_joint_1): 5.76 kg = lbr_iiwa_link_1 5.76 kg
 //   body 2 (joint lbr_iiwa_joint_2): 6.35 kg = lbr_iiwa_link_2 6.35 kg
 //   body 3 (joint lbr_iiwa_joint_3): 3.5 kg = lbr_iiwa_link_3 3.5 kg

@@ -18,6 +18,7 @@
 //
 // What the chain carries (links lumped into each body's inertia, off-chain joints locked, links
 // left out), masses in kg:
+//   base (fixed, moves nothing): 0.629769 kg = panda_link0 0.629769 kg
 //   body 1 (joint panda_joint1): 4.97068 kg = panda_link1 4.97068 kg
 //   body 2 (joint panda_joint2): 0.646926 kg = panda_link2 0.646926 kg
 //   body 3 (joint panda_joint3): 3.2286 kg = panda_link3 3.2286 kg

@@ -18,6 +18,7 @@
 //
 // What the chain carries (links lumped into each body's inertia, off-chain joints locked, links
 // left out), masses in kg:
+//   base (fixed, moves nothing): 5 kg = base_link 5 kg
 //   body 1 (joint planar_joint1): 2 kg = link1 2 kg
 //   body 2 (joint planar_joint2): 1 kg = link2 1 kg
 //   body 3 (joint planar_joint3): 0.7 kg = link3 0.5 kg + lumped tool 0.2 kg

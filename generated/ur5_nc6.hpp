@@ -18,6 +18,7 @@
 //
 // What the chain carries (links lumped into each body's inertia, off-chain joints locked, links
 // left out), masses in kg:
+//   base (fixed, moves nothing): 4 kg = base_link 4 kg
 //   body 1 (joint shoulder_pan_joint): 3.7 kg = shoulder_link 3.7 kg
 //   body 2 (joint shoulder_lift_joint): 8.393 kg = upper_arm_link 8.393 kg
 //   body 3 (joint elbow_joint): 2.275 kg = forearm_link 2.275 kg

@@ -35,6 +35,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <regex>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -322,6 +323,14 @@ TEST(OffChain, EveryLinkIsLumpedLockedOrLeftOut) {
   EXPECT_NE(chain.left_out[1].reason.find("not below the root"), std::string::npos);
   // Every link of the URDF (as urdfdom counts them) is on the chain, lumped, or left out.
   EXPECT_EQ(chain.frames.size() + chain.left_out.size(), urdf::parseURDFFile(kSideBranchesUrdf)->links_.size());
+  // And each with its mass in the listing that `sweepgen info` and the generated header print,
+  // the base's links (the root, and what is fixed to it) included: "<link> <mass> kg".
+  std::string listing;
+  for (const std::string& line : model::lumping_summary(chain)) listing += line + "\n";
+  const urdf::ModelInterfaceSharedPtr urdf_model = urdf::parseURDFFile(kSideBranchesUrdf);
+  for (const auto& [name, link] : urdf_model->links_)
+    EXPECT_TRUE(std::regex_search(listing, std::regex("(^| )" + name + " [-+.e0-9]+ kg"))) << name << " is not listed:\n"
+                                                                                          << listing;
 }
 
 // fixed_rpy_chain as written: every fixed link lumped into the moving body before it, the tool

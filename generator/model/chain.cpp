@@ -57,17 +57,22 @@ std::vector<std::string> lumping_summary(const Chain& chain) {
   if (chain.floating_base)
     line("floating base: joints 1..6 (floating_base_rx .. floating_base_pz) are the coordinates [omega; v] of ",
          chain.root_link, "'s twist in its own frame; bodies 1..5 are massless");
-  for (std::size_t i = 1 + (chain.floating_base ? 5 : 0); i <= chain.dof(); ++i) {
-    const Body& body = chain.bodies[i];
+  // "M kg = link m kg + lumped a ma kg, b mb kg": a body's mass and where it comes from.
+  const auto composition = [](const Body& body) {
     double own = body.mass;
     for (const auto& lumped : body.lumped_links) own -= lumped.mass;
-    std::ostringstream lumped_text;
-    for (const auto& lumped : body.lumped_links)
-      lumped_text << (lumped_text.tellp() > 0 ? ", " : "") << lumped.link << " " << lumped.mass << " kg"
-                  << (lumped.locked_joint.empty() ? "" : " behind locked joint " + lumped.locked_joint);
-    line("body ", i, " (joint ", chain.joints[i].name, "): ", body.mass, " kg = ", body.link, " ", own, " kg",
-         body.lumped_links.empty() ? "" : " + lumped " + lumped_text.str());
-  }
+    std::ostringstream text;
+    text << body.mass << " kg = " << body.link << " " << own << " kg";
+    for (std::size_t k = 0; k < body.lumped_links.size(); ++k) {
+      const LumpedLink& lumped = body.lumped_links[k];
+      text << (k == 0 ? " + lumped " : ", ") << lumped.link << " " << lumped.mass << " kg"
+           << (lumped.locked_joint.empty() ? "" : " behind locked joint " + lumped.locked_joint);
+    }
+    return text.str();
+  };
+  if (!chain.floating_base) line("base (fixed, moves nothing): ", composition(chain.bodies[0]));
+  for (std::size_t i = 1 + (chain.floating_base ? 5 : 0); i <= chain.dof(); ++i)
+    line("body ", i, " (joint ", chain.joints[i].name, "): ", composition(chain.bodies[i]));
   for (const auto& locked : chain.locked_joints)
     line("locked joint ", locked.name, " at ", locked.position, (locked.from_scene ? " (scene)" : " (default)"),
          ", carried by ", chain.bodies[locked.body].link);

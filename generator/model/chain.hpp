@@ -84,7 +84,7 @@ struct Chain {
   std::string root_link;
   std::string tip_link;     // the tip; its frame is the solution's Ẍ_tip
   std::vector<std::string> branch_tips;  // further tips, each with its path from the root
-  std::vector<Body> bodies;    // 0..N, bodies[0] is the base
+  std::vector<Body> bodies;    // 0..N, bodies[0] is the base (a fixed one: its links and mass, for the listing; no inertia)
   std::vector<Joint> joints;   // 0..N, joints[0] is unused (the base does not move)
   std::vector<std::size_t> parent;  // 0..N, parent[i] < i the body joint i moves body i against; parent[0] = 0
   std::map<std::string, Frame> frames;  // every link on the chain, lumped ones included

@@ -443,7 +443,9 @@ Chain load_chain(const ChainSpec& spec) {
   chain.tip_link = tip_link.empty() ? deepest_link(*root, model->links_.size(), urdf_path) : tip_link;
   find_link(*model, chain.tip_link, urdf_path, "tip");
 
-  chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, 0});
+  // The base: its inertia moves nothing, its mass (the root link's and the links fixed to it on
+  // the way to the first moving joint, lumped below) is kept for the listing (lumping_summary).
+  chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, root->inertial ? root->inertial->mass : 0.0});
   chain.joints.push_back(Joint{});
   chain.parent.push_back(0);
   if (spec.floating_base) {
@@ -486,12 +488,10 @@ Chain load_chain(const ChainSpec& spec) {
         case urdf::Joint::FIXED: {
           const Transform body_to_link = origin * above.X;
           chain.frames[child->name] = Frame{above.body, body_to_link};
-          if (above.body > 0) {
-            Body& b = chain.bodies[above.body];
-            b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
-            b.mass += mass;
-            b.lumped_links.push_back({child->name, mass, ""});
-          }
+          Body& b = chain.bodies[above.body];
+          if (above.body > 0) b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
+          b.mass += mass;
+          b.lumped_links.push_back({child->name, mass, ""});
           break;
         }
         case urdf::Joint::REVOLUTE:
