@@ -170,7 +170,8 @@ std::string deepest_link(const urdf::Link& root, std::size_t link_count, const s
       for (const auto& child : link->child_links) children += (children.empty() ? "" : ", ") + quote_name(child->name);
       throw InputError(file, named("link", link->name),
                        "the tree branches here (children " + children + ", " + std::to_string(moving.size()) +
-                           " of them with moving joints below); name the tip link explicitly, or several (scene key tips) for the tree");
+                           " of them with moving joints below); name the tip link explicitly, or several for the "
+                           "tree (scene key tips; sweepgen solve --branch-tip)");
     }
     link = moving.empty() ? link->child_links.front().get() : moving.front();
   }
