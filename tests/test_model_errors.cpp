@@ -240,6 +240,27 @@ TEST(ModelErrors, MasslessLastBodyWithoutRotorInertia) {
   EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", arm("revolute", "")), "", "", {{"j2", 0.01}}, "", {}, {}, {}}));
 }
 
+// Crossed position limits admit no position: random states draw from them and locked joints are
+// clamped into them (std::clamp requires lower <= upper), so they are refused, on the chain and
+// off it; equal limits (a joint held still) are accepted.
+TEST(ModelErrors, CrossedJointLimits) {
+  std::string crossed = arm();
+  crossed.replace(crossed.find(R"(lower="-1" upper="1")"), std::string(R"(lower="-1" upper="1")").size(),
+                  R"(lower="1" upper="-1")");
+  const std::string message = load_error(crossed);
+  expect_contains(message, "joint 'j1' <limit>");
+  expect_contains(message, "lower 1 is above upper -1");
+  const std::string finger = R"(<joint name="finger" type="prismatic"><parent link="l2"/><child link="tip_finger"/>
+    <axis xyz="0 1 0"/><limit effort="1" velocity="1" lower="0.04" upper="0"/></joint><link name="tip_finger">)" +
+                             kUnitInertial + "</link>";
+  expect_contains(load_error(arm("revolute", kUnitInertial, finger), "", "l2"), "joint 'finger' <limit>: lower 0.04 is above upper 0");
+  std::string equal = arm();
+  equal.replace(equal.find(R"(lower="-1" upper="1")"), std::string(R"(lower="-1" upper="1")").size(),
+                R"(lower="0.5" upper="0.5")");
+  test::TempDir dir;
+  EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", equal), "", "", {}, "", {}, {}, {}}));
+}
+
 TEST(ModelErrors, NonFiniteNumbers) {
   for (const std::string bad : {"nan", "inf", "1e999"}) {
     std::string urdf = arm();

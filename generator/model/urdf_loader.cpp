@@ -12,6 +12,8 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "model/error.hpp"
 
@@ -66,6 +68,20 @@ std::string named(const std::string& kind, const std::string& name) { return kin
 void require_finite(const std::string& file, const std::string& element, std::initializer_list<double> values) {
   for (double v : values)
     if (!std::isfinite(v)) throw InputError(file, element, "number is not finite (NaN or Inf)");
+}
+
+// A moving joint's position limits [lower, upper]: ±Inf for a continuous joint or one without a
+// <limit>; limits that are not finite or that cross (lower > upper: no position satisfies them,
+// yet random states draw from them and locked joints are clamped into them) are refused.
+std::pair<double, double> position_limits(const urdf::Joint& joint, const std::string& file) {
+  if (joint.type == urdf::Joint::CONTINUOUS || !joint.limits)
+    return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  const std::string element = named("joint", joint.name) + " <limit>";
+  const double lower = joint.limits->lower, upper = joint.limits->upper;
+  require_finite(file, element, {lower, upper});
+  if (lower > upper)
+    throw InputError(file, element, "lower " + shortest(lower) + " is above upper " + shortest(upper));
+  return {lower, upper};
 }
 
 // Pose of a child frame in its parent (URDF <origin>) as the motion transform parent -> child:
@@ -278,9 +294,7 @@ class OffChainLumper {
       throw InputError(file, named("joint", joint.name),
                        "a mimic of chain joint " + quote_name(joint.mimic->joint_name) +
                            " off the chain cannot be locked (its position follows that joint)");
-    const bool limited = joint.type != urdf::Joint::CONTINUOUS && joint.limits;
-    const double lower = limited ? joint.limits->lower : -std::numeric_limits<double>::infinity();
-    const double upper = limited ? joint.limits->upper : std::numeric_limits<double>::infinity();
+    const auto [lower, upper] = position_limits(joint, file);
     LockedJoint locked{joint.name, body, std::clamp(0.0, lower, upper), false};
     if (const auto given = spec_.locked_joints.find(joint.name); given != spec_.locked_joints.end()) {
       const std::string element = element_path("locked_joints", joint.name);
@@ -511,11 +525,8 @@ Chain load_chain(const ChainSpec& spec) {
             // URDF writes 0 where no limit is known; it means "unlimited" here.
             if (limits->effort > 0) joint.effort_limit = limits->effort;
             if (limits->velocity > 0) joint.velocity_limit = limits->velocity;
-            if (!joint.continuous) {
-              joint.lower = limits->lower;
-              joint.upper = limits->upper;
-            }
           }
+          std::tie(joint.lower, joint.upper) = position_limits(*urdf_joint, urdf_path);
           chain.joints.push_back(joint);
           chain.bodies.push_back(Body{child->name, {}, child_inertia, mass});
           chain.parent.push_back(above.body);
