@@ -565,6 +565,31 @@ TEST(CliGenerate, FloatingBaseFlag) {
   expect_contains(info.out, "1. floating_base_rx (floating-base coordinate");
 }
 
+// A URDF joint's <dynamics> (damping, friction) is not part of the model: info and generate say so
+// by joint, with the values, instead of dropping it silently.
+TEST(CliGenerate, UnmodelledJointDynamicsAreNoted) {
+  test::TempDir dir;
+  const std::string urdf = dir.write("damped.urdf", R"(<robot name="damped">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit effort="10" velocity="1" lower="-1" upper="1"/><dynamics damping="0.5" friction="0.25"/></joint>
+</robot>)");
+  const std::string note =
+      "sweepgen: note: joint 'shoulder': the URDF's <dynamics> (damping 0.5, friction 0.25) is not modelled; add the "
+      "torques it stands for to tau_ff";
+  const CommandResult info = sweepgen({"info", "--urdf", urdf});
+  ASSERT_EQ(info.exit_code, 0) << describe(info);
+  expect_contains(info.out, note);
+  const CommandResult generate = sweepgen({"generate", "--urdf", urdf, "--out", (dir.path() / "out").string()});
+  ASSERT_EQ(generate.exit_code, 0) << describe(generate);
+  expect_contains(generate.out, note);
+  // Without <dynamics>, no note.
+  const CommandResult planar = sweepgen({"info", "--urdf", kPlanar});
+  EXPECT_EQ(planar.out.find("<dynamics>"), std::string::npos) << planar.out;
+}
+
 // Constraint sets on two links: `info` and the generated header list each set with its link, its
 // directions' numbers and where its α comes from.
 TEST(CliGenerate, ConstraintSetsAreListed) {

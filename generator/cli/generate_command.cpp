@@ -79,6 +79,20 @@ emit::EmittedSolver emit_scene(const scene::Scene& s, const model::Chain& chain)
   return emit::emit_solver(chain, emit::emit_request(s, provenance));
 }
 
+// What the URDF says that the model does not take as given: default lock positions (a modelling
+// choice the scene did not make) and joint damping or friction (not modelled).
+void print_notes(const model::Chain& chain, std::ostream& out) {
+  for (const auto& locked : chain.locked_joints)
+    if (!locked.from_scene)
+      out << "sweepgen: note: joint " << quote_name(locked.name) << " off the chain is locked at " << locked.position
+          << " (0 clamped into its limits; set locked_joints in the scene to choose), carrying its links on "
+          << chain.bodies[locked.body].link << "\n";
+  for (const auto& dynamics : chain.unmodelled_dynamics)
+    out << "sweepgen: note: joint " << quote_name(dynamics.joint) << ": the URDF's <dynamics> (damping "
+        << dynamics.damping << ", friction " << dynamics.friction
+        << ") is not modelled; add the torques it stands for to tau_ff (e.g. -damping * qd)\n";
+}
+
 void print_costs(const emit::EmittedSolver& emitted, std::ostream& out) {
   for (const auto& cost : emitted.costs)
     if (cost.scalar == emitted.costs.front().scalar) out << "  " << cost.function << ": " << cost.ops.summary() << "\n";
@@ -134,12 +148,7 @@ int run_generate(const GenerateOptions& options) {
             << "): wrote";
   for (const auto& f : files) std::cout << " " << f.path;
   std::cout << "\n";
-  // Default lock positions are a modelling choice the scene did not make: say so where it is made.
-  for (const auto& locked : chain.locked_joints)
-    if (!locked.from_scene)
-      std::cout << "sweepgen: note: joint " << quote_name(locked.name) << " off the chain is locked at " << locked.position
-                << " (0 clamped into its limits; set locked_joints in the scene to choose), carrying its links on "
-                << chain.bodies[locked.body].link << "\n";
+  print_notes(chain, std::cout);
   print_costs(emitted, std::cout);
   return 0;
 }
@@ -175,6 +184,7 @@ int run_info(const SceneOptions& options) {
   std::cout << "scene " << (s.path.empty() ? "(default)" : s.path) << ", solver " << s.solver << ", Nc = " << s.layout.constraints
             << ", operation counts:\n";
   print_costs(emitted, std::cout);
+  print_notes(chain, std::cout);
   return 0;
 }
 

@@ -58,6 +58,13 @@ struct LockedJoint {
   bool from_scene = false;  // given in ChainSpec::locked_joints; else the default
 };
 
+// A chain joint's URDF <dynamics>: joint damping and Coulomb friction are not part of the
+// model (ACHD takes joint torques); an application adds them to tau_ff (e.g. −damping q̇).
+struct UnmodelledDynamics {
+  std::string joint;
+  double damping = 0, friction = 0;
+};
+
 // A link the chain does not carry, with why.
 struct LeftOutLink {
   std::string link;
@@ -90,6 +97,7 @@ struct Chain {
   std::map<std::string, Frame> frames;  // every link on the chain, lumped ones included
   std::vector<LockedJoint> locked_joints;  // moving joints off the chain, URDF tree order
   std::vector<LeftOutLink> left_out;       // links not carried by the chain, by name
+  std::vector<UnmodelledDynamics> unmodelled_dynamics;  // chain joints with URDF damping or friction
   // A floating base (F5): joints 1..6 are the base's coordinates (rotations about x, y, z, then
   // translations along x, y, z of the root link's frame), bodies 1..5 massless, body 6 the root
   // link; body 0 is the inertial frame that coincides with the root link's at this instant.

@@ -527,6 +527,8 @@ Chain load_chain(const ChainSpec& spec) {
             if (limits->velocity > 0) joint.velocity_limit = limits->velocity;
           }
           std::tie(joint.lower, joint.upper) = position_limits(*urdf_joint, urdf_path);
+          if (const auto& dynamics = urdf_joint->dynamics; dynamics && (dynamics->damping != 0 || dynamics->friction != 0))
+            chain.unmodelled_dynamics.push_back({joint.name, dynamics->damping, dynamics->friction});
           chain.joints.push_back(joint);
           chain.bodies.push_back(Body{child->name, {}, child_inertia, mass});
           chain.parent.push_back(above.body);
