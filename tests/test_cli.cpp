@@ -25,6 +25,15 @@ using test::CommandResult;
 const std::string kSource = SWEEPGEN_SOURCE_DIR;
 const std::string kPanda = kSource + "/robots/panda/panda.urdf";
 const std::string kPlanar = kSource + "/robots/planar/planar_rpr.urdf";
+
+// A one-joint robot: a massless base and a 1 kg arm, joined by `joint` (a URDF <joint> element).
+std::string one_joint_robot(const std::string& joint) {
+  return R"(<robot name="one_joint">
+  <link name="base"/>
+  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
+    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  )" + joint + "\n</robot>";
+}
 const std::string kUr5 = kSource + "/robots/ur5/ur5.urdf";
 
 // Runs sweepgen with `args` (optionally in `cwd`), feeding `input` on standard input.
@@ -256,12 +265,9 @@ const std::vector<BadLine> kBadLines = {
 // (the link beyond turns freely), so the base's rz coordinate is locked, q̈ there is 0.
 TEST(CliSolve, LockedJointIsReported) {
   test::TempDir dir;
-  const std::string urdf = dir.write("massless_base.urdf", R"(<robot name="r">
-  <link name="base"/>
-  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
-    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <joint name="turn" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
-</robot>)");
+  const std::string urdf = dir.write(
+      "massless_base.urdf",
+      one_joint_robot(R"(<joint name="turn" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>)"));
   const CommandResult r = sweepgen({"solve", "--urdf", urdf, "--floating-base"},
                                    join_lines({R"({"q": [1,0,0, 0,1,0, 0,0,1, 0.3], "qd": [0,0,0,0,0,0, 1]})"}));
   ASSERT_EQ(r.exit_code, 0) << describe(r);
@@ -569,13 +575,9 @@ TEST(CliGenerate, FloatingBaseFlag) {
 // by joint, with the values, instead of dropping it silently.
 TEST(CliGenerate, UnmodelledJointDynamicsAreNoted) {
   test::TempDir dir;
-  const std::string urdf = dir.write("damped.urdf", R"(<robot name="damped">
-  <link name="base"/>
-  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
-    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
-    <limit effort="10" velocity="1" lower="-1" upper="1"/><dynamics damping="0.5" friction="0.25"/></joint>
-</robot>)");
+  const std::string urdf = dir.write("damped.urdf", one_joint_robot(R"(<joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit effort="10" velocity="1" lower="-1" upper="1"/>
+    <dynamics damping="0.5" friction="0.25"/></joint>)"));
   const std::string note =
       "sweepgen: note: joint 'shoulder': the URDF's <dynamics> (damping 0.5, friction 0.25) is not modelled; add the "
       "torques it stands for to tau_ff";
