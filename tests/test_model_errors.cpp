@@ -116,6 +116,13 @@ TEST(ModelErrors, FloatingBaseCarriesTheLinksFixedToTheRoot) {
   EXPECT_EQ(chain.frames.at("base").body, 6u);
   EXPECT_EQ(chain.frames.at("sensor").body, 6u);
   EXPECT_EQ(chain.bodies[6].mass, 0.5);
+  // A massive root link (planar_rpr's base_link, 5 kg) is body 6's; the world frame carries nothing.
+  model::ChainSpec planar;
+  planar.urdf = std::string(SWEEPGEN_SOURCE_DIR) + "/robots/planar/planar_rpr.urdf";
+  planar.floating_base = true;
+  const model::Chain free = model::load_chain(planar);
+  EXPECT_EQ(free.bodies[6].mass, 5.0);
+  EXPECT_EQ(free.bodies[0].mass, 0.0);
   EXPECT_TRUE(chain.left_out.empty());
 
   spec.urdf = dir.write("taken.urdf", arm("revolute", R"(<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>)",

@@ -458,9 +458,11 @@ Chain load_chain(const ChainSpec& spec) {
   chain.tip_link = tip_link.empty() ? deepest_link(*root, model->links_.size(), urdf_path) : tip_link;
   find_link(*model, chain.tip_link, urdf_path, "tip");
 
-  // The base: its inertia moves nothing, its mass (the root link's and the links fixed to it on
-  // the way to the first moving joint, lumped below) is kept for the listing (lumping_summary).
-  chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, root->inertial ? root->inertial->mass : 0.0});
+  // The base. A fixed one's inertia moves nothing; its mass (the root link's and the links fixed
+  // to it on the way to the first moving joint, lumped below) is kept for the listing
+  // (lumping_summary). A floating base's root link is body 6 (add_floating_base).
+  const double base_mass = !spec.floating_base && root->inertial ? root->inertial->mass : 0.0;
+  chain.bodies.push_back(Body{chain.root_link, {}, Inertia{}, base_mass});
   chain.joints.push_back(Joint{});
   chain.parent.push_back(0);
   if (spec.floating_base) {
