@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "support/run_command.hpp"
+#include "support/one_joint_robot.hpp"
 #include "support/temp_dir.hpp"
 
 namespace sweepgen {
@@ -25,15 +26,6 @@ using test::CommandResult;
 const std::string kSource = SWEEPGEN_SOURCE_DIR;
 const std::string kPanda = kSource + "/robots/panda/panda.urdf";
 const std::string kPlanar = kSource + "/robots/planar/planar_rpr.urdf";
-
-// A one-joint robot: a massless base and a 1 kg arm, joined by `joint` (a URDF <joint> element).
-std::string one_joint_robot(const std::string& joint) {
-  return R"(<robot name="one_joint">
-  <link name="base"/>
-  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
-    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  )" + joint + "\n</robot>";
-}
 const std::string kUr5 = kSource + "/robots/ur5/ur5.urdf";
 
 // Runs sweepgen with `args` (optionally in `cwd`), feeding `input` on standard input.
@@ -265,9 +257,7 @@ const std::vector<BadLine> kBadLines = {
 // (the link beyond turns freely), so the base's rz coordinate is locked, q̈ there is 0.
 TEST(CliSolve, LockedJointIsReported) {
   test::TempDir dir;
-  const std::string urdf = dir.write(
-      "massless_base.urdf",
-      one_joint_robot(R"(<joint name="turn" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>)"));
+  const std::string urdf = dir.write("massless_base.urdf", test::massless_base_turning_arm());
   const CommandResult r = sweepgen({"solve", "--urdf", urdf, "--floating-base"},
                                    join_lines({R"({"q": [1,0,0, 0,1,0, 0,0,1, 0.3], "qd": [0,0,0,0,0,0, 1]})"}));
   ASSERT_EQ(r.exit_code, 0) << describe(r);
@@ -575,7 +565,7 @@ TEST(CliGenerate, FloatingBaseFlag) {
 // by joint, with the values, instead of dropping it silently.
 TEST(CliGenerate, UnmodelledJointDynamicsAreNoted) {
   test::TempDir dir;
-  const std::string urdf = dir.write("damped.urdf", one_joint_robot(R"(<joint name="shoulder" type="revolute">
+  const std::string urdf = dir.write("damped.urdf", test::one_joint_robot(R"(<joint name="shoulder" type="revolute">
     <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit effort="10" velocity="1" lower="-1" upper="1"/>
     <dynamics damping="0.5" friction="0.25"/></joint>)"));
   const std::string note =

@@ -19,6 +19,7 @@
 #include "scene/scene.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/run_command.hpp"
+#include "support/one_joint_robot.hpp"
 #include "support/temp_dir.hpp"
 #include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
@@ -298,12 +299,7 @@ TEST(Report, SameSeedSameErrors) {
 // printing NaN statistics.
 TEST(Report, SceneWhereNoStateCanBeJudgedSaysWhy) {
   TempDir dir;
-  dir.write("massless_base.urdf", R"(<robot name="r">
-  <link name="base"/>
-  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
-    <inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <joint name="turn" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
-</robot>)");
+  dir.write("massless_base.urdf", test::massless_base_turning_arm());
   const std::string scene = dir.write("locked.yaml",
                                       "sweepgen_scene: 1\nsolver: locked\nurdf: massless_base.urdf\nbase: floating\n"
                                       "drivers:\n  torques: [tau_ff]\n");
