@@ -121,6 +121,59 @@ TEST(ConstraintFactorisation, RankDeficientMatricesAreReportedAndStayFinite) {
   }
 }
 
+// (C4): the natural-order path is an exact solve where it is taken, and it is taken only where the
+// pivoted factorisation (C2) would keep every direction: the rank decision is the pivoted one's on
+// every matrix, also on those built to put the smallest pivot ratio near the tolerance.
+TEST(ConstraintFactorisation, NaturalOrderPathDecidesAsThePivotedFactorisation) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> entry(-1, 1), exponent(-3, 4);
+  int natural = 0, well_conditioned = 0, well_conditioned_natural = 0;
+  double worst_difference = 0;
+  constexpr int kTrials = 3000;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const int n = 1 + trial % 6, rank = trial % 3 == 0 ? n : 1 + trial % n;
+    Matrix E = random_energy(random, n, rank);
+    if (trial % 3 == 1) {
+      // Rank-deficient, then lifted along a random direction by tol 10^u times its scale: the
+      // smallest pivot ratio lands within a few orders of magnitude of the tolerance, both sides.
+      Eigen::VectorXd v(n);
+      for (int i = 0; i < n; ++i) v[i] = entry(random) * std::sqrt(E(i, i));
+      E += kTol * std::pow(10.0, exponent(random)) * v * v.transpose();
+    }
+    Vector r(n);
+    for (int i = 0; i < n; ++i) r[i] = entry(random) * std::sqrt(E(i, i));
+    double pivoted_dropped = 0, path = 0;
+    const Vector pivoted = solver::pivoted_solve(solver::equilibrate(E, r), false, kTol, pivoted_dropped);
+    Solved both;
+    both.nu = solver::solve_constraint_multipliers<double>(E, r, ConstraintFactorisation::pivoted_ldlt, kTol,
+                                                           both.dropped, &path);
+    ASSERT_EQ(both.dropped, pivoted_dropped) << "trial " << trial << " n " << n << " rank " << rank;
+    const bool took_natural = path == 0;
+    natural += took_natural;
+    if (took_natural) {
+      EXPECT_EQ(pivoted_dropped, 0) << "trial " << trial;
+      // Both paths solve the same equilibrated system exactly but for rounding: the difference
+      // in the equilibrated coordinates is a few ε cond_s each (cond_s ≤ 1/(M tol) here, so the
+      // difference can be O(1) only for nearly singular systems); measured against the pivoted
+      // solution's own error bound, 64 ε cond_s (Higham, LDLᵀ backward error times cond).
+      Vector pivoted_nu = pivoted;
+      for (int j = 0; j < n; ++j) pivoted_nu[j] *= solver::equilibration_scale(E(j, j));
+      const double cond = report::scaled_condition_number(E);
+      const double difference = multiplier_error(E, both.nu, pivoted_nu);
+      EXPECT_LE(difference, 64 * kEps * cond) << "trial " << trial << " cond_s " << cond;
+      worst_difference = std::max(worst_difference, difference / (kEps * cond));
+    }
+    if (rank == n && trial % 3 == 0 && report::scaled_condition_number(E) < 1e8) {
+      ++well_conditioned;
+      well_conditioned_natural += took_natural;
+    }
+  }
+  std::printf("[          ] natural-order path on %d of %d systems (well-conditioned full rank: %d of %d); "
+              "worst difference from the pivoted solve %.2f eps cond_s\n",
+              natural, kTrials, well_conditioned_natural, well_conditioned, worst_difference);
+  EXPECT_GE(natural, 1);
+}
+
 TEST(ConstraintFactorisation, ScalingTheDirectionsScalesTheMultipliersOnly) {
   // Units: direction j in other units is direction j times c_j, so E -> C E C, r -> C r and
   // ν -> C^-1 ν, with any c_j (not only powers of two). Same decisions; full rank: the same ν to

@@ -359,6 +359,14 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomChains) {
 // Constraint sets on random links of the chain (1 to 3 sets, 1 to 6 directions each), drawn
 // until they do not over-determine it (a scene would refuse those): the layout's sets, with
 // every direction at run time.
+// Every other constrained state forms the constraint rows outward (I6) instead of through the
+// columns (I2): both formulations against the same oracle (the generator emits either).
+solver::SolverOptions rows_of_state(int k) {
+  solver::SolverOptions options;
+  options.constraint_rows = k % 2 == 0 ? solver::ConstraintRows::inward_columns : solver::ConstraintRows::outward_rows;
+  return options;
+}
+
 solver::DriverLayout random_sets_layout(const test::OracleCase& c, test::RandomProblem& random) {
   std::vector<std::string> moving;
   for (const auto& [link, frame] : c.chain.frames)
@@ -397,7 +405,7 @@ TEST(DenseOracle, ReferenceSolverMatchesKktWithConstraintSetsOnAnyLinks) {
     const solver::DriverLayout layout = random_sets_layout(c, random);
     listed += layout.sets.size();
     for (const auto& set : layout.sets) off_tip += c.chain.frames.at(set.link).body != c.chain.dof() ? 1 : 0;
-    solver::ReferenceSolver<double> reference(c.chain, layout);
+    solver::ReferenceSolver<double> reference(c.chain, layout, rows_of_state(k));
     compare_state(c, reference, layout.constraints, random, worst, skips);
   }
   std::cout << "[sets] " << listed << " sets, " << off_tip << " of them on links short of the last body\n";
@@ -438,7 +446,7 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomTrees) {
         const std::size_t x = c.chain.frames.at(layout.sets[a].link).body, y = c.chain.frames.at(layout.sets[b].link).body;
         if (!c.chain.supports(x, y) && !c.chain.supports(y, x)) ++sets_on_two_branches;
       }
-    solver::ReferenceSolver<double> constrained(c.chain, layout);
+    solver::ReferenceSolver<double> constrained(c.chain, layout, rows_of_state(k));
     compare_state(c, constrained, layout.constraints, random, worst, skips);
   }
   std::cout << "[trees] " << branched << " branched trees, " << sets_on_two_branches
@@ -468,7 +476,7 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnFloatingBases) {
     solver::ReferenceSolver<double> free(c.chain, test::oracle_layout(c, 0));
     compare_state(c, free, 0, random, worst, skips);
     const solver::DriverLayout layout = random_sets_layout(c, random);
-    solver::ReferenceSolver<double> constrained(c.chain, layout);
+    solver::ReferenceSolver<double> constrained(c.chain, layout, rows_of_state(k));
     compare_state(c, constrained, layout.constraints, random, worst, skips);
   }
   report("floating_bases", worst);

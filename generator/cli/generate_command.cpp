@@ -94,6 +94,7 @@ void print_notes(const model::Chain& chain, std::ostream& out) {
 }
 
 void print_costs(const emit::EmittedSolver& emitted, std::ostream& out) {
+  for (const std::string& choice : emitted.choices) out << "  " << choice << "\n";
   for (const auto& cost : emitted.costs)
     if (cost.scalar == emitted.costs.front().scalar) out << "  " << cost.function << ": " << cost.ops.summary() << "\n";
 }

@@ -193,6 +193,128 @@ void localise_single_policy_work(const symbolic::Trace& trace, const std::vector
       stage[id] = symbolic::stage_solve;
 }
 
+// Plan::guard from the roots down: a select_path node needed on every path hands each of its two
+// value operands to one path; everything else inherits its users' guard, and a node that two
+// different guards need is needed always. Node ids are topological (operands first).
+void path_guards(const symbolic::Trace& trace, const std::vector<NodeId>& roots, Plan& plan) {
+  const Graph& graph = trace.graph;
+  constexpr int unset = -2;
+  plan.guard.assign(graph.size(), unset);
+  const auto merge = [&](NodeId id, int g) {
+    int& current = plan.guard[id];
+    current = current == unset || current == g ? g : kAlways;
+  };
+  for (NodeId root : roots) merge(root, kAlways);
+  for (NodeId id = static_cast<NodeId>(graph.size()); id-- > 0;) {
+    const int g = plan.guard[id];
+    if (g == unset) continue;
+    const Node& n = graph.node(id);
+    int condition = -1;
+    if (n.op == Op::select_path && g == kAlways) {
+      for (std::size_t c = 0; c < plan.conditions.size() && condition < 0; ++c)
+        if (plan.conditions[c].greater == n.args[0] && plan.conditions[c].than == n.args[1]) condition = static_cast<int>(c);
+      if (condition < 0) {
+        condition = static_cast<int>(plan.conditions.size());
+        plan.conditions.push_back({n.args[0], n.args[1]});
+      }
+    }
+    for (int k = 0; k < symbolic::arity(n.op); ++k)
+      merge(n.args[k], condition >= 0 && k >= 2 ? 2 * condition + (k - 2) : g);
+  }
+  for (int& g : plan.guard)
+    if (g == unset) g = kAlways;
+}
+
+// The condition whose if/else computes node `id`: a guarded node's, or a select_path node's own
+// (it is assigned in both branches); -1 for the rest.
+int path_of(const Graph& graph, const Plan& plan, NodeId id) {
+  if (plan.guard[id] != kAlways) return plan.guard[id] / 2;
+  const Node& n = graph.node(id);
+  if (n.op != Op::select_path) return -1;
+  for (std::size_t c = 0; c < plan.conditions.size(); ++c)
+    if (plan.conditions[c].greater == n.args[0] && plan.conditions[c].than == n.args[1]) return static_cast<int>(c);
+  return -1;
+}
+
+// Gathers each condition's nodes into contiguous if/else blocks (FunctionPlan::path_block). One
+// condition can need several blocks: the refinement (R1) solves with the same factorisation twice,
+// the second time for setpoints that the first solution gives. A node's pass for condition c is
+// the number of c's select_path results on its longest path of operands; a block is the nodes of
+// c of one pass (the then and the else side, and the results). Emission is by demand in the
+// order of `computed`: a node is placed after its operands, a block as a whole after every
+// operand of its nodes outside it. No node outside a block of pass p needs that block unless
+// its own pass is above p, and no node of the block needs it, so this order exists. A
+// condition that depends on a later function's inputs cannot be tested here: its nodes are
+// computed on every path; one of an earlier function is read from the State (it is carried:
+// the select_path nodes of a later or this function read it).
+void group_path_blocks(const Graph& graph, Plan& plan, FunctionPlan& f) {
+  const auto testable = [&](int condition) {
+    if (condition < 0) return false;
+    const PathCondition& c = plan.conditions[condition];
+    for (NodeId id : {c.greater, c.than}) {
+      if (plan.stage[id] > f.stage) return false;
+      if (plan.stage[id] < f.stage && graph.node(id).op != Op::constant &&
+          std::find(f.leaves.begin(), f.leaves.end(), id) == f.leaves.end())
+        f.leaves.push_back(id);
+    }
+    return true;
+  };
+  const std::size_t conditions = plan.conditions.size();
+  std::unordered_map<NodeId, std::vector<int>> pass;  // per computed node, per condition
+  std::unordered_map<NodeId, std::pair<int, int>> block_key;  // condition, pass
+  for (NodeId id : f.computed) {
+    std::vector<int> p(conditions, 0);
+    const Node& n = graph.node(id);
+    for (int k = 0; k < symbolic::arity(n.op); ++k) {
+      const auto found = pass.find(n.args[k]);
+      if (found == pass.end()) continue;
+      const int result_of = plan.guard[n.args[k]] == kAlways ? path_of(graph, plan, n.args[k]) : -1;
+      for (std::size_t c = 0; c < conditions; ++c)
+        p[c] = std::max(p[c], found->second[c] + (result_of == static_cast<int>(c) ? 1 : 0));
+    }
+    const int condition = path_of(graph, plan, id);
+    if (testable(condition)) block_key[id] = {condition, p[condition]};
+    pass[id] = std::move(p);
+  }
+  std::map<std::pair<int, int>, std::vector<NodeId>> blocks;
+  for (NodeId id : f.computed)
+    if (block_key.count(id)) blocks[block_key[id]].push_back(id);
+
+  std::vector<NodeId> order;
+  std::vector<int> block_of;
+  std::set<NodeId> placed;
+  std::set<std::pair<int, int>> placed_blocks;
+  int numbered = 0;
+  std::function<void(NodeId)> emit_node = [&](NodeId id) {
+    if (!pass.count(id) || placed.count(id)) return;
+    const auto key = block_key.find(id);
+    if (key != block_key.end()) {
+      if (!placed_blocks.insert(key->second).second) return;
+      const std::vector<NodeId>& members = blocks[key->second];
+      for (NodeId m : members) {
+        const Node& n = graph.node(m);
+        for (int k = 0; k < symbolic::arity(n.op); ++k)
+          if (!block_key.count(n.args[k]) || block_key[n.args[k]] != key->second) emit_node(n.args[k]);
+      }
+      ++numbered;
+      for (NodeId m : members) {
+        placed.insert(m);
+        order.push_back(m);
+        block_of.push_back(numbered);
+      }
+      return;
+    }
+    const Node& n = graph.node(id);
+    for (int k = 0; k < symbolic::arity(n.op); ++k) emit_node(n.args[k]);
+    placed.insert(id);
+    order.push_back(id);
+    block_of.push_back(0);
+  };
+  for (NodeId id : f.computed) emit_node(id);
+  f.computed = std::move(order);
+  f.path_block = std::move(block_of);
+}
+
 }  // namespace
 
 bool is_state_field(const symbolic::Field& field) {
@@ -260,6 +382,11 @@ Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
   for (auto& f : solves) plan.functions.push_back(std::move(f));
   std::map<std::string, int> terms;
   for (NodeId id : carried) plan.carried_name[id] = carried_member_name(trace, plan, id, terms);
+  std::vector<NodeId> roots;
+  for (const auto& f : plan.functions)
+    for (std::size_t i : f.fields) roots.push_back(trace.fields[i].node);
+  path_guards(trace, roots, plan);
+  for (auto& f : plan.functions) group_path_blocks(trace.graph, plan, f);
   return plan;
 }
 

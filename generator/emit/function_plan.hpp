@@ -27,7 +27,18 @@ struct FunctionPlan {
   std::vector<NodeId> carried_out;   // nodes it stores for later functions
   std::vector<NodeId> leaves;        // inputs of its stage and earlier values it reads
   std::vector<NodeId> computed;      // nodes it computes, in emission order
+  // Per computed node: 0, or the number (from 1) of the if/else of a path condition it is in
+  // (Plan::guard): the nodes of one such block are contiguous in `computed`.
+  std::vector<int> path_block;
 };
+
+// A condition `greater > than` of Op::select_path nodes: where it holds only their first
+// operands are needed, elsewhere only their second.
+struct PathCondition {
+  NodeId greater;
+  NodeId than;
+};
+constexpr int kAlways = -1;
 
 constexpr std::size_t kNoAnchor = ~std::size_t(0);
 
@@ -41,6 +52,10 @@ struct Plan {
   std::map<NodeId, std::string> carried_name;  // State member of each carried node, named from the math
   std::map<NodeId, std::size_t> exposed_field; // a State field already storing the node
   std::vector<std::size_t> state_fields;       // fields stored in the State (expose: all)
+  std::vector<PathCondition> conditions;       // of the select_path nodes the functions need
+  // Per node: kAlways, or 2 c + 0 / 2 c + 1 where only the taken / the other path of condition c
+  // needs it (every use of the node is on that path): it is computed inside that path's branch.
+  std::vector<int> guard;
 };
 
 // `expose_all`: every kinematics/articulated field is a State member and every solution

@@ -30,12 +30,21 @@ class Writer {
     count_uses();
     name_leaves();
     collect_stores();
-    for (NodeId id : f_.computed) {
-      ops_.count(graph_.node(id).op);
-      if (local_.count(id) || uses_[id] != 1) declare(id);
+    for (std::size_t i = 0; i < f_.computed.size();) {
+      std::size_t end = i + 1;
+      if (f_.path_block[i] == 0) {
+        write_node(f_.computed[i], ops_);
+      } else {
+        while (end < f_.computed.size() && f_.path_block[end] == f_.path_block[i]) ++end;
+        write_path_block(i, end);
+      }
+      i = end;
     }
     store_rest();
-    return {text_.str(), ops_};
+    OpCount worst = ops_;
+    worst += worst_extra_;
+    ops_ += taken_extra_;
+    return {text_.str(), ops_, worst};
   }
 
  private:
@@ -96,7 +105,7 @@ class Writer {
 
   void flush_loads() {
     for (NodeId id : pending_loads_)
-      text_ << "  const " << scalar_ << " " << local_.at(id) << " = " << leaf_source_.at(id) << ";\n";
+      text_ << indent_ << "const " << scalar_ << " " << local_.at(id) << " = " << leaf_source_.at(id) << ";\n";
     pending_loads_.clear();
   }
 
@@ -120,7 +129,7 @@ class Writer {
       block_body_ = field.body;
       block_sweep_ = eq.sweep;
       block_array_.clear();
-      text_ << "\n  // ==== " << eq.sweep << " sweep";
+      text_ << "\n" << indent_ << "// ==== " << eq.sweep << " sweep";
       if (field.body > 0) {
         const auto& joint = chain_.joints[field.body];
         text_ << ", body " << field.body << ": link " << chain_.bodies[field.body].link << ", joint " << joint.name
@@ -134,8 +143,75 @@ class Writer {
     }
     if (field.array != block_array_) {
       block_array_ = field.array;
-      text_ << "  // " << field.array << ": " << eq.cited() << "\n";
+      text_ << indent_ << "// " << field.array << ": " << eq.cited() << "\n";
     }
+  }
+
+  void write_node(NodeId id, OpCount& ops) {
+    ops.count(graph_.node(id).op);
+    if (local_.count(id) || uses_[id] != 1) declare(id);
+  }
+
+  // computed[begin, end): one if/else on a path condition (Plan::guard). The select_path results
+  // are declared before it and assigned in each branch; each branch computes what only it needs.
+  // Locals and loads made inside a branch end with it.
+  void write_path_block(std::size_t begin, std::size_t end) {
+    std::vector<NodeId> branch[2], results;
+    for (std::size_t i = begin; i < end; ++i) {
+      const NodeId id = f_.computed[i];
+      const int g = plan_.guard[id];
+      (g == kAlways ? results : branch[g % 2]).push_back(id);
+    }
+    const NodeId probe = f_.computed[begin];
+    const PathCondition& condition = plan_.conditions[plan_.guard[probe] == kAlways
+                                                          ? condition_of(probe)
+                                                          : static_cast<std::size_t>(plan_.guard[probe] / 2)];
+    for (NodeId id : results) {
+      banner_for(id);
+      local_.try_emplace(id, "e" + std::to_string(next_expression_++));
+      text_ << indent_ << scalar_ << " " << local_[id] << ";\n";
+    }
+    const std::string test = binary(condition.greater, kSum, " > ", condition.than, kSum);
+    flush_loads();
+    text_ << indent_ << "if (" << test << ") {  // (C4): the path the condition picks\n";
+    OpCount cost[2];
+    for (int arm = 0; arm < 2; ++arm) {
+      if (arm == 1) text_ << indent_ << "} else {\n";
+      const std::set<NodeId> loaded_before = loaded_;
+      indent_ = "    ";
+      for (NodeId id : branch[arm]) write_node(id, cost[arm]);
+      for (NodeId id : results) {
+        const std::string value = operand(graph_.node(id).args[2 + arm], kTernary);
+        flush_loads();
+        text_ << indent_ << local_[id] << " = " << value << ";\n";
+      }
+      for (NodeId id : branch[arm]) declared_.erase(id);
+      loaded_ = loaded_before;
+      indent_ = "  ";
+    }
+    text_ << indent_ << "}\n";
+    ++ops_.compare;  // the test; the assignments are moves
+    for (NodeId id : results) {
+      declared_[id] = true;
+      store(id);
+    }
+    taken_extra_ += cost[0];
+    worst_extra_ += cost[cost[1].total() > cost[0].total() ? 1 : 0];
+  }
+
+  std::size_t condition_of(NodeId select) const {
+    const Node& n = graph_.node(select);
+    for (std::size_t c = 0; c < plan_.conditions.size(); ++c)
+      if (plan_.conditions[c].greater == n.args[0] && plan_.conditions[c].than == n.args[1]) return c;
+    return 0;
+  }
+
+  void store(NodeId id) {
+    const auto targets = stores_.find(id);
+    if (targets == stores_.end()) return;
+    for (const auto& [target, field] : targets->second)
+      text_ << indent_ << store_statement(target, field, local_[id]) << "\n";
+    stores_.erase(targets);
   }
 
   void declare(NodeId id) {
@@ -143,12 +219,9 @@ class Writer {
     if (!local_.count(id)) local_[id] = "e" + std::to_string(next_expression_++);
     const std::string value = expression(id, kTernary);
     flush_loads();
-    text_ << "  const " << scalar_ << " " << local_[id] << " = " << value << ";\n";
+    text_ << indent_ << "const " << scalar_ << " " << local_[id] << " = " << value << ";\n";
     declared_[id] = true;
-    const auto targets = stores_.find(id);
-    if (targets == stores_.end()) return;
-    for (const auto& [target, field] : targets->second) text_ << "  " << store_statement(target, field, local_[id]) << "\n";
-    stores_.erase(targets);
+    store(id);
   }
 
   // Text of node `id` as an operand of an operator of precedence `context`. Right operands
@@ -174,7 +247,8 @@ class Writer {
       case Op::mul:
       case Op::div: return kProduct;
       case Op::neg: return kUnary;
-      case Op::select_greater: return kTernary;
+      case Op::select_greater:
+      case Op::select_path: return kTernary;
       default: return kAtom;
     }
   }
@@ -237,7 +311,8 @@ class Writer {
       case Op::equilibration_scale: return "equilibration_scale(" + operand(a, kTernary) + ")";
       case Op::min: return "std::min<" + T + ">(" + binary(a, kTernary, ", ", b, kTernary) + ")";
       case Op::max: return "std::max<" + T + ">(" + binary(a, kTernary, ", ", b, kTernary) + ")";
-      case Op::select_greater: {
+      case Op::select_greater:
+      case Op::select_path: {
         const std::string condition = binary(a, kSum, " > ", b, kSum);
         return condition + " ? " + binary(n.args[2], kSum, " : ", n.args[3], kSum);
       }
@@ -282,7 +357,9 @@ class Writer {
   std::vector<NodeId> pending_loads_;
   std::map<NodeId, std::vector<std::pair<std::string, const Field*>>> stores_;  // target, field (or carried)
   std::ostringstream text_;
-  OpCount ops_;
+  OpCount ops_;                       // outside the path blocks
+  OpCount taken_extra_, worst_extra_;  // inside them: the taken branches, the costlier ones
+  std::string indent_ = "  ";
   int next_expression_ = 0;
   int block_body_ = -2;
   std::string block_sweep_, block_array_;

@@ -3,7 +3,8 @@
 // earlier results are loaded into locals right before their first use, and each stored value
 // is stored right after it is computed (short live ranges: fewer spills, see bench/README.md).
 // Values used once are written inline; values used more than once, and every named quantity,
-// get a `const` local.
+// get a `const` local. What only one path of a select_path needs (Plan::guard) is written
+// inside an if/else on its condition; the select_path results are assigned in both branches.
 #pragma once
 
 #include <string>
@@ -16,7 +17,8 @@ namespace sweepgen::emit {
 
 struct FunctionText {
   std::string body;  // statements, indented by two spaces
-  OpCount ops;
+  OpCount ops;       // on the usual path: the taken branch of every if/else of a path condition (C4)
+  OpCount worst;     // the costlier branch of each (equal to `ops` without path conditions)
 };
 
 FunctionText write_function(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function,

@@ -45,7 +45,8 @@ std::string function_of_input_name(const symbolic::Trace& trace, symbolic::NodeI
 }
 
 std::string state_field_access(const symbolic::Field& field) {
-  return "state." + field.array + "[" + std::to_string(field.body) + "][" + std::to_string(field.component) + "]";
+  const std::string body = field.body >= 0 ? "[" + std::to_string(field.body) + "]" : "";
+  return "state." + field.array + body + "[" + std::to_string(field.component) + "]";
 }
 
 std::string field_access(const symbolic::Field& field) {

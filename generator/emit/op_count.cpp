@@ -16,7 +16,8 @@ void OpCount::count(symbolic::Op op) {
     case Op::equilibration_scale:
     case Op::min:
     case Op::max:
-    case Op::select_greater: ++compare; break;
+    case Op::select_greater:
+    case Op::select_path: ++compare; break;
     case Op::constant:
     case Op::input: break;
   }

@@ -162,8 +162,34 @@ std::string factorisation_note(const solver::SolverOptions& options, std::size_t
       options.pivot_tolerance > 0 ? literal(options.pivot_tolerance, "double") : std::string("1000 epsilon of the scalar");
   return options.constraint_factorisation == solver::ConstraintFactorisation::damped
              ? "E^A_cstr,0: equilibrated, damped by " + tolerance + " (damped least squares; scene: constraint_factorisation)."
-             : "E^A_cstr,0: equilibrated, pivoted LDL^T, relative pivot tolerance " + tolerance +
-                   " (scene: constraint_factorisation).";
+             : "E^A_cstr,0: equilibrated; LDL^T in the natural order where its pivots show that the pivoted\n"
+               "// order would keep every direction (C4), else pivoted LDL^T (C2), relative pivot tolerance " +
+                   tolerance + " (scene: constraint_factorisation).";
+}
+
+constexpr std::size_t kFusedOperations = 12000;
+
+// One line on how the rows r_i = S_i^T F^A_cstr,i are formed, with both formulations' counts.
+std::string rows_note(solver::ConstraintRows chosen, const std::map<solver::ConstraintRows, std::size_t>& counted,
+                      bool requested) {
+  const auto count = [&](solver::ConstraintRows rows) {
+    const auto found = counted.find(rows);
+    return found == counted.end() ? std::string() : " (" + std::to_string(found->second) + " operations)";
+  };
+  const std::string columns = "columns F^A_cstr,i inward (I2)" + count(solver::ConstraintRows::inward_columns);
+  const std::string rows = "rows r_i outward (I6)" + count(solver::ConstraintRows::outward_rows);
+  const bool outward = chosen == solver::ConstraintRows::outward_rows;
+  return "Constraint rows r_i = S_i^T F^A_cstr,i: " + (outward ? rows : columns) +
+         (requested ? " (scene: constraint_rows)" : ", not the " + (outward ? columns : rows) + " (scene: constraint_rows: auto)") + ".";
+}
+
+// Operations of one planned trace on its usual path: every function, every policy.
+std::size_t planned_operations(const symbolic::Trace& trace, const Plan& plan) {
+  OpCount ops;
+  for (const auto& f : plan.functions)
+    for (NodeId id : f.computed)
+      if (plan.guard[id] == kAlways || plan.guard[id] % 2 == 0) ops.count(trace.graph.node(id).op);
+  return ops.total();
 }
 
 const char* policy_doc(const std::string& group) {
@@ -196,14 +222,37 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
 
   data op_lines{data::type::list};
   data variants{data::type::list};
+  std::string rows_line;
   for (const std::string& scalar : request.scalars) {
     symbolic::TraceRequest trace_request = request.trace;
     trace_request.epsilon = epsilon_of(scalar);
-    const symbolic::Trace trace = symbolic::trace_solver(chain, trace_request);
-    const Plan plan = make_plan(trace, request.expose_all);
+    // (I2) or (I6): as the scene asks, else the one with fewer operations (ties: the columns).
+    std::vector<solver::ConstraintRows> candidates{solver::ConstraintRows::inward_columns};
+    if (request.constraint_rows) candidates = {*request.constraint_rows};
+    else if (request.trace.layout.constraints > 0 && !request.expose_all)
+      candidates.push_back(solver::ConstraintRows::outward_rows);
+    std::optional<symbolic::Trace> best_trace;
+    std::optional<Plan> best_plan;
+    std::map<solver::ConstraintRows, std::size_t> counted;
+    for (const solver::ConstraintRows rows : candidates) {
+      trace_request.options.constraint_rows = rows;
+      symbolic::Trace candidate = symbolic::trace_solver(chain, trace_request);
+      Plan candidate_plan = make_plan(candidate, request.expose_all);
+      counted[rows] = planned_operations(candidate, candidate_plan);
+      if (!best_plan || counted[rows] < counted[best_trace->constraint_rows]) {
+        best_trace = std::move(candidate);
+        best_plan = std::move(candidate_plan);
+      }
+    }
+    const symbolic::Trace& trace = *best_trace;
+    const Plan& plan = *best_plan;
+    if (rows_line.empty() && request.trace.layout.constraints > 0)
+      rows_line = rows_note(trace.constraint_rows, candidates.size() > 1 ? counted : decltype(counted){},
+                            request.constraint_rows.has_value());
 
     data variant;
     variant.set("scalar", scalar);
+    variant.set("outward_rows", trace.constraint_rows == solver::ConstraintRows::outward_rows ? "true" : "false");
     variant.set("tag", tag_of(scalar));
     variant.set("drivers_members", drivers_members(request.trace));
 
@@ -218,7 +267,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
         if (!is_state_field(trace.fields[i])) solution_fields.push_back(i);
     variant.set("solution_members", array_members(trace, solution_fields, n + 1, true));
 
-    OpCount shared;
+    OpCount shared, shared_worst;
+    std::vector<std::string> worst_lines;  // where a path condition (C4) makes the worst case differ
     data solves{data::type::list};
     for (const auto& f : plan.functions) {
       const FunctionText text = write_function(trace, plan, f, chain, scalar);
@@ -226,13 +276,18 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       op_lines.push_back(data("line", tag_of(scalar) + "::" + f.name + ": " + text.ops.summary()));
       if (f.stage < symbolic::stage_solve) {
         shared += text.ops;
+        shared_worst += text.worst;
         variant.set(f.name + "_body", text.body);
         continue;
       }
-      OpCount full = shared;
+      OpCount full = shared, full_worst = shared_worst;
       full += text.ops;
+      full_worst += text.worst;
       result.costs.push_back({scalar, "full " + f.name, full});
       op_lines.push_back(data("line", tag_of(scalar) + ": outward + decompose + " + f.name + ": " + full.summary()));
+      if (full_worst.total() != full.total())
+        worst_lines.push_back(tag_of(scalar) + ", pivoted path: outward + decompose + " + f.name + ": " +
+                              full_worst.summary());
       data solve;
       solve.set("name", f.name);
       solve.set("policy", f.group);
@@ -241,6 +296,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       solve.set("pack_solution", pack_solution(nc, sets));
       solves.push_back(solve);
     }
+    for (const std::string& line : worst_lines) op_lines.push_back(data("line", line));
     variant.set("solves", solves);
     variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
     variant.set("flat_out", flat_out(sets));
@@ -255,7 +311,21 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variants.push_back(variant);
   }
 
+  // Fusing the flat solves (templates/solver.cpp.mustache) puts one more copy of the whole
+  // solve into the file per policy and scalar; they are fused while the file stays within
+  // kFusedOperations operations (measured: every bundled scene within it compiles in <= 5 s at
+  // -O2 on a 2-core VM, bench/README.md).
+  std::size_t file_operations = 0, fused_operations = 0;
+  for (const FunctionCost& cost : result.costs) {
+    const bool full = cost.function.rfind("full ", 0) == 0;
+    (full ? fused_operations : file_operations) += cost.ops.total();
+  }
+  const bool fused = file_operations + fused_operations <= kFusedOperations;
+
   data values;
+  values.set("fused", fused);
+  values.set("fused_note", std::to_string(file_operations + fused_operations) + " operations in this file, at most " +
+                               std::to_string(kFusedOperations) + " fused");
   values.set("provenance", request.provenance);
   values.set("robot", chain.source.substr(chain.source.find_last_of('/') + 1));
   values.set("root", chain.root_link);
@@ -297,6 +367,17 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("namespace", request.solver_namespace);
   values.set("has_constraints", nc > 0);
   values.set("factorisation_note", factorisation_note(request.trace.options, nc));
+  values.set("rows_note", rows_line.empty() ? "" : "\n// " + rows_line);
+  if (!rows_line.empty()) result.choices.push_back(rows_line);
+  result.choices.push_back(fused ? "solve_<policy>_flat: one function each (outward, decompose and the solve inlined)"
+                                 : "solve_<policy>_flat: calls outward, decompose and the solve (" +
+                                       std::to_string(file_operations + fused_operations) + " operations fused would exceed " +
+                                       std::to_string(kFusedOperations) + ")");
+  if (nc > 0) {
+    std::string factorisation = factorisation_note(request.trace.options, nc);
+    for (std::size_t at; (at = factorisation.find("\n// ")) != std::string::npos;) factorisation.replace(at, 4, " ");
+    result.choices.push_back(factorisation);
+  }
   values.set("rank_deficient_doc", request.trace.options.constraint_factorisation == solver::ConstraintFactorisation::damped
                                        ? "a damped pivot of E^A_cstr,0 was <= 2 tol: the damping\n"
                                          "                                               // changed some multipliers by ~2x or more"

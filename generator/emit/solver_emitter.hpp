@@ -1,6 +1,7 @@
 // Trace → plan → C++ text: the generated header, source and CMake snippet of one scene.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ struct EmitRequest {
   symbolic::TraceRequest trace;       // drivers, fixed directions, policies, options
   std::string provenance;             // one line: generator version and input hashes
   bool check_inputs = true;           // emit the NaN/Inf checks raising status_not_finite
+  // (I2) or (I6) (scene key constraint_rows); empty: the one with fewer operations, counted
+  // (expose_all: the columns, which it lists).
+  std::optional<solver::ConstraintRows> constraint_rows = std::nullopt;
 };
 
 struct EmittedFile {
@@ -33,6 +37,7 @@ struct FunctionCost {
 struct EmittedSolver {
   std::vector<EmittedFile> files;  // header, source, CMake snippet
   std::vector<FunctionCost> costs;
+  std::vector<std::string> choices;  // how the constraint is evaluated and factored, one line each
 };
 
 // File stem of a namespace: "a::b" -> "a_b".

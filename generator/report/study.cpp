@@ -234,10 +234,16 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
   say("states");
   const std::vector<LabelledProblem> states = study_states(s, chain, options, study.singular_note);
   std::vector<Problem> problems;
+  // Which path ν takes (C4), per family: ReferenceSolver<double> decides as the generated code.
+  solver::ReferenceSolver<double> paths(chain, s.layout, s.solver_options());
   for (const auto& x : states) {
     problems.push_back(x.problem);
-    if (study.families.empty() || study.families.back().first != x.kind) study.families.push_back({x.kind, 0});
+    if (study.families.empty() || study.families.back().first != x.kind) {
+      study.families.push_back({x.kind, 0});
+      study.pivoted_path.push_back(0);
+    }
     ++study.families.back().second;
+    if (nc > 0) study.pivoted_path.back() += paths.run(x.problem, Policy::original).pivoted_path != 0;
   }
 
   const TimingOptions timing{options.repetitions}, once{1};

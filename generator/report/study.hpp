@@ -68,6 +68,7 @@ struct SceneStudy {
   std::string source;  // the scene file (or what the scene was made from)
   std::size_t dof = 0, constraints = 0;
   std::vector<std::pair<std::string, std::size_t>> families;  // name, states
+  std::vector<std::size_t> pivoted_path;  // per family: states whose ν took the pivoted path (C4)
   std::string singular_note;  // where the near-singular sweep starts, or why there is none
   std::vector<VariantStudy> variants;
   // Generated float answers every state below this κ (NaN: no float row; 0: it answered none).

@@ -264,6 +264,13 @@ std::string report_markdown(const std::vector<SceneStudy>& studies, const std::s
         cells.push_back(error_cell(e, e.max) + " (" + share(e.status_raised, e.states) + ")");
       md << markdown_row(cells);
     }
+    if (s.constraints > 0) {
+      md << "\nPath of ν (docs/derivation.md, (C4)), share of states on the natural-order path / on the pivoted one:";
+      for (std::size_t f = 0; f < s.families.size(); ++f)
+        md << " " << s.families[f].first << " " << share(s.families[f].second - s.pivoted_path[f], s.families[f].second)
+           << " / " << share(s.pivoted_path[f], s.families[f].second) << (f + 1 < s.families.size() ? ";" : ".");
+      md << "\n";
+    }
     md << "\nWhat each row solves:\n\n";
     for (const VariantStudy& v : s.variants) md << "- " << v.name << ": " << v.solves << "\n";
     if (!drawn(s).empty())

@@ -426,7 +426,7 @@ Scene load_scene(const std::string& path) {
   const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip", "tips", "base",
                                          "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
                                          "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation",
-                                         "refinement"};
+                                         "refinement", "constraint_rows"};
   std::map<std::string, Item> values;
   for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
   const auto get = [&](const std::string& key) -> std::optional<Item> {
@@ -584,6 +584,13 @@ Scene load_scene(const std::string& path) {
     scene.refinement = reader.choice(*item, {"true", "false"}, "refinement value") == "true";
   if (const auto item = get("check_inputs"))
     scene.check_inputs = reader.choice(*item, {"true", "false"}, "check_inputs value") == "true";
+  if (const auto item = get("constraint_rows")) {
+    const std::string rows = reader.choice(*item, {"auto", "inward_columns", "outward_rows"}, "constraint_rows value");
+    if (rows == "outward_rows" && scene.expose_all)
+      reader.fail(*item, "outward_rows does not form the columns F^A_cstr,i that 'expose: all' lists; use inward_columns or auto");
+    if (rows != "auto")
+      scene.constraint_rows = rows == "outward_rows" ? solver::ConstraintRows::outward_rows : solver::ConstraintRows::inward_columns;
+  }
   return scene;
 }
 

@@ -83,6 +83,10 @@
 //                                   #   from the constraint's residual, with the pivoted
 //                                   #   factorisation (docs/derivation.md, (R1)): about a tenth more
 //                                   #   work per solve for errors near a dense KKT solve's
+//   constraint_rows: auto           # optional: how the rows r_i = S_i^T F^A_cstr,i are formed:
+//                                   #   inward_columns (I2), outward_rows (I6, not with expose:
+//                                   #   all), or auto (default): the generator counts both and
+//                                   #   emits the one with fewer operations (the header says which)
 //   check_inputs: true              # optional: true (default) or false. When true, the generated
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
@@ -93,6 +97,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -120,6 +125,7 @@ struct Scene {
   solver::ConstraintFactorisation constraint_factorisation = solver::ConstraintFactorisation::pivoted_ldlt;
   double pivot_tolerance = 0;  // 0: the default for the emitted scalar
   bool refinement = true;      // (R1)
+  std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (fewer operations)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),

@@ -1,5 +1,13 @@
 // ν = (E^A_cstr,0)^-1 r  (S2) for the symmetric positive semi-definite Nc x Nc matrix E^A_cstr,0
-// (docs/derivation.md, section 4: equilibration (C1), pivoted LDL^T (C2), damped (C3)).
+// (docs/derivation.md, section 4: equilibration (C1), pivoted LDL^T (C2), damped (C3), the
+// natural-order path (C4)).
+//
+// Paths (C4): the pivoted factorisation below is the fallback. First an LDL^T in the natural
+// order (no swaps) is formed; where the product of its pivots shows that the pivoted order would
+// drop no direction (kNaturalOrderMargin), its solution is the answer, and the generated code
+// computes only that path (select_path: the pivoted one runs inside the `else` of an if). Ranks
+// and statuses are those of the pivoted path on every state; both paths are exact solves of
+// the same equilibrated system, so they differ by rounding only.
 //
 // Policy: LDL^T with diagonal (symmetric) pivoting, branch-free, judged relative to each
 // direction's own diagonal entry. Step k first moves the remaining direction with the largest
@@ -43,32 +51,62 @@
 
 namespace sweepgen::solver {
 
-template <class Scalar>
-ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Scalar>& E,
-                                                      const ConstraintVector<Scalar>& rhs,
-                                                      ConstraintFactorisation factorisation, const Scalar& tolerance,
-                                                      Scalar& dropped_pivots) {
-  const bool damped = factorisation == ConstraintFactorisation::damped;
-  const Eigen::Index nc = rhs.size();
-  dropped_pivots = Scalar(0);
-  if (nc == 0) return ConstraintVector<Scalar>(0);
+// (C4)'s margin M: the natural order is taken where Π d_k > M tol Π Ê_kk. Every pivot ratio
+// d_k / Ê_kk of an LDL^T of a positive semi-definite matrix lies in [0, 1] and their product is
+// det Ê / Π Ê_kk in every order, so in exact arithmetic no ratio of (C2)'s order is below the
+// product: a product above tol means (C2) drops nothing. Computed, each order's product is that
+// of Ê perturbed by its own rounding (~(Nc + 1) ε per entry, the backward error of a
+// Cholesky-type factorisation); the margin keeps the states where that could tip a decision,
+// within a factor M of the tolerance, on the pivoted path, which decides as before
+// (tests/test_constraint_factorisation.cpp asserts equal decisions on near-singular systems).
+inline constexpr double kNaturalOrderMargin = 4;
 
-  // P E P^T = L diag(pivot) L^T with P the product of the conditional swaps; A holds the Schur
-  // complement (rows and columns >= k are live), y the permuted right-hand side. E and every
-  // Schur complement are symmetric: only the lower triangle of A (i >= j) is read or written,
-  // and only E's lower triangle is read (the generated code never computes the upper one).
-  ConstraintVector<Scalar> scale(nc);  // s_j: Ê = S E S, r̂ = S r, ν = S x̂
-  for (Eigen::Index j = 0; j < nc; ++j) scale[j] = equilibration_scale(E(j, j));
-  ConstraintMatrix<Scalar> A = ConstraintMatrix<Scalar>::Zero(nc, nc);
+// (C1): Ê = S E S (lower triangle), r̂ = S r, with s_j = equilibration_scale(E_jj).
+template <class Scalar>
+struct EquilibratedSystem {
+  ConstraintVector<Scalar> scale;  // s_j
+  ConstraintMatrix<Scalar> A;      // Ê, lower triangle (i >= j); the upper one is 0
+  ConstraintVector<Scalar> y;      // r̂
+};
+
+template <class Scalar>
+EquilibratedSystem<Scalar> equilibrate(const ConstraintMatrix<Scalar>& E, const ConstraintVector<Scalar>& rhs) {
+  const Eigen::Index nc = rhs.size();
+  EquilibratedSystem<Scalar> sys{ConstraintVector<Scalar>(nc), ConstraintMatrix<Scalar>::Zero(nc, nc), ConstraintVector<Scalar>(nc)};
+  for (Eigen::Index j = 0; j < nc; ++j) sys.scale[j] = equilibration_scale(E(j, j));
   for (Eigen::Index i = 0; i < nc; ++i)
-    for (Eigen::Index j = 0; j <= i; ++j) A(i, j) = scale[i] * E(i, j) * scale[j];
+    for (Eigen::Index j = 0; j <= i; ++j) sys.A(i, j) = sys.scale[i] * E(i, j) * sys.scale[j];
+  for (Eigen::Index j = 0; j < nc; ++j) sys.y[j] = sys.scale[j] * rhs[j];
+  return sys;
+}
+
+// L z = y, z_k = z_k / d_k, L^T x = z, in place on y: the substitutions of (C2) and (C4).
+template <class Scalar>
+void substitute(const ConstraintMatrix<Scalar>& L, const ConstraintVector<Scalar>& inverse_pivot, ConstraintVector<Scalar>& y) {
+  const Eigen::Index nc = y.size();
+  for (Eigen::Index k = 0; k < nc; ++k)
+    for (Eigen::Index j = 0; j < k; ++j) y[k] -= L(k, j) * y[j];
+  for (Eigen::Index k = 0; k < nc; ++k) y[k] *= inverse_pivot[k];
+  for (Eigen::Index k = nc - 1; k >= 0; --k)
+    for (Eigen::Index j = k + 1; j < nc; ++j) y[k] -= L(j, k) * y[j];
+}
+
+// (C2), (C3): x̂ with Ê x̂ = r̂, pivoted (or damped); `dropped_pivots` as the header says.
+template <class Scalar>
+ConstraintVector<Scalar> pivoted_solve(EquilibratedSystem<Scalar> sys, bool damped, const Scalar& tolerance,
+                                       Scalar& dropped_pivots) {
+  const Eigen::Index nc = sys.y.size();
+  dropped_pivots = Scalar(0);
+  // P Ê P^T = L diag(pivot) L^T with P the product of the conditional swaps; A holds the Schur
+  // complement (rows and columns >= k are live), y the permuted right-hand side. Ê and every
+  // Schur complement are symmetric: only the lower triangle of A (i >= j) is read or written.
+  ConstraintMatrix<Scalar>& A = sys.A;
+  ConstraintVector<Scalar>& y = sys.y;
   ConstraintMatrix<Scalar> L = ConstraintMatrix<Scalar>::Identity(nc, nc);
   ConstraintMatrix<Scalar> swapped = ConstraintMatrix<Scalar>::Zero(nc, nc);  // 1 where step k swapped k and j
-  ConstraintVector<Scalar> pivot(nc), inverse_pivot(nc);
+  ConstraintVector<Scalar> inverse_pivot(nc);
   if (damped)
     for (Eigen::Index j = 0; j < nc; ++j) A(j, j) += tolerance;
-  ConstraintVector<Scalar> y(nc);
-  for (Eigen::Index j = 0; j < nc; ++j) y[j] = scale[j] * rhs[j];
   ConstraintVector<Scalar> own = A.diagonal();  // Ê_jj of the direction now at position j
   Scalar largest_setpoint_squared(0);             // max_i r̂_i² (damped status rule)
   for (Eigen::Index j = 0; damped && j < nc; ++j) largest_setpoint_squared = maximum(largest_setpoint_squared, y[j] * y[j]);
@@ -94,32 +132,76 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
     }
     const Scalar d = A(k, k);
     if (damped) {
-      pivot[k] = d;
       inverse_pivot[k] = Scalar(1) / d;
     } else {
       const Scalar threshold = tolerance * own[k];
       const Scalar kept = select_greater(d, threshold, Scalar(1), Scalar(0));
       dropped_pivots += Scalar(1) - kept;
-      pivot[k] = kept * d;
       inverse_pivot[k] = kept / select_greater(d, threshold, d, Scalar(1));
     }
     for (Eigen::Index i = k + 1; i < nc; ++i) L(i, k) = A(i, k) * inverse_pivot[k];
     for (Eigen::Index i = k + 1; i < nc; ++i)
       for (Eigen::Index j = k + 1; j <= i; ++j) A(i, j) -= L(i, k) * A(j, k);  // A(k, j) = A(j, k)
   }
-  // Forward substitution L z = y, scaling z_k = z_k / d_k, back substitution L^T x = z,
-  // then ν = P^T x (the swaps undone in reverse order).
-  for (Eigen::Index k = 0; k < nc; ++k)
-    for (Eigen::Index j = 0; j < k; ++j) y[k] -= L(k, j) * y[j];
-  for (Eigen::Index k = 0; k < nc; ++k) y[k] *= inverse_pivot[k];
-  for (Eigen::Index k = nc - 1; k >= 0; --k)
-    for (Eigen::Index j = k + 1; j < nc; ++j) y[k] -= L(j, k) * y[j];
+  // The substitutions, then x = P^T x (the swaps undone in reverse order).
+  substitute(L, inverse_pivot, y);
   for (Eigen::Index k = nc - 1; k >= 0; --k)
     for (Eigen::Index j = nc - 1; j > k; --j) conditional_swap(swapped(k, j), y[k], y[j]);
   for (Eigen::Index j = 0; damped && j < nc; ++j)
     dropped_pivots += select_greater(tolerance * y[j] * y[j], largest_setpoint_squared, Scalar(1), Scalar(0));
-  for (Eigen::Index j = 0; j < nc; ++j) y[j] *= scale[j];
   return y;
+}
+
+// (C4): x̂ with Ê x̂ = r̂ by LDL^T in the natural order (no swaps), and the products Π d_k and
+// Π Ê_kk of its pivots and of Ê's diagonal, the rule of (C4) that says whether (C2) would keep
+// every direction.
+template <class Scalar>
+ConstraintVector<Scalar> natural_order_solve(EquilibratedSystem<Scalar> sys, Scalar& pivot_product,
+                                             Scalar& diagonal_product) {
+  const Eigen::Index nc = sys.y.size();
+  ConstraintMatrix<Scalar>& A = sys.A;
+  ConstraintMatrix<Scalar> L = ConstraintMatrix<Scalar>::Identity(nc, nc);
+  ConstraintVector<Scalar> inverse_pivot(nc);
+  pivot_product = Scalar(1);
+  diagonal_product = Scalar(1);
+  for (Eigen::Index k = 0; k < nc; ++k) {
+    diagonal_product *= A(k, k);
+    for (Eigen::Index j = 0; j < k; ++j) A(k, k) -= L(k, j) * A(k, j);  // d_k = Ê_kk − Σ_{j<k} L_kj (L_kj d_j)
+    pivot_product *= maximum(A(k, k), Scalar(0));  // a pivot <= 0 makes the product 0: (C2) decides
+    inverse_pivot[k] = Scalar(1) / A(k, k);
+    // Column k below the pivot: A(i, k) becomes L_ik d_k = Ê_ik − Σ_{j<k} L_ij (L_kj d_j) and stays
+    // so (the rows below read it as L_ik d_k: the left-looking form), L_ik = A(i, k) / d_k.
+    for (Eigen::Index i = k + 1; i < nc; ++i)
+      for (Eigen::Index j = 0; j < k; ++j) A(i, k) -= L(i, j) * A(k, j);
+    for (Eigen::Index i = k + 1; i < nc; ++i) L(i, k) = A(i, k) * inverse_pivot[k];
+  }
+  substitute(L, inverse_pivot, sys.y);
+  return sys.y;
+}
+
+template <class Scalar>
+ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Scalar>& E,
+                                                      const ConstraintVector<Scalar>& rhs,
+                                                      ConstraintFactorisation factorisation, const Scalar& tolerance,
+                                                      Scalar& dropped_pivots, Scalar* took_pivoted_path = nullptr) {
+  const bool damped = factorisation == ConstraintFactorisation::damped;
+  const Eigen::Index nc = rhs.size();
+  dropped_pivots = Scalar(0);
+  if (took_pivoted_path != nullptr) *took_pivoted_path = Scalar(damped ? 1 : 0);
+  if (nc == 0) return ConstraintVector<Scalar>(0);
+  const EquilibratedSystem<Scalar> sys = equilibrate(E, rhs);
+  ConstraintVector<Scalar> x = pivoted_solve(sys, damped, tolerance, dropped_pivots);
+  if (!damped) {
+    // (C4): the natural order's pivots keep every direction by a margin: (C2) would drop none.
+    Scalar pivot_product, diagonal_product;
+    const ConstraintVector<Scalar> natural = natural_order_solve(sys, pivot_product, diagonal_product);
+    const Scalar bound = Scalar(kNaturalOrderMargin) * tolerance * diagonal_product;
+    for (Eigen::Index j = 0; j < nc; ++j) x[j] = select_path(pivot_product, bound, natural[j], x[j]);
+    dropped_pivots = select_path(pivot_product, bound, Scalar(0), dropped_pivots);
+    if (took_pivoted_path != nullptr) *took_pivoted_path = select_greater(pivot_product, bound, Scalar(0), Scalar(1));
+  }
+  for (Eigen::Index j = 0; j < nc; ++j) x[j] *= sys.scale[j];
+  return x;
 }
 
 }  // namespace sweepgen::solver

@@ -16,8 +16,13 @@
 // (a set's columns start at its body: outboard of it they are exactly zero).
 // The bias track reproduces F^A_b/E^A_b, a torque track F^A/E^A, an external-force track
 // −F^A_ext/E^A_ext, and the single track of Alg. 1 the composed F^A_b/E^A_conf.
+// The rows r_i = S_i^T F^A_cstr,i are kept (constraint_row, for (S3)). With outward rows (I6,
+// constraint_rows.hpp) the columns are not formed: r_i comes from outward propagation, and the
+// bias and base-acceleration terms F^A_cstr^T Ẍ of (I5) and (S2) go, summed, into the bias
+// track's E^A_t,0 (the policies all compose the bias track, so (S2) sees the same sum).
 #pragma once
 
+#include "solver/constraint_rows.hpp"
 #include "solver/joint_inertia.hpp"
 #include "solver/solver_model.hpp"
 #include "solver/state.hpp"
@@ -69,6 +74,8 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
   const std::size_t n = model.dof();
   const std::size_t nc = model.constraints();
   const auto& tracks = model.layout.tracks;
+  const bool outward_rows = model.constraint_rows == ConstraintRows::outward_rows;
+  const std::vector<bool> reaches = bodies_reaching_a_set(model);
 
   // Start values: M^A_i = M_i, F^A_t,i = own_t,i, F^A_cstr,i = own_cstr,i, every E^A_i = 0; the
   // children of each body then add to it (a body's index is above its parent's, so all of its
@@ -103,12 +110,17 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
       parent.articulated_inertia = parent.articulated_inertia +
                                    a.articulated_inertia.minus_outer(a.U, a.inverse_D).transformed_to_parent(body.X);
 
-    // (I2), (I3)
+    // (I2) or (I6), (I3)
     ConstraintVector<Scalar> s(nc);
-    for (std::size_t k = 0; k < nc; ++k) s[k] = spatial::dot(a.constraint_force[k], joint.S);
-    for (std::size_t k = 0; k < nc; ++k)
-      parent.constraint_force[k] = parent.constraint_force[k] +
-                                   body.X.apply_transpose(a.constraint_force[k] - a.U * (a.inverse_D * s[k]));
+    if (outward_rows) {
+      s = constraint_row_outward(model, kin, art, inputs, reaches, i);
+    } else {
+      for (std::size_t k = 0; k < nc; ++k) s[k] = spatial::dot(a.constraint_force[k], joint.S);
+      for (std::size_t k = 0; k < nc; ++k)
+        parent.constraint_force[k] = parent.constraint_force[k] +
+                                     body.X.apply_transpose(a.constraint_force[k] - a.U * (a.inverse_D * s[k]));
+    }
+    a.constraint_row = s;
     parent.constraint_energy = parent.constraint_energy + (a.constraint_energy + s * (a.inverse_D * s.transpose()));
 
     // (I4), (I5)
@@ -124,11 +136,21 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
       ConstraintVector<Scalar> energy = here.acceleration_energy;
       for (std::size_t k = 0; k < nc; ++k) {
         energy[k] += s[k] * (a.inverse_D * u);
-        if (tracks[t].bias) energy[k] += spatial::dot(a.constraint_force[k], body.bias_acceleration);
+        if (tracks[t].bias && !outward_rows) energy[k] += spatial::dot(a.constraint_force[k], body.bias_acceleration);
       }
       up.acceleration_energy = up.acceleration_energy + energy;
     }
   }
+
+  // F^A_cstr,0^T Ẍ_0 for (S2); with outward rows, summed with the bias terms into the bias track.
+  if (!outward_rows) {
+    for (std::size_t k = 0; k < nc; ++k)
+      art.base_acceleration_energy[k] = spatial::dot(art.body[0].constraint_force[k], kin.base_acceleration);
+    return;
+  }
+  art.base_acceleration_energy.setZero(nc);
+  for (std::size_t t = 0; t < tracks.size(); ++t)
+    if (tracks[t].bias) art.track[t][0].acceleration_energy += bias_energy_outward(model, kin, art, inputs);
 }
 
 }  // namespace sweepgen::solver

@@ -88,6 +88,9 @@ inline bool isfinite(const Quad& x) { return !isnan(x) && !isinf(x); }
 inline Quad select_greater(const Quad& a, const Quad& b, const Quad& if_greater, const Quad& otherwise) {
   return a > b ? if_greater : otherwise;
 }
+inline Quad select_path(const Quad& a, const Quad& b, const Quad& if_greater, const Quad& otherwise) {
+  return a > b ? if_greater : otherwise;
+}
 inline Quad minimum(const Quad& a, const Quad& b) { return b < a ? b : a; }
 inline Quad maximum(const Quad& a, const Quad& b) { return a < b ? b : a; }
 inline Quad abs_value(const Quad& a) { return abs(a); }

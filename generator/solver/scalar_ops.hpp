@@ -18,6 +18,14 @@ Scalar select_greater(const Scalar& a, const Scalar& b, const Scalar& if_greater
   return a > b ? if_greater : otherwise;
 }
 
+// a > b ? if_greater : otherwise, where a caller computed both operands only to choose one: the
+// generated code computes only the chosen path's (symbolic Op::select_path, emit::Plan::guard).
+// In arithmetic, the same as select_greater.
+template <class Scalar, std::enable_if_t<std::is_floating_point_v<Scalar>, int> = 0>
+Scalar select_path(const Scalar& a, const Scalar& b, const Scalar& if_greater, const Scalar& otherwise) {
+  return a > b ? if_greater : otherwise;
+}
+
 template <class Scalar, std::enable_if_t<std::is_floating_point_v<Scalar>, int> = 0>
 Scalar minimum(const Scalar& a, const Scalar& b) {
   return std::min(a, b);

@@ -25,6 +25,15 @@ enum class ConstraintFactorisation {
   damped,        // damped least squares (Ê + tol I): every direction kept, biased by ~tol cond
 };
 
+// How the inward sweep forms the rows r_i = S_i^T F^A_cstr,i that (I3), (I5), (S3) need
+// (docs/derivation.md, (I6)): through the Nc columns F^A_cstr,i (I2), or outward from each joint
+// to the constrained links without forming the columns. The reference solver forms the columns
+// unless asked; the generator counts both and emits the cheaper (scene key constraint_rows).
+enum class ConstraintRows {
+  inward_columns,  // (I2): the columns F^A_cstr,i, body by body from the constrained links inward
+  outward_rows,    // (I6): S_i carried outward through P_j X_j to each constrained link
+};
+
 struct SolverOptions {
   model::Vec3 gravity{0, 0, -9.81};  // in the root link's frame, or the world's for a floating base [m/s^2]
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
@@ -39,6 +48,7 @@ struct SolverOptions {
   // that enforce the constraint exactly (original, and saturate_exact before its clamp) with
   // the pivoted factorisation.
   bool refinement = true;
+  ConstraintRows constraint_rows = ConstraintRows::inward_columns;
 
   static double default_pivot_tolerance(double epsilon) { return 1000 * epsilon; }
   double pivot_tolerance_for(double epsilon) const {
@@ -103,6 +113,7 @@ struct SolverModel {
   Scalar pivot_tolerance;
   Scalar joint_inertia_tolerance;
   bool refinement = true;
+  ConstraintRows constraint_rows = ConstraintRows::inward_columns;
   DriverLayout layout;
 
   std::size_t dof() const { return joints.size() - 1; }
@@ -155,6 +166,7 @@ struct SolverModel {
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
     joint_inertia_tolerance = Scalar(options.joint_inertia_tolerance_for(epsilon));
     refinement = options.refinement;
+    constraint_rows = options.constraint_rows;
   }
 };
 

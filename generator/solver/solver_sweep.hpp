@@ -22,8 +22,7 @@ namespace sweepgen::solver {
 
 // (ν): E_conf, ν and the number of dropped pivots.
 template <class Scalar>
-void constraint_multipliers(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
-                            const ArticulatedState<Scalar>& art,
+void constraint_multipliers(const SolverModel<Scalar>& model, const ArticulatedState<Scalar>& art,
                             const ConstraintVector<Scalar>& setpoints, Policy policy, Solution<Scalar>& sol) {
   const std::size_t nc = model.constraints();
   sol.conf_energy.setZero(nc);
@@ -31,9 +30,9 @@ void constraint_multipliers(const SolverModel<Scalar>& model, const KinematicsSt
     if (composes(model.layout.tracks[t], policy)) sol.conf_energy += art.track[t][0].acceleration_energy;
   ConstraintVector<Scalar> rhs(nc);
   for (std::size_t k = 0; k < nc; ++k)
-    rhs[k] = setpoints[k] - spatial::dot(art.body[0].constraint_force[k], kin.base_acceleration) - sol.conf_energy[k];
+    rhs[k] = setpoints[k] - art.base_acceleration_energy[k] - sol.conf_energy[k];
   sol.nu = solve_constraint_multipliers(art.body[0].constraint_energy, rhs, model.constraint_factorisation,
-                                        model.pivot_tolerance, sol.dropped_pivots);
+                                        model.pivot_tolerance, sol.dropped_pivots, &sol.pivoted_path);
 }
 
 // τctrl for the policies that keep the constraint (original, prioritize_external, saturate).
@@ -42,12 +41,14 @@ void control_torques(const SolverModel<Scalar>& model, const ArticulatedState<Sc
                      Solution<Scalar>& sol) {
   for (std::size_t i = 1; i <= model.dof(); ++i) {
     const JointModel<Scalar>& joint = model.joints[i];
-    spatial::Force<Scalar> f;
-    for (std::size_t k = 0; k < model.constraints(); ++k) f += art.body[i].constraint_force[k] * sol.nu[k];
-    if (policy == Policy::prioritize_external)
+    Scalar tau(0);
+    for (std::size_t k = 0; k < model.constraints(); ++k) tau += art.body[i].constraint_row[k] * sol.nu[k];
+    if (policy == Policy::prioritize_external) {
+      spatial::Force<Scalar> f;
       for (std::size_t t = 0; t < model.layout.tracks.size(); ++t)
         if (model.layout.tracks[t].only_external_forces()) f -= art.track[t][i].articulated_force;
-    Scalar tau = spatial::dot(f, joint.S);
+      tau += spatial::dot(f, joint.S);
+    }
     sol.saturated[i - 1] = Scalar(0);
     if (policy == Policy::saturate) {
       sol.saturated[i - 1] = select_greater(abs_value(tau), joint.effort_limit, Scalar(1), Scalar(0));
@@ -153,7 +154,7 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
   for (std::size_t i = 1; i <= model.dof(); ++i) sol.locked_joints += art.body[i].locked;
   const std::vector<spatial::Force<Scalar>>* no_extra_force = nullptr;
   const auto constrained_motion = [&](const ConstraintVector<Scalar>& targets) {  // (S2)–(S5)
-    constraint_multipliers(model, kin, art, targets, constraint_policy, sol);
+    constraint_multipliers(model, art, targets, constraint_policy, sol);
     control_torques(model, art, constraint_policy, sol);
     accelerations_base_to_tip(model, kin, art, inputs, constraint_policy, no_extra_force, sol);
   };

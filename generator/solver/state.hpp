@@ -59,7 +59,8 @@ struct BodyArticulated {
   Scalar D{};                                    // d_i + S_i^T M^A_i S_i
   Scalar inverse_D{};                            // 0 where the joint is locked
   Scalar locked{};                               // 1 where D_i fell below the joint-inertia tolerance, else 0
-  ConstraintForces<Scalar> constraint_force;    // F^A_cstr,i (Nc columns)
+  ConstraintForces<Scalar> constraint_force;    // F^A_cstr,i (Nc columns; not formed with outward rows, I6)
+  ConstraintVector<Scalar> constraint_row;      // r_i = S_i^T F^A_cstr,i (Nc), body 1..N
   ConstraintMatrix<Scalar> constraint_energy;   // E^A_cstr,i (Nc x Nc)
 };
 
@@ -73,6 +74,9 @@ template <class Scalar>
 struct ArticulatedState {
   std::vector<BodyArticulated<Scalar>> body;     // 0..N; body[0] holds F^A_cstr,0, E^A_cstr,0
   std::vector<std::vector<TrackBody<Scalar>>> track;  // [track][body]
+  // F^A_cstr,0^T Ẍ_0, what the base's acceleration (gravity) adds to the constraint's
+  // acceleration energy (S2); with outward rows (I6) it is in the bias track's E^A_t,0 and 0 here.
+  ConstraintVector<Scalar> base_acceleration_energy;
 
   static ArticulatedState sized(std::size_t n, std::size_t nc, std::size_t tracks) {
     ArticulatedState s;
@@ -81,6 +85,7 @@ struct ArticulatedState {
     TrackBody<Scalar> zero;
     zero.acceleration_energy.setZero(nc);
     s.track.assign(tracks, std::vector<TrackBody<Scalar>>(n + 1, zero));
+    s.base_acceleration_energy.setZero(nc);
     return s;
   }
 };
@@ -98,6 +103,8 @@ struct Solution {
   ConstraintVector<Scalar> nu;               // ν, Lagrange multipliers (constraint wrench = F_cstr ν)
   ConstraintVector<Scalar> conf_energy;      // E_conf
   Scalar dropped_pivots{};                   // count of E^A_cstr,0 pivots treated as zero
+  Scalar pivoted_path{};                     // 1 where ν came from the pivoted factorisation (C2, C3), 0
+                                             // from the natural order (C4); not an output of generated code
   Scalar locked_joints{};                    // count of joints locked by the joint-inertia policy
   JointVector<Scalar> tau_ctrl;              // τctrl (articulated share)
   JointVector<Scalar> qdd;                   // q̈

@@ -61,6 +61,7 @@ void visit_fields(const ArticulatedState<Scalar>& art, const DriverLayout& layou
       visit(std::string("D"), i, 0, b.D);
       visit(std::string("inverse_D"), i, 0, b.inverse_D);
       visit(std::string("locked"), i, 0, b.locked);
+      for (int k = 0; k < nc; ++k) visit(std::string("constraint_row"), i, k, b.constraint_row[k]);
     }
     for (int k = 0; k < nc; ++k) visit_force(visit, "constraint_force", i, b.constraint_force[k], 6 * k);
     visit_matrix(visit, "constraint_energy", i, b.constraint_energy);
@@ -70,6 +71,7 @@ void visit_fields(const ArticulatedState<Scalar>& art, const DriverLayout& layou
       for (int k = 0; k < nc; ++k) visit("acceleration_energy_" + name, i, k, art.track[t][i].acceleration_energy[k]);
     }
   }
+  for (int k = 0; k < nc; ++k) visit(std::string("base_acceleration_energy"), kBodyless, k, art.base_acceleration_energy[k]);
 }
 
 // Solver sweep: outputs first (nu, qdd, tau_ctrl, tau_cmd, tip_acceleration, set_acceleration, saturated,

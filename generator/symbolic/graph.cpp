@@ -43,6 +43,7 @@ const char* op_name(Op op) {
     case Op::max: return "max";
     case Op::select_greater: return "select";
     case Op::equilibration_scale: return "equilibration_scale";
+    case Op::select_path: return "select_path";
   }
   return "?";
 }
@@ -56,7 +57,8 @@ int arity(Op op) {
     case Op::cos:
     case Op::abs:
     case Op::equilibration_scale: return 1;
-    case Op::select_greater: return 4;
+    case Op::select_greater:
+    case Op::select_path: return 4;
     default: return 2;
   }
 }
@@ -159,7 +161,8 @@ NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
       case Op::abs: return constant(std::abs(u));
       case Op::min: return constant(std::min(u, v));
       case Op::max: return constant(std::max(u, v));
-      case Op::select_greater: return u > v ? args[2] : args[3];
+      case Op::select_greater:
+      case Op::select_path: return u > v ? args[2] : args[3];
       case Op::equilibration_scale: return constant(solver::equilibration_scale(u));
       default: break;
     }
@@ -212,6 +215,10 @@ NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
       if (x.op == Op::select_greater && is(nodes_[x.args[2]], 1) && is(nodes_[x.args[3]], 0) && y.op == Op::constant &&
           y.value >= 0 && y.value < 1)
         return make(Op::select_greater, x.args[0], x.args[1], args[2], args[3]);
+      break;
+    case Op::select_path:
+      if (args[2] == args[3]) return args[2];
+      if (x.op == Op::constant && y.op == Op::constant) return x.value > y.value ? args[2] : args[3];
       break;
     default: break;
   }

@@ -4,7 +4,7 @@
 // expression it has seen before (common subexpressions are shared by construction).
 //   x+0 = x   x-0 = x   0-x = -x   x-x = 0   x*0 = 0   x*1 = x   x*(-1) = -x   x/1 = x
 //   0/x = 0   -(-x) = x   a+(-b) = a-b   a-(-b) = a+b   select(a, b, x, x) = x
-//   select(a, b, x, y) = (a > b ? x : y) for constants a, b
+//   select(a, b, x, y) = (a > b ? x : y) for constants a, b (both for select_greater and select_path)
 //   -(c*x) = (-c)*x for a constant c   select(select(a, b, 1, 0), t, x, y) = select(a, b, x, y), 0 <= t < 1
 // x*0 = 0 assumes finite x: every input of a dynamics solve is (NaN checks live elsewhere).
 // The graph holds numbers and operations only: what an input stands for is the tracer's
@@ -35,6 +35,8 @@ enum class Op : std::uint8_t {
   max,
   select_greater,  // args[0] > args[1] ? args[2] : args[3]
   equilibration_scale,  // the power of two s with s² x in [1, 4), 0 for x <= 0 (solver/scalar_ops.hpp)
+  select_path,     // args[0] > args[1] ? args[2] : args[3], where only the taken operand need be computed:
+                   // the emitter computes what only one path needs inside an if/else (Plan::guard)
 };
 
 const char* op_name(Op op);

@@ -27,7 +27,8 @@ std::vector<Scalar> Graph::evaluate(const std::vector<Scalar>& input_values) con
       case Op::abs: v[i] = std::abs(a(0)); break;
       case Op::min: v[i] = std::min(a(0), a(1)); break;
       case Op::max: v[i] = std::max(a(0), a(1)); break;
-      case Op::select_greater: v[i] = a(0) > a(1) ? a(2) : a(3); break;
+      case Op::select_greater:
+      case Op::select_path: v[i] = a(0) > a(1) ? a(2) : a(3); break;
       case Op::equilibration_scale: v[i] = solver::equilibration_scale(a(0)); break;
     }
   }

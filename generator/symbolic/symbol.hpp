@@ -57,6 +57,9 @@ class Symbol {
   friend Symbol select_greater(const Symbol& a, const Symbol& b, const Symbol& x, const Symbol& y) {
     return from_node(TraceScope::graph().make(Op::select_greater, a.id_, b.id_, x.id_, y.id_));
   }
+  friend Symbol select_path(const Symbol& a, const Symbol& b, const Symbol& x, const Symbol& y) {
+    return from_node(TraceScope::graph().make(Op::select_path, a.id_, b.id_, x.id_, y.id_));
+  }
 
  private:
   static Symbol make(Op op, const Symbol& a, const Symbol& b = Symbol()) {

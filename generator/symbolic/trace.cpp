@@ -80,6 +80,7 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
       }
       if (!set.directions_fixed()) ++run_time;
     }
+  trace.constraint_rows = request.options.constraint_rows;
   auto art = solver::ArticulatedState<Symbol>::sized(n, nc, layout.tracks.size());
   solver::decomposition_sweep_tip_to_base(model, kin, drivers, art);
 

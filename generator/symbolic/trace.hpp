@@ -60,6 +60,7 @@ struct Trace {
   std::size_t dof = 0;
   std::size_t constraints = 0;
   std::vector<solver::Policy> policies;
+  solver::ConstraintRows constraint_rows = solver::ConstraintRows::inward_columns;  // (I2) or (I6)
   std::vector<Field> fields;  // in the order the sweeps compute them
 };
 

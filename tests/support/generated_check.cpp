@@ -29,7 +29,8 @@ double kappa(const solver::ReferenceSolver<long double>& reference) {
 }  // namespace
 
 // Per state and flat solve (generated_check.hpp): the generated solve against
-//  (1) ReferenceSolver<Scalar>, the operations it was traced from: they differ by constant folding
+//  (1) ReferenceSolver<Scalar>, the operations it was traced from (the rows formed as the generator
+//      chose, I2 or I6): they differ by constant folding
 //      and the compiler's order only, so by a few roundings amplified like any rounding:
 //      ≤ kSameOperations eps κ;
 //  (2) ReferenceSolver<long double>, the answer: ≤ domain.accuracy eps κ (a sanity bound: the
@@ -56,7 +57,10 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
   options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<Scalar>::epsilon());
   options.joint_inertia_tolerance = options.joint_inertia_tolerance_for(std::numeric_limits<Scalar>::epsilon());
   solver::ReferenceSolver<long double> reference(chain, s.layout, options);
-  solver::ReferenceSolver<Scalar> traced(chain, s.layout, s.solver_options());
+  solver::SolverOptions traced_options = s.solver_options();  // as the generator formed the rows
+  traced_options.constraint_rows =
+      variant.outward_rows ? solver::ConstraintRows::outward_rows : solver::ConstraintRows::inward_columns;
+  solver::ReferenceSolver<Scalar> traced(chain, s.layout, traced_options);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   const solver::FlatLayout layout = s.flat_layout(chain.dof());
   EXPECT_EQ(variant.out_size, layout.out_size());

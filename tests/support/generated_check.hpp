@@ -23,6 +23,7 @@
     static constexpr const auto& flat_solves = ns::flat_solves;                   \
     static constexpr int flat_in_size = ns::flat_in_size;                         \
     static constexpr int flat_out_size = ns::flat_out_size;                       \
+    static constexpr bool outward_rows = ns::outward_constraint_rows;             \
     static void outward(const Scalar* q, const Scalar* qd, State& s) { ns::outward(q, qd, s); } \
     static void decompose(const Scalar* drivers_in, State& s) { ns::decompose(ns::drivers_from_flat(drivers_in), s); } \
   }
@@ -38,6 +39,7 @@ struct FlatVariant {
   };
   std::size_t in_size = 0, out_size = 0;
   std::vector<Entry> solves;
+  bool outward_rows = false;  // the generator formed the constraint rows outward (I6)
 };
 
 template <class Api>
@@ -46,6 +48,7 @@ FlatVariant<typename Api::Scalar> flat_variant() {
   v.in_size = static_cast<std::size_t>(Api::flat_in_size);
   v.out_size = static_cast<std::size_t>(Api::flat_out_size);
   for (const auto& entry : Api::flat_solves) v.solves.push_back({entry.policy, entry.solve});
+  v.outward_rows = Api::outward_rows;
   return v;
 }
 

@@ -1,0 +1,88 @@
+// The rows r_i = S_i^T F^A_cstr,i carried outward (docs/derivation.md, (I6)): what the inward
+// sweep needs of the unit-force columns F^A_cstr,i is only these rows ((I3), the torque terms of
+// (I5), (S3)) and the sum the bias and the base acceleration add to the acceleration energy. By
+// (I2), column k at body i is (P_{i+1}^T X_{i+1}^T) ... (P_b^T X_b^T) X_link^T α_k for the set on
+// body b, so with w_i = S_i, w_j = P_j X_j w_λ(j) on the path from i out to b:
+//   r_i,k = α_k^T X_link w_b                                              (I6)
+// and with z_0 = Ẍ_0, z_j = P_j X_j z_λ(j) + Ẍb_j:
+//   F^A_cstr,0^T Ẍ_0 + Σ_{i>=1} F^A_cstr,i^T Ẍb_i = α_k^T X_link z_b        (I6)
+// Here P_j w = w − S_j D_j^-1 U_j^T w is (I0)'s projection acting on motions (its transpose acts on
+// forces). Each joint's vector goes out only as far as the constrained links beyond it: on the
+// Panda's 6-D tip set that is n (n − 1) / 2 = 21 steps of one 6-vector against (I2)'s N Nc = 42.
+#pragma once
+
+#include "solver/solver_model.hpp"
+#include "solver/state.hpp"
+
+namespace sweepgen::solver {
+
+// P_j X_j w: one step of (I6) through body j (its articulated quantities from the inward sweep).
+template <class Scalar>
+spatial::Motion<Scalar> project_outward(const JointModel<Scalar>& joint, const BodyKinematics<Scalar>& body,
+                                        const BodyArticulated<Scalar>& art, const spatial::Motion<Scalar>& w) {
+  const spatial::Motion<Scalar> moved = body.X.apply(w);
+  return moved - joint.S * (art.inverse_D * spatial::dot(art.U, moved));
+}
+
+// Whether body j or a body beyond it carries a constraint set (the bodies (I6) must reach).
+template <class Scalar>
+std::vector<bool> bodies_reaching_a_set(const SolverModel<Scalar>& model) {
+  std::vector<bool> reaches(model.dof() + 1, false);
+  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) reaches[set.body] = true;
+  for (std::size_t j = model.dof(); j >= 1; --j)
+    if (reaches[j]) reaches[model.parent[j]] = true;
+  return reaches;
+}
+
+// Adds α_k^T X_link v to out[k] for every direction k of the sets on body b.
+template <class Scalar>
+void add_set_projections(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs, std::size_t b,
+                         const spatial::Motion<Scalar>& v, ConstraintVector<Scalar>& out) {
+  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) {
+    if (set.body != b) continue;
+    const spatial::Motion<Scalar> at_link = set.frame.apply(v);
+    for (std::size_t k = set.first; k < set.first + set.count; ++k)
+      out[k] += spatial::dot(inputs.constraint_directions[k], at_link);
+  }
+}
+
+// r_i (I6), once the inward sweep has formed U_j, D_j^-1 of every body beyond i.
+template <class Scalar>
+ConstraintVector<Scalar> constraint_row_outward(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                                const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs,
+                                                const std::vector<bool>& reaches, std::size_t i) {
+  const std::size_t n = model.dof();
+  ConstraintVector<Scalar> row = ConstraintVector<Scalar>::Zero(model.constraints());
+  std::vector<spatial::Motion<Scalar>> w(n + 1);
+  std::vector<bool> beyond_i(n + 1, false);
+  w[i] = model.joints[i].S;
+  beyond_i[i] = true;
+  add_set_projections(model, inputs, i, w[i], row);
+  for (std::size_t j = i + 1; j <= n; ++j) {
+    beyond_i[j] = beyond_i[model.parent[j]];
+    if (!beyond_i[j] || !reaches[j]) continue;
+    w[j] = project_outward(model.joints[j], kin.body[j], art.body[j], w[model.parent[j]]);
+    add_set_projections(model, inputs, j, w[j], row);
+  }
+  return row;
+}
+
+// F^A_cstr,0^T Ẍ_0 + Σ_i F^A_cstr,i^T Ẍb_i by (I6)'s z recursion, after the inward sweep.
+template <class Scalar>
+ConstraintVector<Scalar> bias_energy_outward(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                             const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs) {
+  const std::size_t n = model.dof();
+  const std::vector<bool> reaches = bodies_reaching_a_set(model);
+  ConstraintVector<Scalar> energy = ConstraintVector<Scalar>::Zero(model.constraints());
+  std::vector<spatial::Motion<Scalar>> z(n + 1);
+  z[0] = kin.base_acceleration;
+  add_set_projections(model, inputs, 0, z[0], energy);
+  for (std::size_t j = 1; j <= n; ++j) {
+    if (!reaches[j]) continue;
+    z[j] = project_outward(model.joints[j], kin.body[j], art.body[j], z[model.parent[j]]) + kin.body[j].bias_acceleration;
+    add_set_projections(model, inputs, j, z[j], energy);
+  }
+  return energy;
+}
+
+}  // namespace sweepgen::solver
