@@ -791,6 +791,26 @@ TEST(CliInfo, ListsTheJointsAndOperationCounts) {
   expect_contains(missing.err, "/nonexistent/robot.urdf");
 }
 
+// --branch-tip names a tree's further tips for info and generate as for solve (without a scene
+// file, a tree's joint order can be listed): the mobile Panda with Franka's two fingers, whose
+// second finger is a <mimic> of the first, each a joint of its own and said so.
+TEST(CliInfo, BranchTipListsATreeAndItsMimicJoints) {
+  const std::string urdf = kSource + "/robots/mobile_panda_gripper/mobile_panda_gripper.urdf";
+  const CommandResult r = sweepgen({"info", "--urdf", urdf, "--root", "mobile_base", "--tip", "panda_leftfinger",
+                                    "--branch-tip", "panda_rightfinger", "--floating-base"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  expect_contains(r.out, "tree mobile_base -> panda_leftfinger, panda_rightfinger in " + urdf + ": 15 moving joints");
+  expect_contains(r.out, "14. panda_finger_joint1 (prismatic");
+  expect_contains(r.out, "15. panda_finger_joint2 (prismatic");
+  expect_contains(r.out, "sweepgen: note: joint 'panda_finger_joint2' is a <mimic> of 'panda_finger_joint1' (q = 1 "
+                         "q_source + 0): here it is a joint of its own, joint 15 of the chain");
+  // Without the branch tip the right finger is off the chain: locked, and still said to be a mimic.
+  const CommandResult chain = sweepgen({"info", "--urdf", urdf, "--root", "mobile_base", "--tip", "panda_leftfinger"});
+  ASSERT_EQ(chain.exit_code, 0) << describe(chain);
+  expect_contains(chain.out, "chain mobile_base -> panda_leftfinger");
+  expect_contains(chain.out, "here it is locked at 0 (default); the coupling is not modelled");
+}
+
 // The quarter-turn rule is said by info, generate and the header, origin by origin; the flag
 // --no-snap-quarter-turns (scene key snap_quarter_turns: false) takes the URDF literally.
 TEST(CliGenerate, QuarterTurnsAreSaidAndCanBeTurnedOff) {
