@@ -151,7 +151,7 @@ TEST(QuarterTurns, APitchNearAQuarterTurnIsListedWithItsDeviation) {
 }
 
 TEST(QuarterTurns, TurnedOffTheFileIsTakenLiterally) {
-  for (const std::string rpy : {"1.57079632679 0 0", "0 1.57079632679 0"}) {
+  for (const std::string& rpy : std::vector<std::string>{"1.57079632679 0 0", "0 1.57079632679 0"}) {
     const model::Chain chain = load(gripper_arm(R"(xyz="0 0 0.1" rpy=")" + rpy + "\""), "finger_left", {}, {}, false);
     EXPECT_TRUE(chain.changes.empty());
     EXPECT_EQ(chain.exact_quarter_turns, 0u);
