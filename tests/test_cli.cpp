@@ -802,6 +802,7 @@ TEST(CliInfo, BranchTipListsATreeAndItsMimicJoints) {
   expect_contains(r.out, "tree mobile_base -> panda_leftfinger, panda_rightfinger in " + urdf + ": 15 moving joints");
   expect_contains(r.out, "14. panda_finger_joint1 (prismatic");
   expect_contains(r.out, "15. panda_finger_joint2 (prismatic");
+  expect_contains(r.out, "rotor inertia 0, a <mimic> of 'panda_finger_joint1' (see the notes)\n");
   expect_contains(r.out, "sweepgen: note: joint 'panda_finger_joint2' is a <mimic> of 'panda_finger_joint1' (q = 1 "
                          "q_source + 0): here it is a joint of its own, joint 15 of the chain");
   // Without the branch tip the right finger is off the chain: locked, and still said to be a mimic.

@@ -176,7 +176,10 @@ int run_info(const SceneOptions& options) {
               << ", axis " << j.axis.transpose() << (axis_aligned ? ", axis-aligned: folds to one column" : "")
               << ") moves " << b.link << (chain.is_chain() ? "" : " against " + chain.bodies[chain.parent[i]].link)
               << ", mass " << b.mass << " kg";
-    std::cout << ", effort limit " << j.effort_limit << ", rotor inertia " << j.rotor_inertia << "\n";
+    std::cout << ", effort limit " << j.effort_limit << ", rotor inertia " << j.rotor_inertia;
+    for (const auto& mimic : chain.mimics)
+      if (mimic.joint == j.name) std::cout << ", a <mimic> of " << quote_name(mimic.source) << " (see the notes)";
+    std::cout << "\n";
   }
   std::cout << "links carried by the chain (lumped: fixed, or behind a locked joint off the chain), locked joints, links left out:\n";
   for (const std::string& line : model::lumping_summary(chain)) std::cout << "  " << line << "\n";
