@@ -2,6 +2,7 @@
 
 #include <stdlib.h>  // mkdtemp
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -171,9 +172,24 @@ void check_chain(const model::Chain& chain, const model::ChainSpec& spec) {
       if (!(std::isfinite(lumped.mass) && lumped.mass >= 0)) violation("mass of lumped link '" + lumped.link + "'");
     }
   }
+  const auto is_mimic = [&chain](const std::string& joint) {
+    return std::any_of(chain.mimics.begin(), chain.mimics.end(), [&joint](const auto& m) { return m.joint == joint; });
+  };
+  const auto is_locked = [&chain](const std::string& joint) {
+    return std::any_of(chain.locked_joints.begin(), chain.locked_joints.end(), [&joint](const auto& l) { return l.name == joint; });
+  };
+  // Off the chain only what a moving body carries is locked; a <mimic> on a tip path may be locked
+  // on the fixed base too (locked_joints), the links beyond then fixed to it.
   for (const auto& locked : chain.locked_joints)
-    if (locked.body == 0 || locked.body >= chain.bodies.size() || !std::isfinite(locked.position))
+    if ((locked.body == 0 && !is_mimic(locked.name)) || locked.body >= chain.bodies.size() || !std::isfinite(locked.position))
       violation("locked joint '" + locked.name + "'");
+  for (const auto& mimic : chain.mimics) {
+    if ((chain.joint_index(mimic.joint) != 0) == is_locked(mimic.joint))
+      violation("mimic joint '" + mimic.joint + "' is not exactly one of moving and locked");
+    if (!std::isfinite(mimic.multiplier) || !std::isfinite(mimic.offset)) violation("mimic joint '" + mimic.joint + "' numbers");
+  }
+  for (const auto& change : chain.changes)
+    if (!(std::isfinite(change.deviation) && change.deviation >= 0)) violation("change of " + change.element);
   for (const auto& link : chain.left_out)
     if (chain.frames.count(link.link) != 0) violation("link '" + link.link + "' both on the chain and left out");
 }

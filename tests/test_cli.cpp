@@ -791,5 +791,74 @@ TEST(CliInfo, ListsTheJointsAndOperationCounts) {
   expect_contains(missing.err, "/nonexistent/robot.urdf");
 }
 
+// --branch-tip names a tree's further tips for info and generate as for solve (without a scene
+// file, a tree's joint order can be listed): the mobile Panda with Franka's two fingers, whose
+// second finger is a <mimic> of the first, each a joint of its own and said so.
+TEST(CliInfo, BranchTipListsATreeAndItsMimicJoints) {
+  const std::string urdf = kSource + "/robots/mobile_panda_gripper/mobile_panda_gripper.urdf";
+  const CommandResult r = sweepgen({"info", "--urdf", urdf, "--root", "mobile_base", "--tip", "panda_leftfinger",
+                                    "--branch-tip", "panda_rightfinger", "--floating-base"});
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  expect_contains(r.out, "tree mobile_base -> panda_leftfinger, panda_rightfinger in " + urdf + ": 15 moving joints");
+  expect_contains(r.out, "14. panda_finger_joint1 (prismatic");
+  expect_contains(r.out, "15. panda_finger_joint2 (prismatic");
+  expect_contains(r.out, "rotor inertia 0, a <mimic> of 'panda_finger_joint1' (see the notes)\n");
+  expect_contains(r.out, "sweepgen: note: joint 'panda_finger_joint2' is a <mimic> of 'panda_finger_joint1' (q = 1 "
+                         "q_source + 0): here it is a joint of its own, joint 15 of the chain");
+  // Without the branch tip the right finger is off the chain: locked, and still said to be a mimic.
+  const CommandResult chain = sweepgen({"info", "--urdf", urdf, "--root", "mobile_base", "--tip", "panda_leftfinger"});
+  ASSERT_EQ(chain.exit_code, 0) << describe(chain);
+  expect_contains(chain.out, "chain mobile_base -> panda_leftfinger");
+  expect_contains(chain.out, "here it is locked at 0 (default); the coupling is not modelled");
+}
+
+// The quarter-turn rule is said by info, generate and the header, origin by origin; the flag
+// --no-snap-quarter-turns (scene key snap_quarter_turns: false) takes the URDF literally.
+TEST(CliGenerate, QuarterTurnsAreSaidAndCanBeTurnedOff) {
+  test::TempDir dir;
+  const std::string urdf = dir.write("tilted.urdf", test::one_joint_robot(R"(<joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="arm"/><origin xyz="0 0 0.1" rpy="1.57079632679 0 0"/><axis xyz="0 0 1"/>
+    <limit effort="10" velocity="1" lower="-1" upper="1"/></joint>)"));
+  const std::string note = "joint 'shoulder' <origin>: rpy '1.57079632679 0 0' taken as (pi/2, 0, 0) (changed by 4.89";
+  const CommandResult info = sweepgen({"info", "--urdf", urdf});
+  ASSERT_EQ(info.exit_code, 0) << describe(info);
+  expect_contains(info.out, "sweepgen: note: " + note);
+  const CommandResult generate = sweepgen({"generate", "--urdf", urdf, "--out", (dir.path() / "snapped").string()});
+  ASSERT_EQ(generate.exit_code, 0) << describe(generate);
+  expect_contains(generate.out, "sweepgen: note: " + note);
+  const std::string snapped = snapshot(dir.path() / "snapped").at("tilted.hpp");
+  expect_contains(snapped, "//   " + note);
+
+  const std::string scene = dir.write("literal.yaml", "sweepgen_scene: 1\nsolver: tilted\nurdf: " + urdf +
+                                                          "\nsnap_quarter_turns: false\n");
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--urdf", urdf, "--no-snap-quarter-turns"}, std::vector<std::string>{"--scene", scene}}) {
+    std::vector<std::string> command{"info"};
+    command.insert(command.end(), args.begin(), args.end());
+    const CommandResult literal_info = sweepgen(command);
+    ASSERT_EQ(literal_info.exit_code, 0) << describe(literal_info);
+    EXPECT_EQ(literal_info.out.find("quarter"), std::string::npos) << literal_info.out;
+    EXPECT_EQ(literal_info.out.find("<origin>"), std::string::npos) << literal_info.out;
+  }
+  const CommandResult literal = sweepgen(
+      {"generate", "--urdf", urdf, "--no-snap-quarter-turns", "--out", (dir.path() / "literal").string()});
+  ASSERT_EQ(literal.exit_code, 0) << describe(literal);
+  EXPECT_EQ(snapshot(dir.path() / "literal").at("tilted.hpp").find("<origin>"), std::string::npos);
+  // cos(1.57079632679) = 4.9e-12 (to the quaternion's rounding, 1e-16) stays in the code as a
+  // constant; snapped, it folds away.
+  const std::regex cosine("4\\.8966[0-9]*e-12");
+  EXPECT_TRUE(std::regex_search(snapshot(dir.path() / "literal").at("tilted.cpp"), cosine))
+      << "the literal rotation's cosine is not in the code";
+  EXPECT_FALSE(std::regex_search(snapshot(dir.path() / "snapped").at("tilted.cpp"), cosine));
+
+  // solve takes the flag too: the two models' answers differ by about the rotation's change.
+  const std::string line = R"({"q": [0.3], "qd": [0.2]})" "\n";
+  const CommandResult solve_snapped = sweepgen({"solve", "--urdf", urdf}, line);
+  const CommandResult solve_literal = sweepgen({"solve", "--urdf", urdf, "--no-snap-quarter-turns"}, line);
+  ASSERT_EQ(solve_snapped.exit_code, 0) << describe(solve_snapped);
+  ASSERT_EQ(solve_literal.exit_code, 0) << describe(solve_literal);
+  EXPECT_NE(solve_snapped.out, solve_literal.out);
+}
+
 }  // namespace
 }  // namespace sweepgen

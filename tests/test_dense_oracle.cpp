@@ -423,7 +423,8 @@ test::OracleCase bundled_tree(const std::string& urdf, const std::string& root, 
 }
 
 // Random trees (2 to 12 joints, each body on a random earlier one: chains, stars and everything
-// between) and, every fifth case, the bundled dual Panda; Nc = 0 and constraint sets on random
+// between) and, every fifth case, the bundled dual Panda or the Panda to its two fingers (the
+// second a <mimic> of the first, a joint of its own); Nc = 0 and constraint sets on random
 // links of any branches: the same equations over λ(i), against the KKT system whose Jacobians and
 // inverse dynamics walk the tree on their own.
 TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomTrees) {
@@ -435,8 +436,10 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomTrees) {
   std::size_t branched = 0, sets_on_two_branches = 0;
   const test::OracleCase dual_panda =
       bundled_tree("robots/dual_panda/dual_panda.urdf", "station", {"left_panda_hand", "right_panda_hand"}, false);
+  const test::OracleCase gripper = bundled_tree("robots/mobile_panda_gripper/mobile_panda_gripper.urdf", "mobile_base",
+                                                {"panda_leftfinger", "panda_rightfinger"}, false);
   for (int k = 0; k < test::state_count(1000); ++k) {
-    const test::OracleCase c = k % 5 == 0 ? dual_panda : test::random_case(generator, true);
+    const test::OracleCase c = k % 10 == 0 ? dual_panda : k % 10 == 5 ? gripper : test::random_case(generator, true);
     branched += c.chain.is_chain() ? 0 : 1;
     solver::ReferenceSolver<double> free(c.chain, test::oracle_layout(c, 0));
     compare_state(c, free, 0, random, worst, skips);
@@ -456,7 +459,8 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnRandomTrees) {
   report("random_trees", worst);
 }
 
-// Floating bases (F5): the bundled quadruped (four feet) and mobile Panda, and random trees on a
+// Floating bases (F5): the bundled quadruped (four feet), mobile Panda and mobile Panda to its two
+// fingers (one a <mimic> of the other), and random trees on a
 // random free root body, Nc = 0 and random constraint sets, against the KKT system of the oracle,
 // which takes the base's six coordinates as ordinary joints at 0 (with their velocity-product
 // terms; in_solver_coordinates turns its q̈ into the base's spatial acceleration).
@@ -468,7 +472,10 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnFloatingBases) {
   test::SkipCount skips("dense oracle, floating bases", 0.05);
   const std::vector<test::OracleCase> bundled = {
       bundled_tree("robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}, true),
-      bundled_tree("robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}, true)};
+      bundled_tree("robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}, true),
+      // A tree to Franka's two fingers, the second a <mimic> of the first: a joint of its own.
+      bundled_tree("robots/mobile_panda_gripper/mobile_panda_gripper.urdf", "mobile_base",
+                   {"panda_leftfinger", "panda_rightfinger"}, true)};
   for (int k = 0; k < test::state_count(1000); ++k) {
     const test::OracleCase c =
         k % 4 == 0 ? bundled.at(static_cast<std::size_t>(k / 4) % bundled.size()) : test::random_case(generator, false, true);

@@ -168,6 +168,7 @@ TEST(Scene, MinimalSceneGetsDefaults) {
   EXPECT_FALSE(s.expose_all);
   EXPECT_EQ(s.pivot_tolerance, 0.0);
   EXPECT_EQ(s.constraint_factorisation, solver::ConstraintFactorisation::pivoted_ldlt);
+  EXPECT_TRUE(s.chain.snap_quarter_turns);
   const model::Chain chain = scene::load_scene_chain(s);
   EXPECT_EQ(chain.root_link, "panda_link0");
   EXPECT_EQ(chain.tip_link, "panda_hand");
@@ -385,6 +386,15 @@ TEST(SceneErrors, DuplicateKey) {
   expect_error(text, position(text, 18, "expose"), "expose", "duplicate key (first given at ");
   const std::string text2 = with_urdf(replace(kFullScene, "panda_joint7: 0.02", "panda_joint1: 0.02"));
   expect_error(text2, position(text2, 7, "panda_joint1", 2), "rotor_inertia.panda_joint1", "duplicate joint");
+}
+
+// snap_quarter_turns (docs/derivation.md, F2): true or false, read into the chain's spec.
+TEST(Scene, SnapQuarterTurns) {
+  test::TempDir dir;
+  const std::string literal = with_urdf("sweepgen_scene: 1\nsolver: a\nurdf: @URDF@\nsnap_quarter_turns: false\n");
+  EXPECT_FALSE(scene::load_scene(dir.write("literal.yaml", literal)).chain.snap_quarter_turns);
+  const std::string odd = with_urdf("sweepgen_scene: 1\nsolver: a\nurdf: @URDF@\nsnap_quarter_turns: maybe\n");
+  expect_error(odd, position(odd, 4, "maybe"), "snap_quarter_turns", "unknown snap_quarter_turns value 'maybe'");
 }
 
 TEST(SceneErrors, WrongTypes) {

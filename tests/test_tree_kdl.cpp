@@ -185,6 +185,9 @@ TEST(TreeKdl, FloatingBasesReproduceTheTorquesThroughKdl) {
       {"robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"},
        {{"FL_foot", 3, {}}, {"FR_foot", 3, {}}, {"RL_foot", 3, {}}, {"RR_foot", 3, {}}}},
       {"robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}, {{"panda_hand", 6, {}}}},
+      // Franka's fingers, panda_finger_joint2 a <mimic> of panda_finger_joint1: a joint of its own.
+      {"robots/mobile_panda_gripper/mobile_panda_gripper.urdf", "mobile_base", {"panda_leftfinger", "panda_rightfinger"},
+       {{"panda_leftfinger", 3, {}}, {"panda_rightfinger", 3, {}}}},
   };
   test::RandomProblem random(63);
   test::SkipCount skips("floating-base round trip through KDL's TreeIdSolver_RNE", kMaxSkippedShare);
@@ -206,7 +209,48 @@ TEST(TreeKdl, FloatingBasesReproduceTheTorquesThroughKdl) {
       EXPECT_LE(trip.error, kTorqueRounding(trip.growth)) << c.urdf << " sets " << c.sets.size() << " state " << s;
     }
   }
-  std::cout << "[floating] " << states << " states on the quadruped and the mobile Panda\n";
+  std::cout << "[floating] " << states << " states on the quadruped and the mobile Pandas\n";
+}
+
+// Franka's fingers as its description ships them (robots/mobile_panda_gripper): panda_finger_joint2
+// a <mimic> of panda_finger_joint1, a joint of its own for sweepgen as for KDL (kdl_parser reads no
+// <mimic>). On the fixed base: the tree to both fingers, and the chain to the left one with the
+// right one off it, locked at 0.02 m (locked_joints), where KDL holds it. Bound and skips as above.
+TEST(TreeKdl, MimicFingersAreJointsOfTheirOwn) {
+  struct Case {
+    std::vector<std::string> tips;
+    std::vector<solver::ConstraintSet> sets;
+    std::map<std::string, double> locks;
+  };
+  const std::vector<Case> cases = {
+      {{"panda_leftfinger", "panda_rightfinger"}, {{"panda_leftfinger", 3, {}}, {"panda_rightfinger", 3, {}}}, {}},
+      {{"panda_leftfinger"}, {{"panda_leftfinger", 3, {}}}, {{"panda_finger_joint2", 0.02}}},
+  };
+  test::RandomProblem random(64);
+  test::SkipCount skips("mimic fingers' round trip through KDL's TreeIdSolver_RNE", kMaxSkippedShare);
+  test::WorstRatio worst("mimic fingers' round trip");
+  for (const Case& c : cases) {
+    model::ChainSpec spec;
+    spec.urdf = test::source_path("robots/mobile_panda_gripper/mobile_panda_gripper.urdf");
+    spec.root_link = "mobile_base";
+    spec.tip_link = c.tips.front();
+    spec.branch_tips.assign(c.tips.begin() + 1, c.tips.end());
+    spec.locked_joints = c.locks;
+    const model::Chain chain = model::load_chain(spec);
+    ASSERT_EQ(chain.dof(), 7 + c.tips.size());
+    ASSERT_EQ(chain.mimics.size(), 1u);
+    test::KdlTreeDynamics kdl(chain, kGravity, c.locks);
+    const solver::DriverLayout l = layout("panda_link3", c.sets);
+    solver::ReferenceSolver<double> reference(chain, l);
+    for (int s = 0; s < test::state_count(300); ++s) {
+      const solver::SolveInputs<double> in = draw(random, chain, l);
+      const solver::Solution<double>& sol = reference.run(in, solver::Policy::original);
+      const RoundTrip trip = round_trip(kdl, l, reference, in, sol, "panda_link3");
+      if (skips.skip(!kTorqueRounding.judged(trip.growth), "growth beyond the ceiling")) continue;
+      worst.add(trip.error, trip.growth);
+      EXPECT_LE(trip.error, kTorqueRounding(trip.growth)) << c.tips.size() << " tips, state " << s;
+    }
+  }
 }
 
 }  // namespace

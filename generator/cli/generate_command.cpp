@@ -8,6 +8,7 @@
 #include "emit/solver_emitter.hpp"
 #include "emit/templates.hpp"
 #include "model/error.hpp"
+#include "model/model_notes.hpp"
 #include "scene/scene.hpp"
 
 namespace sweepgen::cli {
@@ -22,8 +23,13 @@ void add_scene_options(CLI::App* command, SceneOptions& options) {
   command->add_option("--expose", options.expose, "all | outputs")->check(CLI::IsMember({"all", "outputs"}));
   command->add_option("--scalar", options.scalars, "double and/or float (repeatable)")
       ->check(CLI::IsMember({"double", "float"}));
+  command->add_option("--branch-tip", options.branch_tips,
+                      "a further tip (repeatable): the moving joints on the paths to every tip form a tree (scene key tips)");
   command->add_flag("--floating-base", options.floating_base,
                     "the root link moves freely (scene key base: floating; docs/derivation.md, F5)");
+  command->add_flag("--no-snap-quarter-turns", options.literal_angles,
+                    "take URDF angles as written, not within 1e-10 rad of a multiple of pi/2 as exact (scene key "
+                    "snap_quarter_turns: false)");
   // Neither a scene nor a URDF is a usage error (exit 2), like any other missing option.
   command->parse_complete_callback([&options] {
     if (options.scene.empty() && options.urdf.empty()) throw CLI::RequiredError("--scene or --urdf");
@@ -35,8 +41,9 @@ void add_scene_options(CLI::App* command, SceneOptions& options) {
 scene::Scene resolve_scene(const SceneOptions& options) {
   if (options.scene.empty() && options.urdf.empty())
     throw InputError("command line", "--scene / --urdf", "give a scene file, or a URDF for the default scene");
-  scene::Scene s = options.scene.empty() ? scene::default_scene(options.urdf, options.root, options.tip)
-                                         : scene::load_scene(options.scene);
+  scene::Scene s = options.scene.empty()
+                       ? scene::default_scene(options.urdf, options.root, options.tip, options.branch_tips, !options.literal_angles)
+                       : scene::load_scene(options.scene);
   const auto override_with = [&s](const std::string& value, std::string& field, const char* element, const char* flag) {
     if (value.empty()) return;
     field = value;
@@ -46,6 +53,11 @@ scene::Scene resolve_scene(const SceneOptions& options) {
     override_with(options.urdf, s.chain.urdf, "urdf", "--urdf");
     override_with(options.root, s.chain.root_link, "root", "--root");
     override_with(options.tip, s.chain.tip_link, "tip", "--tip");
+    if (!options.branch_tips.empty()) {
+      s.chain.branch_tips = options.branch_tips;
+      s.locations["tip"] = "--branch-tip";
+    }
+    if (options.literal_angles) s.chain.snap_quarter_turns = false;
   }
   if (!options.solver.empty()) {
     if (!scene::is_identifier(options.solver))
@@ -79,18 +91,9 @@ emit::EmittedSolver emit_scene(const scene::Scene& s, const model::Chain& chain)
   return emit::emit_solver(chain, emit::emit_request(s, provenance));
 }
 
-// What the URDF says that the model does not take as given: default lock positions (a modelling
-// choice the scene did not make) and joint damping or friction (not modelled).
+// What the model does not take from the URDF as written, or leaves to the application (model_notes).
 void print_notes(const model::Chain& chain, std::ostream& out) {
-  for (const auto& locked : chain.locked_joints)
-    if (!locked.from_scene)
-      out << "sweepgen: note: joint " << quote_name(locked.name) << " off the chain is locked at " << locked.position
-          << " (0 clamped into its limits; set locked_joints in the scene to choose), carrying its links on "
-          << chain.bodies[locked.body].link << "\n";
-  for (const auto& dynamics : chain.unmodelled_dynamics)
-    out << "sweepgen: note: joint " << quote_name(dynamics.joint) << ": the URDF's <dynamics> (damping "
-        << dynamics.damping << ", friction " << dynamics.friction
-        << ") is not modelled; add the torques it stands for to tau_ff (e.g. -damping * qd)\n";
+  for (const std::string& line : model::model_notes(chain)) out << "sweepgen: note: " << line << "\n";
 }
 
 void print_costs(const emit::EmittedSolver& emitted, std::ostream& out) {
@@ -174,7 +177,10 @@ int run_info(const SceneOptions& options) {
               << ", axis " << j.axis.transpose() << (axis_aligned ? ", axis-aligned: folds to one column" : "")
               << ") moves " << b.link << (chain.is_chain() ? "" : " against " + chain.bodies[chain.parent[i]].link)
               << ", mass " << b.mass << " kg";
-    std::cout << ", effort limit " << j.effort_limit << ", rotor inertia " << j.rotor_inertia << "\n";
+    std::cout << ", effort limit " << j.effort_limit << ", rotor inertia " << j.rotor_inertia;
+    for (const auto& mimic : chain.mimics)
+      if (mimic.joint == j.name) std::cout << ", a <mimic> of " << quote_name(mimic.source) << " (see the notes)";
+    std::cout << "\n";
   }
   std::cout << "links carried by the chain (lumped: fixed, or behind a locked joint off the chain), locked joints, links left out:\n";
   for (const std::string& line : model::lumping_summary(chain)) std::cout << "  " << line << "\n";

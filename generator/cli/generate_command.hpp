@@ -16,7 +16,9 @@ struct SceneOptions {
   std::string solver;
   std::string expose;
   std::vector<std::string> scalars;
+  std::vector<std::string> branch_tips;
   bool floating_base = false;
+  bool literal_angles = false;  // --no-snap-quarter-turns
 };
 
 struct GenerateOptions {

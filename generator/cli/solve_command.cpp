@@ -66,6 +66,8 @@ void add_solve_command(CLI::App& app, SolveOptions& options) {
   solve->add_flag("--floating-base", options.floating_base,
                   "the root link moves freely (docs/derivation.md, F5): q starts with world_R_base (9, row-major), "
                   "qd, tau_ff and qdd with the base's six coordinates");
+  solve->add_flag("--no-snap-quarter-turns", options.literal_angles,
+                  "take URDF angles as written, not within 1e-10 rad of a multiple of pi/2 as exact (docs/derivation.md, F2)");
   solve->add_option("--input", options.input, "file of JSON lines, or - for standard input")->capture_default_str();
   solve->add_option("--rotor-inertia", options.rotor_inertia, "JOINT=VALUE rotor inertia (repeatable)");
 }
@@ -77,6 +79,7 @@ int run_solve(const SolveOptions& options) {
   spec.tip_link = options.tip;
   spec.branch_tips = options.branch_tips;
   spec.floating_base = options.floating_base;
+  spec.snap_quarter_turns = !options.literal_angles;
   spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
   const model::Chain chain = model::load_chain(spec);
 

@@ -14,6 +14,7 @@
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
 #include "emit/templates.hpp"
+#include "model/model_notes.hpp"
 #include "solver/flat_layout.hpp"
 #include "solver/state_fields.hpp"
 
@@ -355,6 +356,11 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   data lumping{data::type::list};
   for (const std::string& line : model::lumping_summary(chain)) lumping.push_back(data("line", line));
   values.set("lumping", lumping);
+  data notes{data::type::list};
+  const std::vector<std::string> note_lines = model::model_notes(chain);
+  for (const std::string& line : note_lines) notes.push_back(data("line", line));
+  values.set("has_model_notes", !note_lines.empty());
+  values.set("model_notes", notes);
   values.set("constraints", std::to_string(nc));
   const solver::DriverLayout& layout = request.trace.layout;
   const std::size_t run_time = layout.run_time_directions();

@@ -65,6 +65,26 @@ struct UnmodelledDynamics {
   double damping = 0, friction = 0;
 };
 
+// A URDF <mimic>: `joint` is written to follow `source` as q = multiplier q_source + offset. The
+// model takes it as a joint of its own, as KDL and the URDF dynamics readers do: a degree of freedom
+// on the chain, locked like any joint off it, or locked where the scene's locked_joints names it;
+// the coupling is the application's to enforce.
+struct MimicJoint {
+  std::string joint, source;
+  double multiplier = 1, offset = 0;
+};
+
+// A number of the URDF that the model does not take as written (docs/derivation.md, F2, F3): an
+// <origin> under the quarter-turn rule, an <axis> scaled to unit length, an inertia tensor made
+// exactly symmetric. `sweepgen info`, `generate` and the generated header list each.
+struct ModelChange {
+  std::string element;   // "joint 'j' <origin>", "joint 'j' <axis>", "link 'l' <inertial>"
+  std::string written;   // the value as read
+  std::string taken_as;  // the value the model uses
+  double deviation = 0;  // the size of the change, in `unit`
+  std::string unit;      // "rad", "(1 - 1/|axis|)", "kg m^2"
+};
+
 // A link the chain does not carry, with why.
 struct LeftOutLink {
   std::string link;
@@ -98,6 +118,11 @@ struct Chain {
   std::vector<LockedJoint> locked_joints;  // moving joints off the chain, URDF tree order
   std::vector<LeftOutLink> left_out;       // links not carried by the chain, by name
   std::vector<UnmodelledDynamics> unmodelled_dynamics;  // chain joints with URDF damping or friction
+  std::vector<MimicJoint> mimics;        // <mimic> joints the chain moves or locks, URDF order of reading
+  std::vector<ModelChange> changes;      // numbers not taken as written, in the order read
+  // Origins whose angles are the doubles nearest to multiples of pi/2 (kRoundingOfQuarterTurns),
+  // taken exactly: counted, not listed one by one.
+  std::size_t exact_quarter_turns = 0;
   // A floating base (F5): joints 1..6 are the base's coordinates (rotations about x, y, z, then
   // translations along x, y, z of the root link's frame), bodies 1..5 massless, body 6 the root
   // link; body 0 is the inertial frame that coincides with the root link's at this instant.

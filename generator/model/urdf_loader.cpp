@@ -16,11 +16,10 @@
 #include <utility>
 
 #include "model/error.hpp"
+#include "model/quarter_turns.hpp"
 
 namespace sweepgen::model {
 namespace {
-
-constexpr double kHalfPi = 1.5707963267948966;
 
 // Collects urdfdom's error messages so that they can be part of our error message. urdfdom
 // logs some errors (an unparsable number in <inertial>, say) and still returns a model with
@@ -42,26 +41,13 @@ class CapturedConsole : public console_bridge::OutputHandler {
   std::string messages_;
 };
 
-// Exact sine and cosine of angles within 1e-10 of a multiple of pi/2.
-void snapped_sin_cos(double angle, double& s, double& c) {
-  const double quarter_turns = std::round(angle / kHalfPi);
-  if (std::abs(angle - quarter_turns * kHalfPi) < 1e-10) {
-    static constexpr double kSin[4] = {0, 1, 0, -1};
-    static constexpr double kCos[4] = {1, 0, -1, 0};
-    const long k = ((static_cast<long>(quarter_turns) % 4) + 4) % 4;
-    s = kSin[k];
-    c = kCos[k];
-  } else {
-    s = std::sin(angle);
-    c = std::cos(angle);
-  }
-}
-
 // The shortest text that reads back as `value`.
 std::string shortest(double value) {
   char text[32];
   return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
 }
+
+std::string vector_text(const Vec3& v) { return "(" + shortest(v.x()) + ", " + shortest(v.y()) + ", " + shortest(v.z()) + ")"; }
 
 std::string named(const std::string& kind, const std::string& name) { return kind + " " + quote_name(name); }
 
@@ -85,15 +71,29 @@ std::pair<double, double> position_limits(const urdf::Joint& joint, const std::s
 }
 
 // Pose of a child frame in its parent (URDF <origin>) as the motion transform parent -> child:
-// X_T of (F2) in docs/derivation.md.
-Transform transform_from_pose(const urdf::Pose& pose, const std::string& file, const std::string& element) {
-  double roll = 0, pitch = 0, yaw = 0;
-  require_finite(file, element + " <origin>",
+// X_T of (F2) in docs/derivation.md, under the quarter-turn rule unless the spec turns it off;
+// each origin the rule changed is added to chain.changes (or counted, when only by rounding).
+Transform transform_from_pose(const urdf::Pose& pose, const ChainSpec& spec, Chain& chain, const std::string& element) {
+  const std::string origin = element + " <origin>";
+  require_finite(spec.urdf, origin,
                  {pose.position.x, pose.position.y, pose.position.z, pose.rotation.x, pose.rotation.y,
                   pose.rotation.z, pose.rotation.w});
-  pose.rotation.getRPY(roll, pitch, yaw);
+  const OriginRotation rotation = origin_rotation(pose.rotation, spec.snap_quarter_turns);
+  if (rotation.snapped[0] || rotation.snapped[1] || rotation.snapped[2]) {
+    if (rotation.deviation < kRoundingOfQuarterTurns) {
+      ++chain.exact_quarter_turns;
+    } else {
+      std::string written, taken;
+      for (int k = 0; k < 3; ++k) {
+        const std::string angle = shortest(rotation.rpy[k] + 0.0);  // + 0.0: -0 reads as 0
+        written += (k ? ", " : "rpy (") + angle;
+        taken += (k ? ", " : "(") + (rotation.snapped[k] ? quarter_turns_text(rotation.quarter_turns[k]) : angle);
+      }
+      chain.changes.push_back({origin, written + ")", taken + ")", rotation.deviation, "rad"});
+    }
+  }
   Transform X;
-  X.E = rotation_from_rpy(roll, pitch, yaw).transpose();
+  X.E = rotation.R.transpose();
   X.r = Vec3(pose.position.x, pose.position.y, pose.position.z);
   return X;
 }
@@ -101,7 +101,8 @@ Transform transform_from_pose(const urdf::Pose& pose, const std::string& file, c
 // Validates a link's <inertial> (mass >= 0, principal moments >= 0 and satisfying the triangle
 // inequalities, i.e. a physically consistent rigid body) and returns its spatial inertia about
 // the link frame's origin, in link coordinates.
-Inertia link_inertia(const urdf::Link& link, const std::string& file, double& mass) {
+Inertia link_inertia(const urdf::Link& link, const ChainSpec& spec, Chain& chain, double& mass) {
+  const std::string& file = spec.urdf;
   mass = 0;
   if (!link.inertial) return Inertia{};
   const urdf::Inertial& in = *link.inertial;
@@ -121,7 +122,7 @@ Inertia link_inertia(const urdf::Link& link, const std::string& file, double& ma
     throw InputError(file, element,
                      "inertia tensor violates the triangle inequality I1 + I2 >= I3 (" + principal.str() +
                          "), no rigid body has it");
-  const Transform link_to_com = transform_from_pose(in.origin, file, element);
+  const Transform link_to_com = transform_from_pose(in.origin, spec, chain, named("link", link.name) + " <inertial>");
   // Rotate the tensor from the inertial frame into link axes, then about the link origin (F3).
   const Mat3 R = link_to_com.E.transpose();
   const Mat3 rotated = R * inertia_com * R.transpose();
@@ -131,6 +132,10 @@ Inertia link_inertia(const urdf::Link& link, const std::string& file, double& ma
   // R I R^T and c× c× are symmetric in exact arithmetic, not always in floating point; the
   // sweeps rely on symmetric blocks (they compute one triangle), so make it exact.
   Mat3 about_origin = rotated - in.mass * cx * cx;
+  const double asymmetry = (about_origin - about_origin.transpose()).cwiseAbs().maxCoeff();
+  if (asymmetry > 0)
+    chain.changes.push_back({element, "the tensor about the link origin (R I R^T - m c x c x, rounded: not symmetric)",
+                             "its upper triangle mirrored", asymmetry, "kg m^2"});
   spatial::symmetrize_from_upper(about_origin);
   return Inertia::rigid(in.mass, in.mass * com, about_origin);
 }
@@ -214,7 +219,9 @@ std::vector<urdf::JointConstSharedPtr> path_joints(const urdf::ModelInterface& m
 }
 
 // The unit axis of a moving joint, validated.
-Vec3 unit_axis(const urdf::Joint& joint, const std::string& file) {
+// One whose length is not 1 is scaled to it and added to chain.changes.
+Vec3 unit_axis(const urdf::Joint& joint, const ChainSpec& spec, Chain& chain) {
+  const std::string& file = spec.urdf;
   const std::string element = named("joint", joint.name) + " <axis>";
   const auto& a = joint.axis;
   require_finite(file, element, {a.x, a.y, a.z});
@@ -223,12 +230,65 @@ Vec3 unit_axis(const urdf::Joint& joint, const std::string& file) {
   Vec3 axis(a.x, a.y, a.z);
   if (!std::isfinite(axis.norm())) axis /= axis.cwiseAbs().maxCoeff();
   if (!(axis.norm() > 1e-12)) throw InputError(file, element, "axis has zero length");
-  return axis / axis.norm();
+  const Vec3 unit = axis / axis.norm();
+  const Vec3 written(a.x, a.y, a.z);
+  // The change as 1 - 1/|a|: finite where |a| overflows (it is then 1).
+  if (unit != written)
+    chain.changes.push_back({element, vector_text(written), "the unit vector " + vector_text(unit),
+                             std::abs(1 - 1 / written.norm()), "(1 - 1/|axis|)"});
+  return unit;
 }
 
 bool is_moving(const urdf::Joint& joint) {
   return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS ||
          joint.type == urdf::Joint::PRISMATIC;
+}
+
+std::string lock_location(const ChainSpec& spec, const std::string& joint) {
+  const auto at = spec.locked_joint_locations.find(joint);
+  return at == spec.locked_joint_locations.end() ? "command line" : at->second;
+}
+
+// Holds a moving joint at one position so that the links behind it are rigid (F4): the spec's
+// locked_joints entry (within the joint's limits), else 0 clamped into its limits. Adds it to
+// chain.locked_joints (carried by `body`) and returns its motion X_J(q_lock) (F2): the child
+// frame in the joint frame.
+Transform lock_joint(const urdf::Joint& joint, std::size_t body, const ChainSpec& spec, Chain& chain) {
+  const auto [lower, upper] = position_limits(joint, spec.urdf);
+  LockedJoint locked{joint.name, body, std::clamp(0.0, lower, upper), false};
+  if (const auto given = spec.locked_joints.find(joint.name); given != spec.locked_joints.end()) {
+    const std::string element = element_path("locked_joints", joint.name);
+    if (!std::isfinite(given->second)) throw InputError(lock_location(spec, joint.name), element, "position is not finite");
+    if (given->second < lower || given->second > upper)
+      throw InputError(lock_location(spec, joint.name), element,
+                       "position " + shortest(given->second) + " is outside the joint's limits [" + shortest(lower) +
+                           ", " + shortest(upper) + "] in " + spec.urdf);
+    locked.position = given->second;
+    locked.from_scene = true;
+  }
+  chain.locked_joints.push_back(locked);
+  const Vec3 axis = unit_axis(joint, spec, chain);
+  Transform motion;
+  if (joint.type == urdf::Joint::PRISMATIC) motion.r = axis * locked.position;
+  else motion.E = Eigen::AngleAxisd(locked.position, axis).toRotationMatrix().transpose();
+  return motion;
+}
+
+// A <mimic> on a joint the model moves or locks: its source must be a joint of the URDF and its
+// numbers finite; it is added to chain.mimics, to be said (model_notes).
+void note_mimic(const urdf::ModelInterface& model, const urdf::Joint& joint, const ChainSpec& spec, Chain& chain) {
+  if (!joint.mimic) return;
+  const urdf::JointMimic& mimic = *joint.mimic;
+  const std::string element = named("joint", joint.name) + " <mimic>";
+  require_finite(spec.urdf, element, {mimic.multiplier, mimic.offset});
+  if (!model.getJoint(mimic.joint_name)) {
+    std::vector<std::string> joints;
+    for (const auto& [name, other] : model.joints_) joints.push_back(name);
+    throw InputError(spec.urdf, element,
+                     "follows joint " + quote_name(mimic.joint_name) + ", which the URDF does not have" +
+                         nearest_name_hint(mimic.joint_name, joints));
+  }
+  chain.mimics.push_back({joint.name, mimic.joint_name, mimic.multiplier, mimic.offset});
 }
 
 // The branches that leave the chain (chain.hpp), lumped into the body that carries them (F4):
@@ -262,14 +322,10 @@ class OffChainLumper {
     const auto child = model_.getLink(joint.child_link_name);
     if (chain_.frames.count(child->name) != 0)
       throw InputError(file, named("link", child->name), "the joints form a cycle through this link; a URDF must be a tree");
-    Transform parent_to_child = transform_from_pose(joint.parent_to_joint_origin_transform, file, element);
+    Transform parent_to_child = transform_from_pose(joint.parent_to_joint_origin_transform, spec_, chain_, element);
     if (is_moving(joint)) {
-      const double position = lock(joint, body);
-      const Vec3 axis = unit_axis(joint, file);
-      Transform motion;  // the joint's own motion X_J(q_lock), child frame in the joint frame (F2)
-      if (joint.type == urdf::Joint::PRISMATIC) motion.r = axis * position;
-      else motion.E = Eigen::AngleAxisd(position, axis).toRotationMatrix().transpose();
-      parent_to_child = motion * parent_to_child;
+      note_mimic(model_, joint, spec_, chain_);
+      parent_to_child = lock_joint(joint, body, spec_, chain_) * parent_to_child;
       locked_by = joint.name;
     } else if (joint.type != urdf::Joint::FIXED) {
       throw InputError(file, element,
@@ -278,41 +334,13 @@ class OffChainLumper {
     }
     const Transform body_to_child = parent_to_child * body_to_parent;
     double mass = 0;
-    const Inertia inertia = link_inertia(*child, file, mass);
+    const Inertia inertia = link_inertia(*child, spec_, chain_, mass);
     Body& b = chain_.bodies[body];
     b.inertia = b.inertia + inertia.transformed_to_parent(body_to_child);
     b.mass += mass;
     b.lumped_links.push_back({child->name, mass, locked_by});
     chain_.frames[child->name] = Frame{body, body_to_child};
     for (const auto& grandchild : child->child_joints) carry(*grandchild, body, body_to_child, locked_by);
-  }
-
-  // The position at which `joint` is held: the spec's, else 0 clamped into its limits.
-  double lock(const urdf::Joint& joint, std::size_t body) {
-    const std::string& file = spec_.urdf;
-    if (joint.mimic && chain_.joint_index(joint.mimic->joint_name) != 0)
-      throw InputError(file, named("joint", joint.name),
-                       "a mimic of chain joint " + quote_name(joint.mimic->joint_name) +
-                           " off the chain cannot be locked (its position follows that joint)");
-    const auto [lower, upper] = position_limits(joint, file);
-    LockedJoint locked{joint.name, body, std::clamp(0.0, lower, upper), false};
-    if (const auto given = spec_.locked_joints.find(joint.name); given != spec_.locked_joints.end()) {
-      const std::string element = element_path("locked_joints", joint.name);
-      if (!std::isfinite(given->second)) throw InputError(location(joint.name), element, "position is not finite");
-      if (given->second < lower || given->second > upper)
-        throw InputError(location(joint.name), element,
-                         "position " + shortest(given->second) + " is outside the joint's limits [" + shortest(lower) +
-                             ", " + shortest(upper) + "] in " + file);
-      locked.position = given->second;
-      locked.from_scene = true;
-    }
-    chain_.locked_joints.push_back(locked);
-    return locked.position;
-  }
-
-  std::string location(const std::string& joint) const {
-    const auto at = spec_.locked_joint_locations.find(joint);
-    return at == spec_.locked_joint_locations.end() ? "command line" : at->second;
   }
 
   // A locked position for a joint that was not locked is a mistake: say why.
@@ -325,10 +353,11 @@ class OffChainLumper {
       const auto joint = model_.getJoint(name);
       std::string reason;
       if (!joint) reason = "no joint of that name in " + spec_.urdf + nearest_name_hint(name, lockable);
-      else if (chain_.joint_index(name) != 0) reason = "is a moving joint of the chain; only joints off the chain are locked";
+      else if (chain_.joint_index(name) != 0)
+        reason = "is a moving joint of the chain; only joints off the chain, and <mimic> joints, are locked";
       else if (!is_moving(*joint)) reason = "is not a revolute, continuous or prismatic joint; there is nothing to lock";
       else reason = "is not carried by a moving body of the chain (it hangs off the fixed base or lies outside the chain's tree); locking it changes nothing";
-      throw InputError(location(name), element, "joint " + quote_name(name) + " " + reason);
+      throw InputError(lock_location(spec_, name), element, "joint " + quote_name(name) + " " + reason);
     }
   }
 
@@ -416,18 +445,6 @@ void apply_rotor_inertia(Chain& chain, const std::map<std::string, double>& roto
 
 }  // namespace
 
-Mat3 rotation_from_rpy(double roll, double pitch, double yaw) {
-  double sr, cr, sp, cp, sy, cy;
-  snapped_sin_cos(roll, sr, cr);
-  snapped_sin_cos(pitch, sp, cp);
-  snapped_sin_cos(yaw, sy, cy);
-  Mat3 Rx, Ry, Rz;
-  Rx << 1, 0, 0, 0, cr, -sr, 0, sr, cr;
-  Ry << cp, 0, sp, 0, 1, 0, -sp, 0, cp;
-  Rz << cy, -sy, 0, sy, cy, 0, 0, 0, 1;
-  return Rz * Ry * Rx;
-}
-
 Chain load_chain(const ChainSpec& spec) {
   const std::string& urdf_path = spec.urdf;
   const std::string& root_link = spec.root_link;
@@ -438,6 +455,7 @@ Chain load_chain(const ChainSpec& spec) {
   text << in.rdbuf();
 
   urdf::ModelInterfaceSharedPtr model;
+  std::string padded_text;
   {
     CapturedConsole console;
     // TinyXML (under urdfdom) steps over a UTF-8 lead byte's continuation bytes without looking
@@ -445,7 +463,8 @@ Chain load_chain(const ChainSpec& spec) {
     // string's terminator (an AddressSanitizer heap-buffer-overflow found by fuzz_urdf, input kept
     // as fuzz/regressions/urdf/reject_utf8_lead_byte_at_end.urdf). NUL bytes after the text keep
     // such a read inside the buffer; the parser stops at the first NUL either way.
-    model = urdf::parseURDF(text.str() + std::string(8, '\0'));
+    padded_text = text.str() + std::string(8, '\0');
+    model = urdf::parseURDF(padded_text);
     if (!model || !console.messages().empty())
       throw InputError(urdf_path, "<robot>",
                        "not a valid URDF: " + (console.messages().empty() ? "urdfdom rejected it" : console.messages()));
@@ -471,7 +490,7 @@ Chain load_chain(const ChainSpec& spec) {
         throw InputError(urdf_path, named("joint", name),
                          "the name is taken by the floating base's coordinates; rename the joint for a floating base");
     double mass = 0;
-    const Inertia inertia = link_inertia(*root, urdf_path, mass);
+    const Inertia inertia = link_inertia(*root, spec, chain, mass);
     add_floating_base(chain, inertia, mass);
   }
   chain.frames[chain.root_link] = Frame{chain.dof(), Transform::identity()};
@@ -492,25 +511,28 @@ Chain load_chain(const ChainSpec& spec) {
       const auto child = model->getLink(urdf_joint->child_link_name);
       if (chain.frames.count(child->name) != 0) continue;  // on an earlier tip's path
       const std::string element = named("joint", urdf_joint->name);
-      if (urdf_joint->mimic)
-        throw InputError(urdf_path, element, "mimic joints are not supported (the chain needs independent joints)");
-      const Transform origin = transform_from_pose(urdf_joint->parent_to_joint_origin_transform, urdf_path, element);
+      const Transform origin = transform_from_pose(urdf_joint->parent_to_joint_origin_transform, spec, chain, element);
       double mass = 0;
-      const Inertia child_inertia = link_inertia(*child, urdf_path, mass);
+      const Inertia child_inertia = link_inertia(*child, spec, chain, mass);
       chain_links.push_back(child->name);
       // The parent link's frame: on its body, at the transform from that body's frame.
       const Frame above = chain.frames.at(urdf_joint->parent_link_name);
+      // A <mimic> joint is a joint of its own (MimicJoint): it moves, unless the scene locks it.
+      if (is_moving(*urdf_joint)) note_mimic(*model, *urdf_joint, spec, chain);
+      const bool locked_mimic = urdf_joint->mimic && is_moving(*urdf_joint) && spec.locked_joints.count(urdf_joint->name);
 
+      // A fixed joint, or a locked one: its child is lumped into the body above (F4).
+      if (urdf_joint->type == urdf::Joint::FIXED || locked_mimic) {
+        const Transform motion = locked_mimic ? lock_joint(*urdf_joint, above.body, spec, chain) : Transform::identity();
+        const Transform body_to_link = motion * origin * above.X;
+        chain.frames[child->name] = Frame{above.body, body_to_link};
+        Body& b = chain.bodies[above.body];
+        if (above.body > 0) b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
+        b.mass += mass;
+        b.lumped_links.push_back({child->name, mass, locked_mimic ? urdf_joint->name : ""});
+        continue;
+      }
       switch (urdf_joint->type) {
-        case urdf::Joint::FIXED: {
-          const Transform body_to_link = origin * above.X;
-          chain.frames[child->name] = Frame{above.body, body_to_link};
-          Body& b = chain.bodies[above.body];
-          if (above.body > 0) b.inertia = b.inertia + child_inertia.transformed_to_parent(body_to_link);
-          b.mass += mass;
-          b.lumped_links.push_back({child->name, mass, ""});
-          break;
-        }
         case urdf::Joint::REVOLUTE:
         case urdf::Joint::CONTINUOUS:
         case urdf::Joint::PRISMATIC: {
@@ -518,7 +540,7 @@ Chain load_chain(const ChainSpec& spec) {
           joint.name = urdf_joint->name;
           joint.type = urdf_joint->type == urdf::Joint::PRISMATIC ? JointType::prismatic : JointType::revolute;
           joint.continuous = urdf_joint->type == urdf::Joint::CONTINUOUS;
-          joint.axis = unit_axis(*urdf_joint, urdf_path);
+          joint.axis = unit_axis(*urdf_joint, spec, chain);
           joint.tree_transform = origin * above.X;
           if (const auto& limits = urdf_joint->limits) {
             require_finite(urdf_path, element + " <limit>", {limits->effort, limits->velocity});
@@ -558,6 +580,13 @@ Chain load_chain(const ChainSpec& spec) {
   check_finite_model(chain);
   apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);
   check_outermost_joints_can_accelerate(chain);
+  // The quarter-turn rule's listing shows the angles as written (urdfdom keeps a quaternion).
+  if (std::any_of(chain.changes.begin(), chain.changes.end(), [](const ModelChange& c) { return c.unit == "rad"; })) {
+    const auto written = written_rpy(padded_text);
+    for (ModelChange& change : chain.changes)
+      if (const auto text = written.find(change.element); change.unit == "rad" && text != written.end())
+        change.written = "rpy " + quote_name(text->second);
+  }
   return chain;
 }
 

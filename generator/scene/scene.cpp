@@ -426,7 +426,7 @@ Scene load_scene(const std::string& path) {
   const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip", "tips", "base",
                                          "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
                                          "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation",
-                                         "refinement", "constraint_rows"};
+                                         "refinement", "constraint_rows", "snap_quarter_turns"};
   std::map<std::string, Item> values;
   for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
   const auto get = [&](const std::string& key) -> std::optional<Item> {
@@ -487,6 +487,9 @@ Scene load_scene(const std::string& path) {
     }
     scene.locations["tip"] = reader.where(*item);
   }
+
+  if (const auto item = get("snap_quarter_turns"))
+    scene.chain.snap_quarter_turns = reader.choice(*item, {"true", "false"}, "snap_quarter_turns value") == "true";
 
   if (const auto item = get("base")) {
     scene.chain.floating_base = reader.choice(*item, {"fixed", "floating"}, "base") == "floating";
@@ -669,7 +672,8 @@ model::Chain load_scene_chain(const Scene& scene) {
   return chain;
 }
 
-Scene default_scene(const std::string& urdf, const std::string& root, const std::string& tip) {
+Scene default_scene(const std::string& urdf, const std::string& root, const std::string& tip,
+                    const std::vector<std::string>& branch_tips, bool snap_quarter_turns) {
   Scene scene;
   std::string name = std::filesystem::path(urdf).stem().string();
   for (char& c : name)
@@ -683,9 +687,12 @@ Scene default_scene(const std::string& urdf, const std::string& root, const std:
   scene.chain.urdf = urdf;
   scene.chain.root_link = root;
   scene.chain.tip_link = tip;
+  scene.chain.branch_tips = branch_tips;
+  scene.chain.snap_quarter_turns = snap_quarter_turns;
   scene.locations["urdf"] = "--urdf";
   if (!root.empty()) scene.locations["root"] = "--root";
   if (!tip.empty()) scene.locations["tip"] = "--tip";
+  if (!branch_tips.empty()) scene.locations["tip"] = "--branch-tip";
   scene.layout.decompose_all();  // the bias alone, until the tip is known
   const model::Chain chain = load_scene_chain(scene);  // resolves root and tip
   scene.chain.root_link = chain.root_link;

@@ -26,8 +26,13 @@
 //                                   #   floating base [m/s^2]; default [0, 0, -9.81]
 //   rotor_inertia:                  # optional: armature d_i (>= 0) by moving-joint name;
 //     panda_joint1: 0.1             #   joints not listed get 0
+//   snap_quarter_turns: true        # optional: true (default) takes URDF angles within 1e-10 rad of
+//                                   #   a multiple of pi/2 as exact (they fold; each such <origin> is
+//                                   #   listed by `sweepgen info`, generate and the header); false
+//                                   #   takes the URDF literally
 //   locked_joints:                  # optional: position [rad or m] by name of a moving joint
-//     panda_finger_joint1: 0.04     #   off the chain (a gripper's fingers, a second arm): the
+//     panda_finger_joint1: 0.04     #   off the chain (a gripper's fingers, a second arm), or of a
+//                                   #   <mimic> joint on it (else its own degree of freedom): the
 //                                   #   links behind it are lumped into the body that carries
 //                                   #   them, with the joint held there; within the joint's
 //                                   #   limits. Off-chain joints not listed are locked at 0
@@ -161,7 +166,9 @@ model::Chain load_scene_chain(const Scene& scene);
 // run-time directions; every policy; decomposed (Alg. 2); scalars [double]; outputs only; default
 // gravity and pivot tolerance. Loads the URDF to resolve an empty root/tip (so both are filled
 // in); throws InputError if it cannot be loaded.
-Scene default_scene(const std::string& urdf, const std::string& root = "", const std::string& tip = "");
+// `branch_tips` add tips (a tree; the constraint set stays on the first tip); snap_quarter_turns as ChainSpec's.
+Scene default_scene(const std::string& urdf, const std::string& root = "", const std::string& tip = "",
+                    const std::vector<std::string>& branch_tips = {}, bool snap_quarter_turns = true);
 
 // Whether `name` is a usable C++ identifier (not a keyword, not reserved).
 bool is_identifier(const std::string& name);

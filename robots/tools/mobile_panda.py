@@ -35,9 +35,9 @@ BASE_COM_Z = 0.1645  # m: 0.018 + 0.293 / 2, the box centre above the floor
 MOUNT_Z = 0.311  # m: the top plate (the Ridgeback's height)
 
 
-def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else OUT
-    robot = ET.Element("robot", name="mobile_panda")
+def mobile_panda(name):
+    """The <robot> element: the base, its mount and the Panda's links and joints."""
+    robot = ET.Element("robot", name=name)
     robot.append(ET.Comment(
         " Written by robots/tools/mobile_panda.py from ../panda/panda.urdf (parameters and sources cited"
         " there); the base is a uniform box the size and mass of a Clearpath Ridgeback (sources in ../README.md). "))
@@ -53,7 +53,12 @@ def main():
     ET.SubElement(mount, "origin", xyz="0 0 %r" % MOUNT_Z, rpy="0 0 0")
     for element in arm(""):
         robot.append(element)
-    write_urdf(robot, out)
+    return robot
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else OUT
+    write_urdf(mobile_panda("mobile_panda"), out)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,69 @@
+#include "model/model_notes.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "model/error.hpp"
+#include "model/quarter_turns.hpp"
+
+namespace sweepgen::model {
+
+std::vector<std::string> model_notes(const Chain& chain) {
+  std::vector<std::string> lines;
+  const auto line = [&lines](auto&&... parts) {
+    std::ostringstream text;
+    (text << ... << parts);
+    lines.push_back(text.str());
+  };
+  const auto locked = [&chain](const std::string& name) {
+    return std::find_if(chain.locked_joints.begin(), chain.locked_joints.end(),
+                        [&name](const LockedJoint& j) { return j.name == name; });
+  };
+  for (const auto& mimic : chain.mimics) {
+    std::ostringstream written;
+    written << "joint " << quote_name(mimic.joint) << " is a <mimic> of " << quote_name(mimic.source) << " (q = "
+            << mimic.multiplier << " q_source + " << mimic.offset << "): ";
+    if (const std::size_t i = chain.joint_index(mimic.joint); i != 0)
+      line(written.str(), "here it is a joint of its own, joint ", i,
+           " of the chain; the application enforces the coupling (through tau_ff or a constraint) or locks the joint "
+           "(locked_joints)");
+    else if (const auto held = locked(mimic.joint); held != chain.locked_joints.end())
+      line(written.str(), "here it is locked at ", held->position, held->from_scene ? " (locked_joints)" : " (default)",
+           "; the coupling is not modelled");
+  }
+  for (const auto& held : chain.locked_joints)
+    if (!held.from_scene)
+      line("joint ", quote_name(held.name), " off the chain is locked at ", held.position,
+           " (0 clamped into its limits; set locked_joints in the scene to choose), carrying its links on ",
+           chain.bodies[held.body].link);
+  for (const auto& dynamics : chain.unmodelled_dynamics)
+    line("joint ", quote_name(dynamics.joint), ": the URDF's <dynamics> (damping ", dynamics.damping, ", friction ",
+         dynamics.friction, ") is not modelled; add the torques it stands for to tau_ff (e.g. -damping * qd)");
+  bool quarter_turns = chain.exact_quarter_turns > 0;
+  // Inertias made symmetric change only rounding (the URDF's tensor is symmetric): one line for all.
+  std::string symmetrised;
+  double largest = 0;
+  for (const auto& change : chain.changes) {
+    if (change.unit == "kg m^2") {
+      symmetrised += (symmetrised.empty() ? "" : ", ") + change.element.substr(0, change.element.rfind(" <inertial>"));
+      largest = std::max(largest, change.deviation);
+      continue;
+    }
+    line(change.element, ": ", change.written, " taken as ", change.taken_as, " (changed by ", change.deviation, " ",
+         change.unit, ")");
+    quarter_turns = quarter_turns || change.unit == "rad";
+  }
+  if (!symmetrised.empty())
+    line("the inertia tensors about their link origins of ", symmetrised,
+         " made exactly symmetric (the upper triangle mirrored; the rounding of R I R^T - m c x c x had made them differ "
+         "by at most ", largest, " kg m^2)");
+  if (chain.exact_quarter_turns > 0)
+    line(chain.exact_quarter_turns, " <origin>s whose angles are multiples of pi/2 to the double's rounding (within ",
+         kRoundingOfQuarterTurns, " rad) are taken as exact quarter turns");
+  if (quarter_turns)
+    line("the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; "
+         "scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally");
+  return lines;
+}
+
+}  // namespace sweepgen::model
