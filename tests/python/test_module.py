@@ -33,7 +33,7 @@ import numpy as np
 STATES = 64
 SEED = 2024
 
-# The error measure of tests/generated (report/relative_error.hpp): ||a - b||_inf / max(1, ||b||_inf),
+# The error measure of tests/generated (oracle/relative_error.hpp): ||a - b||_inf / max(1, ||b||_inf),
 # per output vector, judged against factor * eps * kappa with kappa = max(1, cond_s(E^A_cstr,0),
 # 1 / min rho_i) of the state (docs/stability.md; python_test_problems computes it with the
 # binary128 referee), only inside each scalar's domain of validity (tests/support/rounding_bound.hpp:
