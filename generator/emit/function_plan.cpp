@@ -263,4 +263,25 @@ Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
   return plan;
 }
 
+Plan make_single_pass_plan(const symbolic::Trace& trace, const std::string& prefix) {
+  Plan plan;
+  plan.stage.assign(trace.graph.size(), symbolic::stage_solve);
+  plan.anchor = anchors(trace);
+  for (const auto policy : trace.policies) {
+    FunctionPlan f;
+    f.group = solver::name(policy);
+    f.name = prefix + f.group;
+    f.stage = symbolic::stage_solve;
+    std::vector<NodeId> roots;
+    for (std::size_t i = 0; i < trace.fields.size(); ++i)
+      if (trace.fields[i].group == f.group && trace.fields[i].output) {
+        f.fields.push_back(i);
+        roots.push_back(trace.fields[i].node);
+      }
+    schedule(trace, plan.stage, roots, f);
+    plan.functions.push_back(std::move(f));
+  }
+  return plan;
+}
+
 }  // namespace sweepgen::emit

@@ -17,6 +17,7 @@ struct EmitRequest {
   symbolic::TraceRequest trace;       // drivers, fixed directions, policies, options
   std::string provenance;             // one line: generator version and input hashes
   bool check_inputs = true;           // emit the NaN/Inf checks raising status_not_finite
+  bool derivatives = false;           // emit derivatives_<policy> per differentiable policy (D1–D3)
 };
 
 struct EmittedFile {
