@@ -330,10 +330,11 @@ class DerivativeModuleTest:
       - batched calls return (K, rows, columns) blocks equal to single calls bit for bit;
       - the values qdd, nu, tau_cmd against solve() on the same state: the same traced operations in
         another function, so within the 40 eps kappa of the module test above;
-      - the tau_ff and beta columns against central differences of solve() with step 1: the solve is
-        affine in tau_ff and beta (at fixed pivot decisions), so the difference has no truncation error,
-        only the rounding of the two solves, 2 x 40 eps kappa relative to their scale over 2 x 1; the q
-        and qd columns are the same trace's (tests/test_generated_derivatives.cpp checks all of them)."""
+      - the qd, tau_ff and beta columns against central differences of solve() with step 1: at fixed q
+        and pivot decisions the solve is affine in tau_ff and beta and quadratic in qd (every velocity
+        term is a product of two velocities), so the central difference has no truncation error, only
+        the rounding of the two solves, 2 x 40 eps kappa relative to their scale over 2 x 1; the q
+        columns are the same trace's (tests/test_generated_derivatives.cpp checks all of them)."""
 
     STEM = SCENE = None
 
@@ -364,14 +365,14 @@ class DerivativeModuleTest:
                 solved = v.solve(q[k], qd[k], drivers[k], beta[k], policy=policy)
                 for key in ("qdd", "nu", "tau_cmd"):
                     self.assertLessEqual(relative_error(single[key], solved[key]), bound, f"{where} {key}")
-                for block, width, offset, vector in (("dtau_ff", n, tau_0, "drivers"), ("dbeta", nc, 0, "beta")):
+                for block, width, offset, index in (("dqd", n, 0, 0), ("dtau_ff", n, tau_0, 1), ("dbeta", nc, 0, 2)):
                     for j in range(width):
-                        plus, minus = [drivers[k].copy(), beta[k].copy()], [drivers[k].copy(), beta[k].copy()]
-                        index = 0 if vector == "drivers" else 1
+                        plus = [qd[k].copy(), drivers[k].copy(), beta[k].copy()]
+                        minus = [qd[k].copy(), drivers[k].copy(), beta[k].copy()]
                         plus[index][offset + j] += 1.0
                         minus[index][offset + j] -= 1.0
-                        up = v.solve(q[k], qd[k], plus[0], plus[1], policy=policy)
-                        down = v.solve(q[k], qd[k], minus[0], minus[1], policy=policy)
+                        up = v.solve(q[k], plus[0], plus[1], plus[2], policy=policy)
+                        down = v.solve(q[k], minus[0], minus[1], minus[2], policy=policy)
                         for key in ("qdd", "nu", "tau_cmd"):
                             difference = (up[key] - down[key]) / 2
                             scale = max(1.0, float(np.max(np.abs(up[key]), initial=0)),
