@@ -14,11 +14,13 @@
 # Panda scenes' re-solves (solve_<policy> only, new setpoints); KDL's Vereshchagin solver on
 # the Panda at Nc = 0, 3, 6 and the iiwa 14 and UR5 at Nc = 6 (bench/support/kdl_bench.hpp);
 # ReferenceSolver<double> on every scene (original); the report's dense KKT solve on the trees,
-# floating bases and panda_nc6.
+# floating bases and panda_nc6; the derivative functions of the scenes with derivatives: true
+# (derivatives_<policy>_flat: the solve and its Jacobians).
 # Prints a table with the floating-point operation counts the generator wrote into each header
 # and the ratio instructions / operation, then ratios against KDL, re-solve / full, reference /
 # generated; writes everything to BUILD_DIR/bench/instructions.csv.
-# Environment: CALLS (default 1000), JOBS (parallel valgrind runs, default nproc), ARCH (the
+# Environment: CALLS (default 1000), JOBS (parallel valgrind runs, default nproc), ONLY (a bash
+# regular expression: only the ids it matches, e.g. 'lean'), ARCH (the
 # generated solvers' -march, e.g. x86-64-v3; sets SWEEPGEN_SOLVER_ARCH in BUILD_DIR, whose default
 # becomes build-bench-ARCH; valgrind 3.19 decodes AVX2 but not AVX-512, so not `native` here).
 set -euo pipefail
@@ -56,6 +58,14 @@ while read -r id policies; do
       ;;
   esac
 done < <("$driver" --list)
+while read -r id policies; do
+  for p in $policies; do cases+=("$id $p derivatives"); done
+done < <("$driver" --list-derivatives)
+if [ -n "${ONLY:-}" ]; then
+  kept=()
+  for c in "${cases[@]}"; do [[ ${c%% *} =~ $ONLY ]] && kept+=("$c"); done
+  cases=("${kept[@]}")
+fi
 
 # One run per case with N = CALLS, and one N = 0 baseline per id and mode: the set-up does not
 # depend on the policy (the policy-name lookup differs by ~60 instructions in total, < 0.1 per call).
@@ -108,6 +118,7 @@ ops() {  # <id> <policy> <mode>
   case $mode in
     full) grep -F "//   $tag: outward + decompose + solve_$policy:" "$header" | sed -n "$total" ;;
     resolve) grep -F "//   $tag::solve_$policy:" "$header" | sed -n "$total" ;;
+    derivatives) grep -F "//   $tag::derivatives_$policy:" "$header" | sed -n "$total" ;;
     decompose)
       { grep -F "//   $tag::outward:" "$header"; grep -F "//   $tag::decompose:" "$header"; } |
         sed -n "$total" | awk '{s += $1} END {print s}' ;;
@@ -187,6 +198,15 @@ against_generated reference original
 echo
 echo "Dense KKT (the report's row: M(q), Jacobians, one LDL^T) / generated f64, full solve (original):"
 against_generated dense_kkt -
+
+echo
+echo "Derivatives (derivatives_<policy>_flat: the solve and its Jacobians) / full solve, f64:"
+while read -r vid policies; do
+  for p in $policies; do
+    printf '  %-26s %-20s %10s / %8s = %s\n' "$vid" "$p" "${per_call[$vid $p derivatives]:--}" "${per_call[$vid $p full]:--}" \
+      "$(ratio "$vid $p derivatives" "$vid $p full")"
+  done
+done < <("$driver" --list-derivatives)
 
 echo
 echo "panda_bias_only / panda_nc6 (f64 full, original): $(ratio "panda_bias_only/f64 original full" "panda_nc6/f64 original full")"

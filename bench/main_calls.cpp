@@ -1,7 +1,7 @@
 // bench_calls: a minimal driver for instruction counting (bench/count_instructions.sh).
 //
 //   bench_calls --list
-//   bench_calls <id> <policy> <N> [full|decompose|resolve]
+//   bench_calls <id> <policy> <N> [full|decompose|resolve|derivatives]
 //
 // prepares the inputs of <id> (kStates random problems), then makes N calls, cycling through
 // them, and prints a checksum. Running it under callgrind for N = 0 and N = 1000 and dividing
@@ -10,14 +10,16 @@
 //   <scene>/f64, <scene>/f32  generated solver (<scene> alone means f64); modes: full = flat
 //                             solve_<policy>_flat (outward + decompose + solve), decompose =
 //                             outward + decompose, resolve = solve_<policy> on a decomposed
-//                             state with new setpoints
+//                             state with new setpoints, derivatives = the flat
+//                             derivatives_<policy>_flat (scenes with derivatives: true)
 //   reference/<scene>         ReferenceSolver<double>; full or resolve
 //   kdl/<robot>/nc<K>         KDL's ChainHdSolver_Vereshchagin (bench/support/kdl_bench.hpp:
 //                             panda at K = 0, 3, 6; iiwa14, ur5 at K = 6; if built with KDL);
 //                             policy ignored (pass "-"), mode full
 //   dense_kkt/<scene>         the report's dense KKT solve (bench/support/dense_kkt_bench.hpp) on
 //                             the trees, floating bases and panda_nc6; policy "-", mode full
-// --list prints one line per id: "<id> <policy> <policy>..." ("kdl/<robot>/ncK -" for KDL).
+// --list prints one line per id: "<id> <policy> <policy>..." ("kdl/<robot>/ncK -" for KDL);
+// --list-derivatives one per generated variant with derivatives: "<id> <policy>...".
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
@@ -36,7 +38,8 @@ namespace {
 using namespace sweepgen::bench;
 
 int usage() {
-  std::cerr << "usage: bench_calls --list\n       bench_calls <id> <policy> <N> [full|decompose|resolve]\n";
+  std::cerr << "usage: bench_calls --list | --list-derivatives\n"
+               "       bench_calls <id> <policy> <N> [full|decompose|resolve|derivatives]\n";
   return 2;
 }
 
@@ -80,6 +83,13 @@ int run(const std::string& id, const std::string& policy, long calls, Mode mode)
     const std::string full_id = id.find('/') == std::string::npos ? id + "/f64" : id;
     for (const auto& v : generated_variants()) {
       if (v.id() != full_id) continue;
+      if (mode == Mode::derivatives) {
+        const auto d = std::find(v.derivative_policies.begin(), v.derivative_policies.end(), policy);
+        if (d == v.derivative_policies.end()) throw std::runtime_error(full_id + " has no derivatives of policy " + policy);
+        std::cout << v.run_derivatives(make_inputs(v.scene_path), static_cast<std::size_t>(d - v.derivative_policies.begin()), calls)
+                  << "\n";
+        return 0;
+      }
       const auto k = std::find(v.policies.begin(), v.policies.end(), policy);
       if (k == v.policies.end() && mode != Mode::decompose)
         throw std::runtime_error(full_id + " has no policy " + policy);
@@ -114,6 +124,15 @@ int main(int argc, char** argv) {
 #endif
     return 0;
   }
+  if (argc == 2 && std::string(argv[1]) == "--list-derivatives") {
+    for (const auto& v : generated_variants()) {
+      if (v.derivative_policies.empty()) continue;
+      std::cout << v.id();
+      for (const auto& p : v.derivative_policies) std::cout << " " << p;
+      std::cout << "\n";
+    }
+    return 0;
+  }
   if (argc != 4 && argc != 5) return usage();
   Mode mode = Mode::full;
   if (argc == 5) {
@@ -121,6 +140,7 @@ int main(int argc, char** argv) {
     if (m == "full") mode = Mode::full;
     else if (m == "decompose") mode = Mode::decompose;
     else if (m == "resolve") mode = Mode::resolve;
+    else if (m == "derivatives") mode = Mode::derivatives;
     else return usage();
   }
   char* end = nullptr;

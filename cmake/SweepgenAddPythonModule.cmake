@@ -140,6 +140,10 @@ if(CMAKE_SCRIPT_MODE_FILE AND DEFINED SWEEPGEN_SCENE_HEADER)
     set(has_f32 1)
   endif()
   file(READ "${SWEEPGEN_SCENE_HEADER}" text)
+  set(has_derivatives 0)
+  if(text MATCHES "constexpr int derivative_columns = ")
+    set(has_derivatives 1)
+  endif()
   foreach(part in out)
     set(flat_${part} "see ${SWEEPGEN_SCENE_HEADER}")
     if(text MATCHES "[ (]${part} = \\[([^]]*)\\]")
@@ -153,6 +157,7 @@ if(CMAKE_SCRIPT_MODE_FILE AND DEFINED SWEEPGEN_SCENE_HEADER)
 #define SWEEPGEN_MODULE_SCENE @scene_namespace@
 #define SWEEPGEN_MODULE_HAS_F64 @has_f64@
 #define SWEEPGEN_MODULE_HAS_F32 @has_f32@
+#define SWEEPGEN_MODULE_HAS_DERIVATIVES @has_derivatives@
 #define SWEEPGEN_MODULE_FLAT_IN "@flat_in@"
 #define SWEEPGEN_MODULE_FLAT_OUT "@flat_out@"
 ]] @ONLY)

@@ -5,7 +5,8 @@
 //   SWEEPGEN_MODULE_SCENE      the scene's C++ namespace (the scene's `solver:` entry)
 //   SWEEPGEN_MODULE_HAS_F64/32 whether the header has namespace f64 / f32 (the scene's `scalars:`)
 //   SWEEPGEN_MODULE_FLAT_IN/OUT the flat layout as the header's comment states it
-// Only the generated API common to every scene is bound: dof, nq, constraints, checks_inputs, Status,
+//   SWEEPGEN_MODULE_HAS_DERIVATIVES whether the header has the derivative functions (scene key derivatives)
+// Only the generated API common to every scene is bound (and, with derivatives, `derivatives`): dof, nq, constraints, checks_inputs, Status,
 // and per scalar outward, decompose (through drivers_from_flat), the solves and flat_solves
 // tables and the Solution members nu (when constraints > 0), qdd, tau_ctrl, tau_cmd,
 // tip_acceleration, set_acceleration (when the scene lists constraint sets), saturated,
@@ -282,6 +283,101 @@ std::size_t policy_index(const Table& table, const std::string& policy) {
     }                                                                                                    \
   }
 
+#if SWEEPGEN_MODULE_HAS_DERIVATIVES
+// The derivative functions of a variant (scene key derivatives): derivative_solves, by policy.
+#define SWEEPGEN_MODULE_DERIVATIVES(Name, tag)                                                           \
+  struct Name {                                                                                          \
+    using Scalar = scene::tag::Scalar;                                                                   \
+    using Derivatives = scene::tag::Derivatives;                                                         \
+    static constexpr int columns = scene::tag::derivative_columns;                                       \
+    static constexpr const auto& solves = scene::tag::derivative_solves;                                 \
+    static auto drivers_from_flat(const Scalar* drivers) { return scene::tag::drivers_from_flat(drivers); } \
+  }
+
+// derivatives(): the values and the Jacobians of one state or K, split by the columns of (D2):
+// d_<y>_dq (rows, dof), d_<y>_dqd (rows, dof), d_<y>_dtau_ff (rows, dof), d_<y>_dbeta (rows,
+// constraints), each (K, rows, columns) when batched.
+template <class Derived>
+void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_drivers) {
+  using Scalar = typename Derived::Scalar;
+  py::list policies;
+  for (const auto& entry : Derived::solves) policies.append(entry.policy);
+  m.attr("derivative_policies") = py::tuple(policies);
+  m.attr("derivative_columns") = Derived::columns;
+  m.def(
+      "derivatives",
+      [prefix, n_drivers](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
+                          const std::string& policy, unsigned mask) {
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
+                           d = rows_of<Scalar>(drivers, "drivers", n_drivers),
+                           b = rows_of<Scalar>(beta, "beta", constraints);
+        const auto solve = Derived::solves[policy_index(Derived::solves, policy)].solve;
+        const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows, &d, &b});
+        constexpr py::ssize_t columns = Derived::columns;
+        // Per output y (rows r): its values and its four column blocks, (D2)'s order.
+        struct Output {
+          const char* name;
+          py::ssize_t rows;
+          py::array_t<Scalar> values, blocks[4];
+        };
+        const py::ssize_t widths[4] = {dof, dof, dof, constraints};
+        const char* suffixes[4] = {"_dq", "_dqd", "_dtau_ff", "_dbeta"};
+        std::vector<Output> outputs;
+        const std::initializer_list<std::pair<const char*, py::ssize_t>> sizes = {{"qdd", dof}, {"nu", constraints}, {"tau_cmd", dof}};
+        for (const auto& [name, rows] : sizes) {
+          Output o{name, rows, array_of<Scalar>(batch, rows), {}};
+          for (int k = 0; k < 4; ++k)
+            o.blocks[k] = batch.batched ? py::array_t<Scalar>({batch.rows, rows, widths[k]}) : py::array_t<Scalar>({rows, widths[k]});
+          outputs.push_back(std::move(o));
+        }
+        py::array_t<std::uint32_t> status(batch.rows);
+        std::vector<Scalar*> values_to, blocks_to;
+        for (auto& o : outputs) {
+          values_to.push_back(o.values.mutable_data());
+          for (auto& block : o.blocks) blocks_to.push_back(block.mutable_data());
+        }
+        std::uint32_t* status_to = status.mutable_data();
+        for_each_row(batch, [&](py::ssize_t k) {
+          typename Derived::Derivatives r;
+          solve(q_rows.row(k), qd_rows.row(k), Derived::drivers_from_flat(d.row(k)), b.row(k), r);
+          const Scalar* values[3] = {r.qdd, nullptr, r.tau_cmd};
+          const Scalar* jacobians[3] = {r.d_qdd, nullptr, r.d_tau_cmd};
+          if constexpr (constraints > 0) {
+            values[1] = r.nu;
+            jacobians[1] = r.d_nu;
+          }
+          for (std::size_t o = 0; o < 3; ++o) {
+            const py::ssize_t rows = outputs[o].rows;
+            if (rows == 0) continue;
+            std::copy_n(values[o], rows, values_to[o] + k * rows);
+            py::ssize_t first = 0;
+            for (int block = 0; block < 4; ++block) {
+              Scalar* to = blocks_to[4 * o + block] + k * rows * widths[block];
+              for (py::ssize_t row = 0; row < rows; ++row)
+                std::copy_n(jacobians[o] + row * columns + first, widths[block], to + row * widths[block]);
+              first += widths[block];
+            }
+          }
+          status_to[k] = r.status;
+        });
+        py::dict result;
+        for (const auto& o : outputs) {
+          result[o.name] = o.values;
+          for (int block = 0; block < 4; ++block) result[py::str(std::string("d_") + o.name + suffixes[block])] = o.blocks[block];
+        }
+        result["status"] = batch.batched ? py::object(status) : py::object(py::int_(status.at(0)));
+        raise_on_status(mask, batch, [&](py::ssize_t k) { return status_to[k]; }, prefix + "derivatives", policy, result);
+        return result;
+      },
+      py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),
+      py::arg("policy") = Derived::solves[0].policy, py::arg("raise_on_status") = 0u,
+      "The generated derivatives_<policy> (scene key derivatives): arguments as solve(). Returns a dict: qdd, nu, "
+      "tau_cmd and, for each y of them, d_y_dq, d_y_dqd, d_y_dtau_ff (rows, dof) and d_y_dbeta (rows, constraints) "
+      "(K, rows, columns) when batched: a floating base's first six q columns are its rotation vector in its own "
+      "frame and its position (docs/derivation.md, D2); status.");
+}
+#endif
+
 // The flat input between q, qd and beta: the drivers (SWEEPGEN_MODULE_FLAT_IN).
 template <class Api>
 constexpr int drivers_size = Api::flat_in_size - nq - dof - constraints;
@@ -433,6 +529,12 @@ SWEEPGEN_MODULE_VARIANT(F64, f64);
 #if SWEEPGEN_MODULE_HAS_F32
 SWEEPGEN_MODULE_VARIANT(F32, f32);
 #endif
+#if SWEEPGEN_MODULE_HAS_DERIVATIVES && SWEEPGEN_MODULE_HAS_F64
+SWEEPGEN_MODULE_DERIVATIVES(F64Derivatives, f64);
+#endif
+#if SWEEPGEN_MODULE_HAS_DERIVATIVES && SWEEPGEN_MODULE_HAS_F32
+SWEEPGEN_MODULE_DERIVATIVES(F32Derivatives, f32);
+#endif
 
 }  // namespace
 
@@ -468,10 +570,22 @@ PYBIND11_MODULE(SWEEPGEN_MODULE_NAME, m) {
 #if SWEEPGEN_MODULE_HAS_F64
   bind_variant<F64>(m, "double arithmetic");
   scalars.append("f64");
+#if SWEEPGEN_MODULE_HAS_DERIVATIVES
+  {
+    py::module_ sub = m.attr("f64");
+    bind_derivatives<F64Derivatives>(sub, name + ".f64.", drivers_size<F64>);
+  }
+#endif
 #endif
 #if SWEEPGEN_MODULE_HAS_F32
   bind_variant<F32>(m, "float arithmetic");
   scalars.append("f32");
+#if SWEEPGEN_MODULE_HAS_DERIVATIVES
+  {
+    py::module_ sub = m.attr("f32");
+    bind_derivatives<F32Derivatives>(sub, name + ".f32.", drivers_size<F32>);
+  }
+#endif
 #endif
   m.attr("scalars") = py::tuple(scalars);
 }

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 
-#include "report/condition_number.hpp"
+#include "oracle/condition_number.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
@@ -93,7 +93,7 @@ class Composition : public ::testing::TestWithParam<std::tuple<std::string, std:
   // cond_s(E^A_cstr,0) (docs/stability.md): the amplification of rounding in the equilibrated,
   // pivoted solve of ν, whatever the units of each direction.
   double condition_of(const Solver& s) const {
-    return report::scaled_condition_number(s.articulated().body[0].constraint_energy);
+    return oracle::scaled_condition_number(s.articulated().body[0].constraint_energy);
   }
   // States a comparison may skip: with Nc > N the random directions always overdetermine the
   // tip (every state rank-deficient). Six random unit directions, mixing moments and forces, make

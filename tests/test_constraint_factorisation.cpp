@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "report/condition_number.hpp"
+#include "oracle/condition_number.hpp"
 #include "solver/constraint_multipliers.hpp"
 #include "support/skip_count.hpp"
 
@@ -71,7 +71,7 @@ TEST(ConstraintFactorisation, FullRankPivotedIsExactAndDampedIsBiasedByItsDampin
   for (int trial = 0; trial < 500; ++trial) {
     const int n = 1 + trial % 6;
     const Matrix E = random_energy(random, n, n);
-    const double cond = report::scaled_condition_number(E);
+    const double cond = oracle::scaled_condition_number(E);
     if (skips.skip(cond > 1e8, "cond_s > 1e8")) continue;  // keep the damped bias (~tol cond) well below 1
     Vector nu_true(n);
     for (int i = 0; i < n; ++i) nu_true[i] = entry(random);
@@ -187,7 +187,7 @@ TEST(ConstraintFactorisation, ScalingTheDirectionsScalesTheMultipliersOnly) {
   for (int trial = 0; trial < 300; ++trial) {
     const int n = 2 + trial % 5, rank = trial % 3 == 0 ? n - 1 : n;
     const Matrix E = random_energy(random, n, rank);
-    if (skips.skip(rank == n && report::scaled_condition_number(E) > 1e6, "full rank, cond_s > 1e6")) continue;
+    if (skips.skip(rank == n && oracle::scaled_condition_number(E) > 1e6, "full rank, cond_s > 1e6")) continue;
     Vector r(n), c(n);
     for (int i = 0; i < n; ++i) r[i] = entry(random), c[i] = std::pow(10.0, exponent(random));
     if (rank < n) r = E * r;  // consistent

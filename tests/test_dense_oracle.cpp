@@ -1,5 +1,5 @@
 // The reference ACHD solver (double) against an independent dense oracle in long double
-// (generator/report/dense_dynamics.hpp): Newton–Euler inverse dynamics, M(q) from its columns,
+// (generator/oracle/dense_dynamics.hpp): Newton–Euler inverse dynamics, M(q) from its columns,
 // the tip's body Jacobian and drift, and Gauss' principle as one KKT system
 //   [M −Jc^T; Jc 0] [q̈; ν] = [τff + Σ J_i^T F_ext,i − b; β − α^T c],   Jc = α^T J_tip.
 // The oracle itself is first checked against finite differences and the Lagrangian.

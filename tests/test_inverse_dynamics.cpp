@@ -1,5 +1,5 @@
 // The reference solver's accelerations and commanded torques against the dense oracle's
-// inverse and forward dynamics in long double (generator/report/dense_dynamics.hpp):
+// inverse and forward dynamics in long double (generator/oracle/dense_dynamics.hpp):
 //   (c) Nc = 0: RNEA(q, q̇, q̈) + d_i q̈_i = τff + Σ J_i^T F_ext,i, rotor inertia on some joints;
 //   (d) forward dynamics M^-1 (τcmd + Σ J^T F_ext − b) reproduces q̈ for every policy, while
 //       τff + τctrl does not (a trap of docs/derivation.md, section 7): it agrees with τcmd only

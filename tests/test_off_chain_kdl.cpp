@@ -41,7 +41,7 @@
 #include <map>
 
 #include "model/urdf_loader.hpp"
-#include "report/kdl_convention.hpp"
+#include "oracle/kdl_convention.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/kdl_tree_dynamics.hpp"
@@ -53,9 +53,9 @@
 namespace sweepgen {
 namespace {
 
-using report::from_kdl;
-using report::kdl_joints;
-using report::kdl_vector;
+using oracle::from_kdl;
+using oracle::kdl_joints;
+using oracle::kdl_vector;
 using spatial::Force;
 using spatial::Motion;
 

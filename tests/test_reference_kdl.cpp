@@ -82,10 +82,10 @@
 #include <numeric>
 #include <sstream>
 
-#include "report/condition_number.hpp"
-#include "report/relative_error.hpp"
-#include "report/kdl_chain.hpp"
-#include "report/kdl_convention.hpp"
+#include "oracle/condition_number.hpp"
+#include "oracle/relative_error.hpp"
+#include "oracle/kdl_chain.hpp"
+#include "oracle/kdl_convention.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
@@ -106,21 +106,21 @@ using test::RandomProblem;
 constexpr double kGravity = 9.81;
 
 // KDL's chain root -> last moving link, with what sweepgen lumps into it (the links fixed behind
-// it, side branches) lumped by KDL's own loader and frames (report/kdl_chain.hpp).
+// it, side branches) lumped by KDL's own loader and frames (oracle/kdl_chain.hpp).
 KDL::Chain kdl_chain(const BundledRobot& robot) {
   KDL::Chain chain;
   std::string why;
-  if (!report::kdl_chain(test::source_path(robot.urdf), test::load_bundled(robot, true), chain, why))
+  if (!oracle::kdl_chain(test::source_path(robot.urdf), test::load_bundled(robot, true), chain, why))
     throw std::runtime_error(why);
   return chain;
 }
 
-// The translation under test is the one `sweepgen report` uses (report/kdl_convention.hpp).
-using report::from_kdl;
-using report::from_kdl_base;
-using report::kdl_joints;
-using report::kdl_vector;
-using report::to_kdl_base;
+// The translation under test is the one `sweepgen report` uses (oracle/kdl_convention.hpp).
+using oracle::from_kdl;
+using oracle::from_kdl_base;
+using oracle::kdl_joints;
+using oracle::kdl_vector;
+using oracle::to_kdl_base;
 
 // R_i (body i -> base rotation) and p_i (body i origin in the base), i = 0..N, from the
 // outward sweep's X_i = {E_i, r_i}: R_i = R_{i-1} E_i^T, p_i = p_{i-1} + R_{i-1} r_i.
@@ -130,7 +130,7 @@ struct BodyPoses {
 };
 BodyPoses body_poses(const solver::KinematicsState<double>& kin) {
   BodyPoses poses;
-  poses.R = report::body_rotations(kin);
+  poses.R = oracle::body_rotations(kin);
   poses.p.assign(kin.body.size(), Eigen::Vector3d::Zero());
   for (std::size_t i = 1; i < kin.body.size(); ++i) poses.p[i] = poses.p[i - 1] + poses.R[i - 1] * kin.body[i].X.r;
   return poses;
@@ -141,8 +141,8 @@ KDL::Wrench rotated(const Eigen::Matrix3d& R, const KDL::Wrench& w) {
   return KDL::Wrench(kdl_vector(R * from_kdl(w.force)), kdl_vector(R * from_kdl(w.torque)));
 }
 
-// ‖a − b‖∞ / max(1, ‖b‖∞), b the oracle (report/relative_error.hpp).
-using report::relative_error;
+// ‖a − b‖∞ / max(1, ‖b‖∞), b the oracle (oracle/relative_error.hpp).
+using oracle::relative_error;
 Eigen::VectorXd stack(const Motion<double>& m) {
   Eigen::VectorXd v(6);
   v << m.angular, m.linear;
@@ -211,7 +211,7 @@ KdlRun run_kdl(const KDL::Chain& chain, KDL::ChainHdSolver_Vereshchagin& hd, con
   run.f_ext.assign(chain.getNrOfSegments(), KDL::Wrench::Zero());
   for (std::size_t k = 0; k < p.forces.size(); ++k)
     run.f_ext[p.force_bodies[k] - 1] += to_kdl_base(p.forces[k], R[p.force_bodies[k]]);
-  run.alfa = report::kdl_directions(p.alpha, R[N]);
+  run.alfa = oracle::kdl_directions(p.alpha, R[N]);
   KDL::JntArray beta(nc);
   beta.data = p.beta;
   KDL::JntArray qdd(n), ctorques(n);
@@ -267,7 +267,7 @@ class ProblemGenerator {
   std::unique_ptr<ReferenceSolver<double>> free_;
 };
 
-KDL::Twist root_acceleration() { return report::kdl_root_acceleration(Eigen::Vector3d(0, 0, -kGravity)); }
+KDL::Twist root_acceleration() { return oracle::kdl_root_acceleration(Eigen::Vector3d(0, 0, -kGravity)); }
 
 // The chains correspond: same joint count, no fixed joints, the tip is body N, and KDL's
 // segment frames are sweepgen's body frames (rotation and origin).
@@ -345,7 +345,7 @@ TEST_P(ReferenceVsKdl, TranslationChecks) {
       Eigen::Matrix<double, 6, 1> a_stacked;
       a_stacked << from_kdl(a.vel), from_kdl(a.rot);
       // KDL's own rounding grows with cond(E^A_cstr,0) like its q̈ (tol(c) above).
-      const double cond = report::condition_number(ours->articulated().body[0].constraint_energy);
+      const double cond = oracle::condition_number(ours->articulated().body[0].constraint_energy);
       beta_residual = std::max(beta_residual, relative_error(theirs.alfa.data.transpose() * a_stacked, p.beta) / tolerance(cond));
     }
   }
@@ -421,7 +421,7 @@ void compare_with_kdl(const std::string& label, const model::Chain& chain, const
       const auto& sol = ours->solution();
       const KdlRun theirs = run_kdl(kdl, hd, p, body_poses(ours->kinematics()).R);
 
-      const double cond = report::condition_number(ours->articulated().body[0].constraint_energy);
+      const double cond = oracle::condition_number(ours->articulated().body[0].constraint_energy);
       const double tol = tolerance(cond);
       const bool unique_nu = sol.dropped_pivots == 0;
       beyond += cond > 1e6 ? 1 : 0;

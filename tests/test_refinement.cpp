@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "report/kdl_oracle.hpp"
+#include "report/kdl_row.hpp"
 #include "report/stability_errors.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/skip_count.hpp"

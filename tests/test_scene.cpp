@@ -2,6 +2,8 @@
 // layouts, and one test per kind of error, each checking file:line:column, element and reason.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 
@@ -172,6 +174,26 @@ TEST(Scene, MinimalSceneGetsDefaults) {
   const model::Chain chain = scene::load_scene_chain(s);
   EXPECT_EQ(chain.root_link, "panda_link0");
   EXPECT_EQ(chain.tip_link, "panda_hand");
+}
+
+// derivatives: true (docs/derivation.md, D3) needs the tau_ff columns and a differentiable policy;
+// false, the default, asks for nothing.
+TEST(Scene, DerivativesNeedATorqueDriverAndADifferentiablePolicy) {
+  test::TempDir dir;
+  const Scene plain = scene::load_scene(dir.write("plain.yaml", with_urdf(kFullScene)));
+  EXPECT_FALSE(plain.derivatives);
+  const std::string with = kFullScene + "derivatives: true\n";
+  EXPECT_TRUE(scene::load_scene(dir.write("with.yaml", with_urdf(with))).derivatives);
+  // The error is at the key's value.
+  const auto at_value = [](const std::string& text) {
+    const auto line = std::count(text.begin(), text.begin() + static_cast<long>(text.find("derivatives:")), '\n') + 1;
+    return position(text, static_cast<int>(line), "true");
+  };
+  const std::string no_torques = replace(with, "  torques: [tau_ff]\n", "");
+  expect_error(with_urdf(no_torques), at_value(no_torques), "derivatives", "need a torque driver");
+  const std::string saturating = replace(with, "policies: [original, prioritize_external, saturate, saturate_exact]",
+                                         "policies: [saturate]");
+  expect_error(with_urdf(saturating), at_value(saturating), "derivatives", "need a differentiable policy");
 }
 
 TEST(Scene, RelativeUrdfPathIsResolvedAgainstTheSceneDirectory) {

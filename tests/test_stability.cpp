@@ -11,7 +11,7 @@
 
 #include "family/family.hpp"
 #include "report/extreme_states.hpp"
-#include "report/kdl_oracle.hpp"
+#include "report/kdl_row.hpp"
 #include "report/stability_errors.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/reference_solver.hpp"
@@ -246,7 +246,7 @@ TEST_P(Stability, PowerOfTwoScaledCopiesAgree) {
 
 // ---- Against KDL's Vereshchagin (issue #5) ----------------------------------------------------
 // The scaled arms and the thin rods: sweepgen's reference double must never be worse than KDL
-// 1.5's ChainHdSolver_Vereshchagin (report/kdl_oracle.hpp) beyond its own rounding bound:
+// 1.5's ChainHdSolver_Vereshchagin (report/kdl_row.hpp) beyond its own rounding bound:
 // per full-rank state, error ≤ max(KDL's error, kErrorFactor · eps · κ) (same scale-invariant
 // errors, same quad referee, same states). A case KDL cannot express is skipped with its reason.
 TEST(StabilityKdl, NotWorseThanKdlOnScaledAndThinRodCases) {

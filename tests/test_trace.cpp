@@ -13,7 +13,7 @@
 #include <map>
 #include <stdexcept>
 
-#include "report/condition_number.hpp"
+#include "oracle/condition_number.hpp"
 #include "report/measure.hpp"
 #include "solver/flat_layout.hpp"
 #include "solver/reference_solver.hpp"
@@ -98,7 +98,7 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
         reference.outward(q, qd);
         reference.decompose();
         const double condition = std::max(
-            {1.0, nc > 0 ? report::scaled_condition_number(reference.articulated().body[0].constraint_energy) : 1.0,
+            {1.0, nc > 0 ? oracle::scaled_condition_number(reference.articulated().body[0].constraint_energy) : 1.0,
              report::inertia_condition_number(chain, q.cast<report::Precise>(), {})});
         if (skips.skip(!(condition <= kMaxCondition), "kappa > 1e8")) continue;
         const double tolerance = std::max(1e-13, kFoldingRoundings * std::numeric_limits<double>::epsilon() * condition);

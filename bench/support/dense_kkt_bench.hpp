@@ -1,4 +1,4 @@
-// The dense KKT solve of `sweepgen report`'s "dense KKT" row (generator/report/dense_dynamics.hpp:
+// The dense KKT solve of `sweepgen report`'s "dense KKT" row (generator/oracle/dense_dynamics.hpp:
 // M(q) by inverse dynamics column by column, the constraint Jacobian of each direction's link,
 // one LDLᵀ of the KKT system) on a scene's prepared inputs: what sweepgen's recursion is
 // measured against on trees and floating bases (issue 16: >= 10x fewer instructions).
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "report/dense_kkt.hpp"
+#include "oracle/dense_kkt.hpp"
 #include "support/inputs.hpp"
 
 namespace sweepgen::bench {
@@ -24,7 +24,7 @@ class DenseKktBench {
 
  private:
   SceneInputs inputs_;
-  std::vector<report::DenseKktProblem> posed_;
+  std::vector<oracle::DenseKktProblem> posed_;
 };
 
 // The scenes whose dense KKT solve is counted: the trees and floating bases, and the Panda's

@@ -40,9 +40,17 @@
     static void decompose(const Drivers& d, State& s) noexcept { ns::decompose(d, s); }         \
   }
 
+// The derivative functions of the variant in `ns` (scene key derivatives) as struct `Name`.
+#define SWEEPGEN_BENCH_DERIVATIVES(Name, ns)                                                     \
+  struct Name {                                                                                  \
+    static constexpr const auto& solves = ns::derivative_solves;                                 \
+    static constexpr int flat_out_size = ns::derivative_flat_out_size;                           \
+  }
+
 namespace sweepgen::bench {
 
-enum class Mode { full, decompose, resolve };
+// derivatives: the flat derivatives_<policy>_flat (outward + decompose + solve, differentiated).
+enum class Mode { full, decompose, resolve, derivatives };
 
 struct GeneratedVariant {
   std::string stem;        // scene file stem, e.g. panda_nc6
@@ -51,10 +59,15 @@ struct GeneratedVariant {
   std::vector<std::string> policies;
 #ifdef SWEEPGEN_BENCH_GBENCH
   void (*register_benchmarks)(const GeneratedVariant&, const SceneInputs&);
+  void (*register_derivative_benchmarks)(const GeneratedVariant&, const SceneInputs&) = nullptr;
 #endif
   // Runs `calls` iterations of `mode` (policy index `policy`; ignored for decompose),
   // cycling through the prepared inputs; returns a checksum of the outputs.
   double (*run_calls)(const SceneInputs&, std::size_t policy, Mode mode, long calls);
+  // The policies with a derivatives_<policy> function (scene key derivatives), and its mode
+  // `derivatives`, which run_calls passes on to run_derivatives (policy indexes this list).
+  std::vector<std::string> derivative_policies;
+  double (*run_derivatives)(const SceneInputs&, std::size_t policy, long calls) = nullptr;
   std::string id() const { return stem + "/" + tag; }
 };
 
@@ -131,11 +144,48 @@ double run_calls(const SceneInputs& inputs, std::size_t policy, Mode mode, long 
       }
       break;
     }
+    case Mode::derivatives: throw std::logic_error("derivatives: run_derivatives");
+  }
+  return checksum;
+}
+
+// `calls` flat derivative calls of policy index `policy`, as run_calls' full mode.
+template <class Api, class Derivatives>
+double run_derivatives(const SceneInputs& inputs, std::size_t policy, long calls) {
+  const Prepared<Api> p(inputs);
+  const auto solve = Derivatives::solves[policy].solve_flat;
+  std::vector<typename Api::Scalar> out(Derivatives::flat_out_size);
+  double checksum = 0;
+  std::size_t i = 0;
+  for (long c = 0; c < calls; ++c) {
+    solve(p.in(i), out.data());
+    checksum += static_cast<double>(out[0]);
+    if (++i == p.count()) i = 0;
   }
   return checksum;
 }
 
 #ifdef SWEEPGEN_BENCH_GBENCH
+// Google Benchmark cases "<id>/derivatives/<policy>" of the flat derivative functions.
+template <class Api, class Derivatives>
+void register_derivatives(const GeneratedVariant& variant, const SceneInputs& inputs) {
+  const auto p = std::make_shared<const Prepared<Api>>(inputs);
+  for (std::size_t k = 0; k < std::size(Derivatives::solves); ++k) {
+    benchmark::RegisterBenchmark((variant.id() + "/derivatives/" + Derivatives::solves[k].policy).c_str(),
+                                 [p, k](benchmark::State& st) {
+                                   const auto solve = Derivatives::solves[k].solve_flat;
+                                   std::vector<typename Api::Scalar> out(Derivatives::flat_out_size);
+                                   std::size_t i = 0;
+                                   for (auto _ : st) {
+                                     solve(p->in(i), out.data());
+                                     benchmark::DoNotOptimize(out.data());
+                                     benchmark::ClobberMemory();
+                                     if (++i == p->count()) i = 0;
+                                   }
+                                 });
+  }
+}
+
 template <class Api>
 void register_generated(const GeneratedVariant& variant, const SceneInputs& inputs) {
   const auto p = std::make_shared<const Prepared<Api>>(inputs);
@@ -194,6 +244,22 @@ struct RegisterGenerated {
 #endif
     v.run_calls = &run_calls<Api>;
     generated_variants().push_back(std::move(v));
+  }
+};
+
+// Adds the derivative functions `Derivatives` to the variant `stem`/`tag` registered before it
+// (scene_variants.cpp.in: the same translation unit, in order).
+template <class Api, class Derivatives>
+struct RegisterDerivatives {
+  RegisterDerivatives(const char* stem, const char* tag) {
+    for (GeneratedVariant& v : generated_variants()) {
+      if (v.stem != stem || v.tag != tag) continue;
+      for (const auto& s : Derivatives::solves) v.derivative_policies.push_back(s.policy);
+      v.run_derivatives = &run_derivatives<Api, Derivatives>;
+#ifdef SWEEPGEN_BENCH_GBENCH
+      v.register_derivative_benchmarks = &register_derivatives<Api, Derivatives>;
+#endif
+    }
   }
 };
 

@@ -35,6 +35,9 @@ const Equation& equation_of(const std::string& array) {
       {"tau_cmd", {"solver", "commanded torque tau_cmd", "T1, T2, X1"}},
       {"saturated", {"solver", "whether the policy clamped joint i's torque", "S3, X1"}},
       {"correction_force", {"solver", "articulated force of the clamped extra torque", "X1"}},
+      {"d_qdd", {"derivative", "Jacobian of qdd, row r at [r * derivative_columns], columns q, qd, tau_ff, beta", "D1, D2, D3"}},
+      {"d_nu", {"derivative", "Jacobian of nu, row k at [k * derivative_columns], columns q, qd, tau_ff, beta", "D1, D2, D3"}},
+      {"d_tau_cmd", {"derivative", "Jacobian of tau_cmd, row r at [r * derivative_columns], columns q, qd, tau_ff, beta", "D1, D2, D3"}},
   };
 
   std::string key = array;

@@ -315,6 +315,15 @@ void group_path_blocks(const Graph& graph, Plan& plan, FunctionPlan& f) {
   f.path_block = std::move(block_of);
 }
 
+// Plan::guard over every function's fields, then each function's if/else blocks.
+void place_path_blocks(const symbolic::Trace& trace, Plan& plan) {
+  std::vector<NodeId> roots;
+  for (const auto& f : plan.functions)
+    for (std::size_t i : f.fields) roots.push_back(trace.fields[i].node);
+  path_guards(trace, roots, plan);
+  for (auto& f : plan.functions) group_path_blocks(trace.graph, plan, f);
+}
+
 }  // namespace
 
 bool is_state_field(const symbolic::Field& field) {
@@ -382,11 +391,29 @@ Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
   for (auto& f : solves) plan.functions.push_back(std::move(f));
   std::map<std::string, int> terms;
   for (NodeId id : carried) plan.carried_name[id] = carried_member_name(trace, plan, id, terms);
-  std::vector<NodeId> roots;
-  for (const auto& f : plan.functions)
-    for (std::size_t i : f.fields) roots.push_back(trace.fields[i].node);
-  path_guards(trace, roots, plan);
-  for (auto& f : plan.functions) group_path_blocks(trace.graph, plan, f);
+  place_path_blocks(trace, plan);
+  return plan;
+}
+
+Plan make_single_pass_plan(const symbolic::Trace& trace, const std::string& prefix) {
+  Plan plan;
+  plan.stage.assign(trace.graph.size(), symbolic::stage_solve);
+  plan.anchor = anchors(trace);
+  for (const auto policy : trace.policies) {
+    FunctionPlan f;
+    f.group = solver::name(policy);
+    f.name = prefix + f.group;
+    f.stage = symbolic::stage_solve;
+    std::vector<NodeId> roots;
+    for (std::size_t i = 0; i < trace.fields.size(); ++i)
+      if (trace.fields[i].group == f.group && trace.fields[i].output) {
+        f.fields.push_back(i);
+        roots.push_back(trace.fields[i].node);
+      }
+    schedule(trace, plan.stage, roots, f);
+    plan.functions.push_back(std::move(f));
+  }
+  place_path_blocks(trace, plan);
   return plan;
 }
 

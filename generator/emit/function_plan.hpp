@@ -62,6 +62,11 @@ struct Plan {
 // field a Solution member; otherwise only the solution outputs are.
 Plan make_plan(const symbolic::Trace& trace, bool expose_all);
 
+// One function per policy of `trace`, named `prefix` + policy, computing its output fields from
+// the inputs alone (every node in the one function, nothing carried, no State): the derivative
+// functions (symbolic/trace_derivatives.hpp), whose Jacobians in q need every stage at once.
+Plan make_single_pass_plan(const symbolic::Trace& trace, const std::string& prefix);
+
 // Whether trace.fields[f] belongs to the State (kinematics, articulated) or a Solution.
 bool is_state_field(const symbolic::Field& field);
 

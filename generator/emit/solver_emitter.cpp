@@ -2,6 +2,7 @@
 
 #include <kainjow/mustache.hpp>
 
+#include <algorithm>
 #include <limits>
 #include <map>
 #include <set>
@@ -15,6 +16,8 @@
 #include "emit/names.hpp"
 #include "emit/templates.hpp"
 #include "model/model_notes.hpp"
+#include "symbolic/trace_derivatives.hpp"
+#include "solver/derivative_seeds.hpp"
 #include "solver/flat_layout.hpp"
 #include "solver/state_fields.hpp"
 
@@ -200,6 +203,40 @@ const char* policy_doc(const std::string& group) {
   return "Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.";
 }
 
+// ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D3) ----
+
+// The arrays of a derivative function's Derivatives, in the order of its flat output.
+std::vector<std::pair<std::string, std::size_t>> derivative_arrays(std::size_t n, std::size_t nc) {
+  const std::size_t columns = solver::DerivativeColumns{n, nc}.count();
+  std::vector<std::pair<std::string, std::size_t>> arrays = {{"qdd", n}, {"nu", nc}, {"tau_cmd", n},
+                                                             {"d_qdd", n * columns}, {"d_nu", nc * columns},
+                                                             {"d_tau_cmd", n * columns}};
+  arrays.erase(std::remove_if(arrays.begin(), arrays.end(), [](const auto& a) { return a.second == 0; }), arrays.end());
+  return arrays;
+}
+
+std::string derivative_flat_out(std::size_t n, std::size_t nc) {
+  std::string text;
+  for (const auto& [name, size] : derivative_arrays(n, nc))
+    text += name + " (" + (name.rfind("d_", 0) == 0 ? std::string(name == "d_nu" ? "constraints" : "dof") + " x derivative_columns"
+                                                     : std::string(name == "nu" ? "constraints" : "dof")) + "), ";
+  return text + "status";
+}
+
+std::string pack_derivatives(std::size_t n, std::size_t nc) {
+  std::string text = "  Scalar* cursor_out = out;\n";
+  for (const auto& [name, size] : derivative_arrays(n, nc))
+    text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) *cursor_out++ = derivatives." + name + "[i];\n";
+  return text + "  *cursor_out = static_cast<Scalar>(derivatives.status);";
+}
+
+// NaN/Inf among the results (scene: check_inputs): one in an input the results depend on reaches them.
+std::string check_derivatives(std::size_t n, std::size_t nc) {
+  std::string text = "  Scalar residue = 0;  // NaN/Inf among the results (scene: check_inputs; see outward())\n";
+  for (const auto& [name, size] : derivative_arrays(n, nc)) text += "  for (Scalar x : out." + name + ") residue += x - x;\n";
+  return text + "  status |= residue == Scalar(0) ? status_ok : status_not_finite;";
+}
+
 }  // namespace
 
 std::string file_stem(const std::string& solver_namespace) {
@@ -247,6 +284,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     }
     const symbolic::Trace& trace = *best_trace;
     const Plan& plan = *best_plan;
+    trace_request.options.constraint_rows = trace.constraint_rows;  // for the derivatives' trace
     if (rows_line.empty() && request.trace.layout.constraints > 0)
       rows_line = rows_note(trace.constraint_rows, candidates.size() > 1 ? counted : decltype(counted){},
                             request.constraint_rows.has_value());
@@ -299,6 +337,27 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     }
     for (const std::string& line : worst_lines) op_lines.push_back(data("line", line));
     variant.set("solves", solves);
+    if (request.derivatives) {
+      const symbolic::Trace derivative_trace = symbolic::trace_derivatives(chain, trace_request);
+      const Plan derivative_plan = make_single_pass_plan(derivative_trace, "derivatives_");
+      variant.set("derivatives_members",
+                  array_members(derivative_trace, derivative_plan.functions.front().fields, n + 1, true));
+      data functions{data::type::list};
+      for (const auto& f : derivative_plan.functions) {
+        const FunctionText text = write_function(derivative_trace, derivative_plan, f, chain, scalar);
+        result.costs.push_back({scalar, f.name, text.ops});
+        op_lines.push_back(data("line", tag_of(scalar) + "::" + f.name + ": " + text.ops.summary()));
+        data function;
+        function.set("name", f.name);
+        function.set("policy", f.group);
+        function.set("doc", policy_doc(f.group));
+        function.set("body", text.body);
+        function.set("check", check_derivatives(n, nc));
+        function.set("pack", pack_derivatives(n, nc));
+        functions.push_back(function);
+      }
+      variant.set("derivative_functions", functions);
+    }
     variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
     variant.set("flat_out", flat_out(sets));
     const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base);
@@ -389,6 +448,12 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
                                          "                                               // changed some multipliers by ~2x or more"
                                        : "a pivot of E^A_cstr,0 fell below tolerance: some\n"
                                          "                                               // constraint directions were not enforced");
+  values.set("has_derivatives", request.derivatives);
+  values.set("derivative_columns", std::to_string(solver::DerivativeColumns{n, nc}.count()));
+  values.set("derivative_flat_out", derivative_flat_out(n, nc));
+  std::size_t derivative_out_size = 1;
+  for (const auto& array : derivative_arrays(n, nc)) derivative_out_size += array.second;
+  values.set("derivative_flat_out_size", std::to_string(derivative_out_size));
   values.set("check_inputs", request.check_inputs);
   values.set("check_inputs_value", request.check_inputs ? "true" : "false");
   values.set("op_counts", op_lines);

@@ -58,7 +58,11 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   const std::string wrapper = (build_dir / "report_wrapper.cpp").string();
   std::vector<std::string> policies;
   for (const solver::Policy policy : s.policies) policies.push_back(solver::name(policy));
-  files.push_back({wrapper, wrapper_source(stem + ".hpp", s.solver, true, policies)});
+  std::vector<std::string> derivative_policies;
+  for (const solver::Policy policy : s.policies)
+    if (s.derivatives && solver::differentiable(policy)) derivative_policies.push_back(solver::name(policy));
+  const bool with_float = std::count(s.scalars.begin(), s.scalars.end(), "float") > 0;
+  files.push_back({wrapper, wrapper_source(stem + ".hpp", s.solver, with_float, policies, derivative_policies)});
 
   // 2. Compile it with the system compiler into a shared library (unless it is up to date).
   CompiledSolver compiled;
@@ -101,7 +105,10 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   for (const solver::Policy policy : s.policies)
     compiled.solve_f64_of[policy] =
         reinterpret_cast<FlatSolve<double>>(loaded.symbol(std::string("report_solve_f64_") + solver::name(policy)));
-  compiled.solve_f32 = reinterpret_cast<FlatSolve<float>>(loaded.symbol("report_solve_f32"));
+  if (with_float) compiled.solve_f32 = reinterpret_cast<FlatSolve<float>>(loaded.symbol("report_solve_f32"));
+  for (const std::string& policy : derivative_policies)
+    compiled.derivatives_f64_of[*solver::policy_from_name(policy)] =
+        reinterpret_cast<FlatSolve<double>>(loaded.symbol("report_derivatives_f64_" + policy));
   const auto in_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_in_size"))();
   const auto out_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_out_size"))();
   const solver::FlatLayout layout = s.flat_layout(chain.dof());

@@ -35,10 +35,12 @@ struct CompiledSolver {
   // The generator's operation count of one full solve (outward + decompose + solve), by scalar
   // name ("double", "float") and policy: what the generated header lists.
   std::map<std::pair<std::string, solver::Policy>, std::size_t> operations;
-  FlatSolve<float> solve_f32 = nullptr;                      // policy original
+  FlatSolve<float> solve_f32 = nullptr;                      // policy original (null for a scene without float)
+  // derivatives_<policy>_flat in double, each differentiable policy of a scene with derivatives.
+  std::map<solver::Policy, FlatSolve<double>> derivatives_f64_of;
 };
 
-// Generates `s` (a report_scene) into `build_dir`, compiles it with `cxx` for `isa` and loads it.
+// Generates `s` (a report_scene, or one in double alone) into `build_dir`, compiles it with `cxx` for `isa` and loads it.
 // When build_dir already holds a library built from byte-identical sources with the same
 // command, it is loaded as it is (a rerun of the report does not recompile). Throws io::IoError
 // when the compiler cannot be run or fails (its output in build_dir/compile.log), dlopen()

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "report/condition_number.hpp"
-#include "report/relative_error.hpp"
+#include "oracle/condition_number.hpp"
+#include "oracle/relative_error.hpp"
 #include "solver/joint_inertia.hpp"
 #include "solver/reference_solver.hpp"
 
@@ -164,8 +164,8 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
             widen(r.nu),
             {},
             {},
-            condition_number(E),
-            scaled_condition_number(E),
+            oracle::condition_number(E),
+            oracle::scaled_condition_number(E),
             static_cast<double>(solver::min_relative_joint_inertia(reference.model(), reference.articulated())),
             with_cond_M ? inertia_condition_number(chain, p.q.cast<Precise>(), options) : NAN,
             reference.status()};

@@ -68,7 +68,7 @@ std::string tail_of_file(const std::string& path, std::size_t max_lines) {
 }
 
 std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float,
-                           const std::vector<std::string>& policies) {
+                           const std::vector<std::string>& policies, const std::vector<std::string>& derivative_policies) {
   std::ostringstream s;
   s << "// Written by `sweepgen report`: C entry points around the flat solves, for dlsym().\n"
     << "#include \"" << header_name << "\"\n\n"
@@ -79,6 +79,9 @@ std::string wrapper_source(const std::string& header_name, const std::string& so
   if (with_float)
     s << "void report_solve_f32(const float* in, float* out) { " << solver_namespace
       << "::f32::solve_original_flat(in, out); }\n";
+  for (const std::string& policy : derivative_policies)
+    s << "void report_derivatives_f64_" << policy << "(const double* in, double* out) { " << solver_namespace
+      << "::f64::derivatives_" << policy << "_flat(in, out); }\n";
   s << "int report_flat_in_size(void) { return " << solver_namespace << "::f64::flat_in_size; }\n"
     << "int report_flat_out_size(void) { return " << solver_namespace << "::f64::flat_out_size; }\n"
     << "}\n";

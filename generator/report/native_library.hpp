@@ -24,8 +24,11 @@ std::string tail_of_file(const std::string& path, std::size_t max_lines = 30);
 //   void report_solve_f64_<policy>(const double* in, double* out);
 //   void report_solve_f32(const float* in, float* out);
 //   int report_flat_in_size(void);  int report_flat_out_size(void);
+// and f64 derivatives (scene key derivatives) for each of `derivative_policies`:
+//   void report_derivatives_f64_<policy>(const double* in, double* out);
 std::string wrapper_source(const std::string& header_name, const std::string& solver_namespace, bool with_float,
-                           const std::vector<std::string>& policies);
+                           const std::vector<std::string>& policies,
+                           const std::vector<std::string>& derivative_policies = {});
 
 // Instruction sets the report compiles generated code for: the x86-64 baseline (SSE2, what a
 // default build deploys) and x86-64-v3 (AVX2, FMA, BMI2; Haswell and Zen or newer).

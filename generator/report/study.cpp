@@ -5,9 +5,9 @@
 #include <map>
 
 #include "report/compiled_solver.hpp"
-#include "report/dense_kkt.hpp"
+#include "report/dense_kkt_row.hpp"
 #include "report/extreme_states.hpp"
-#include "report/kdl_oracle.hpp"
+#include "report/kdl_row.hpp"
 #include "report/stability_errors.hpp"
 #include "report/stability_measure.hpp"
 #include "report/text_format.hpp"

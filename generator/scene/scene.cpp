@@ -426,7 +426,7 @@ Scene load_scene(const std::string& path) {
   const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip", "tips", "base",
                                          "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
                                          "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation",
-                                         "refinement", "constraint_rows", "snap_quarter_turns"};
+                                         "refinement", "constraint_rows", "snap_quarter_turns", "derivatives"};
   std::map<std::string, Item> values;
   for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
   const auto get = [&](const std::string& key) -> std::optional<Item> {
@@ -593,6 +593,13 @@ Scene load_scene(const std::string& path) {
       reader.fail(*item, "outward_rows does not form the columns F^A_cstr,i that 'expose: all' lists; use inward_columns or auto");
     if (rows != "auto")
       scene.constraint_rows = rows == "outward_rows" ? solver::ConstraintRows::outward_rows : solver::ConstraintRows::inward_columns;
+  }
+  if (const auto item = get("derivatives")) {
+    scene.derivatives = reader.choice(*item, {"true", "false"}, "derivatives value") == "true";
+    if (scene.derivatives && scene.layout.torques.empty())
+      reader.fail(*item, "derivatives need a torque driver (drivers: torques), the columns of d/d tau_ff");
+    if (scene.derivatives && std::none_of(scene.policies.begin(), scene.policies.end(), solver::differentiable))
+      reader.fail(*item, "derivatives need a differentiable policy (original or prioritize_external) in 'policies'");
   }
   return scene;
 }

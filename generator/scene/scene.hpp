@@ -96,6 +96,12 @@
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
 //                                   #   checks out (bench/README.md gives their cost)
+//   derivatives: false              # optional: false (default) or true. When true, the generated
+//                                   #   code gains per differentiable policy (original,
+//                                   #   prioritize_external; at least one listed) a function
+//                                   #   derivatives_<policy> returning q̈, ν, τcmd and their
+//                                   #   Jacobians w.r.t. q, qd, tau_ff, beta (docs/derivation.md,
+//                                   #   (D1)–(D3)); needs a torque driver (the tau_ff columns)
 //
 // Driver instance names (torques and external forces) share one namespace: identifiers,
 // unique, not C++ keywords, not 'bias' and not 'alpha'.
@@ -132,6 +138,7 @@ struct Scene {
   bool refinement = true;      // (R1)
   std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (fewer operations)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
+  bool derivatives = false;    // emit derivatives_<policy> (D1–D3)
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
   // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",

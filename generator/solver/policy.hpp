@@ -31,6 +31,10 @@ inline std::optional<Policy> policy_from_name(const std::string& text) {
   return std::nullopt;
 }
 
+// Whether the solution under `policy` has a derivative (docs/derivation.md, (D3)): not for the
+// saturating policies, whose clamp is a kink.
+inline bool differentiable(Policy policy) { return policy == Policy::original || policy == Policy::prioritize_external; }
+
 // Whether track `t` enters E_conf and the composed articulated force under `policy`.
 inline bool composes(const Track& track, Policy policy) {
   return !(policy == Policy::prioritize_external && track.only_external_forces());

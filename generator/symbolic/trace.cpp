@@ -1,14 +1,79 @@
 #include "symbolic/trace.hpp"
 
+#include "symbolic/trace_inputs.hpp"
+
 #include "solver/outward_sweep.hpp"
 #include "solver/solver_sweep.hpp"
 #include "solver/state_fields.hpp"
 #include "symbolic/symbol.hpp"
 
 namespace sweepgen::symbolic {
-namespace {
 
-}  // namespace
+Symbol traced_input(Trace& trace, Quantity quantity, std::size_t instance, std::size_t index) {
+  trace.inputs.push_back({quantity, static_cast<std::uint32_t>(instance), static_cast<std::uint32_t>(index)});
+  return Symbol::from_node(trace.graph.input());
+}
+
+// q as generated: a floating base's rotation (9), then the joints' positions; its six
+// coordinates have no position (F5).
+TracedKinematicsInputs traced_kinematics_inputs(Trace& trace, std::size_t n, std::size_t base) {
+  const std::size_t rotation = base > 0 ? 9 : 0;
+  TracedKinematicsInputs in{spatial::Mat3<Symbol>::Identity(), solver::JointVector<Symbol>(n),
+                            solver::JointVector<Symbol>(n)};
+  for (std::size_t r = 0; r < rotation; ++r)
+    in.base_rotation(static_cast<Eigen::Index>(r / 3), static_cast<Eigen::Index>(r % 3)) =
+        traced_input(trace, Quantity::base_rotation, 0, r);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i >= base) in.q[i] = traced_input(trace, Quantity::joint_position, 0, rotation + i - base);
+    in.qd[i] = traced_input(trace, Quantity::joint_velocity, 0, i);
+  }
+  return in;
+}
+
+solver::DriverInputs<Symbol> traced_driver_inputs(Trace& trace, const solver::DriverLayout& layout, std::size_t n) {
+  auto drivers = solver::DriverInputs<Symbol>::sized(layout, n);
+  for (std::size_t t = 0; t < layout.torques.size(); ++t)
+    for (std::size_t i = 0; i < n; ++i)
+      drivers.torques[t][i] = traced_input(trace, Quantity::feedforward_torque, t, i);
+  for (std::size_t e = 0; e < layout.external_forces.size(); ++e) {
+    auto& f = drivers.external_forces[e];
+    for (int c = 0; c < 3; ++c) {
+      f.moment[c] = traced_input(trace, Quantity::external_force, e, static_cast<std::size_t>(c));
+      f.force[c] = traced_input(trace, Quantity::external_force, e, static_cast<std::size_t>(3 + c));
+    }
+  }
+  // α: constants where the set fixes them, else inputs numbered over the run-time directions.
+  std::size_t k = 0, run_time = 0;
+  for (const auto& set : layout.constraint_sets())
+    for (std::size_t d = 0; d < set.count; ++d, ++k) {
+      auto& alpha = drivers.constraint_directions[k];
+      for (int c = 0; c < 3; ++c) {
+        if (set.directions_fixed()) {
+          alpha.moment[c] = Symbol(set.fixed[d].moment[c]);
+          alpha.force[c] = Symbol(set.fixed[d].force[c]);
+        } else {
+          alpha.moment[c] = traced_input(trace, Quantity::constraint_direction, run_time, static_cast<std::size_t>(c));
+          alpha.force[c] = traced_input(trace, Quantity::constraint_direction, run_time, static_cast<std::size_t>(3 + c));
+        }
+      }
+      if (!set.directions_fixed()) ++run_time;
+    }
+  return drivers;
+}
+
+solver::ConstraintVector<Symbol> traced_setpoints(Trace& trace, std::size_t nc) {
+  solver::ConstraintVector<Symbol> beta(nc);
+  for (std::size_t k = 0; k < nc; ++k) beta[k] = traced_input(trace, Quantity::energy_setpoint, 0, k);
+  return beta;
+}
+
+void canonicalise(Trace& trace) {
+  // Ids independent of the compiler that built sweepgen (Graph::canonical).
+  std::vector<NodeId> roots;
+  for (const Field& field : trace.fields) roots.push_back(field.node);
+  trace.graph = trace.graph.canonical(roots);
+  for (std::size_t i = 0; i < roots.size(); ++i) trace.fields[i].node = roots[i];
+}
 
 Stage stage_of(Quantity quantity) {
   switch (quantity) {
@@ -35,57 +100,16 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   trace.constraints = nc;
   trace.policies = request.policies;
 
-  const auto input = [&trace](Quantity quantity, std::size_t instance, std::size_t index) {
-    trace.inputs.push_back({quantity, static_cast<std::uint32_t>(instance), static_cast<std::uint32_t>(index)});
-    return Symbol::from_node(trace.graph.input());
-  };
-  // q as generated: a floating base's rotation (9), then the joints' positions; its six
-  // coordinates have no position (F5).
-  const std::size_t base = model.base_coordinates(), rotation = base > 0 ? 9 : 0;
-  spatial::Mat3<Symbol> base_rotation = spatial::Mat3<Symbol>::Identity();
-  for (std::size_t r = 0; r < rotation; ++r)
-    base_rotation(static_cast<Eigen::Index>(r / 3), static_cast<Eigen::Index>(r % 3)) = input(Quantity::base_rotation, 0, r);
-  solver::JointVector<Symbol> q(n), qd(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i >= base) q[i] = input(Quantity::joint_position, 0, rotation + i - base);
-    qd[i] = input(Quantity::joint_velocity, 0, i);
-  }
+  const TracedKinematicsInputs in = traced_kinematics_inputs(trace, n, model.base_coordinates());
   auto kin = solver::KinematicsState<Symbol>::sized(n);
-  solver::outward_sweep_base_to_tip(model, q, qd, kin, base_rotation);
+  solver::outward_sweep_base_to_tip(model, in.q, in.qd, kin, in.base_rotation);
 
-  auto drivers = solver::DriverInputs<Symbol>::sized(layout, n);
-  for (std::size_t t = 0; t < layout.torques.size(); ++t)
-    for (std::size_t i = 0; i < n; ++i)
-      drivers.torques[t][i] = input(Quantity::feedforward_torque, t, i);
-  for (std::size_t e = 0; e < layout.external_forces.size(); ++e) {
-    auto& f = drivers.external_forces[e];
-    for (int c = 0; c < 3; ++c) {
-      f.moment[c] = input(Quantity::external_force, e, c);
-      f.force[c] = input(Quantity::external_force, e, 3 + c);
-    }
-  }
-  // α: constants where the set fixes them, else inputs numbered over the run-time directions.
-  std::size_t k = 0, run_time = 0;
-  for (const auto& set : layout.constraint_sets())
-    for (std::size_t d = 0; d < set.count; ++d, ++k) {
-      auto& alpha = drivers.constraint_directions[k];
-      for (int c = 0; c < 3; ++c) {
-        if (set.directions_fixed()) {
-          alpha.moment[c] = Symbol(set.fixed[d].moment[c]);
-          alpha.force[c] = Symbol(set.fixed[d].force[c]);
-        } else {
-          alpha.moment[c] = input(Quantity::constraint_direction, run_time, c);
-          alpha.force[c] = input(Quantity::constraint_direction, run_time, 3 + c);
-        }
-      }
-      if (!set.directions_fixed()) ++run_time;
-    }
+  const solver::DriverInputs<Symbol> drivers = traced_driver_inputs(trace, layout, n);
   trace.constraint_rows = request.options.constraint_rows;
   auto art = solver::ArticulatedState<Symbol>::sized(n, nc, layout.tracks.size());
   solver::decomposition_sweep_tip_to_base(model, kin, drivers, art);
 
-  solver::ConstraintVector<Symbol> beta(nc);
-  for (std::size_t k = 0; k < nc; ++k) beta[k] = input(Quantity::energy_setpoint, 0, k);
+  const solver::ConstraintVector<Symbol> beta = traced_setpoints(trace, nc);
 
   const auto record = [&trace](const std::string& group, bool solution) {
     return [&trace, group, solution](const std::string& array, int body, int component, const Symbol& value) {
@@ -100,11 +124,7 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
     solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
     solver::visit_fields(solution, policy, record(solver::name(policy), true));
   }
-  // Ids independent of the compiler that built sweepgen (Graph::canonical).
-  std::vector<NodeId> roots;
-  for (const Field& field : trace.fields) roots.push_back(field.node);
-  trace.graph = trace.graph.canonical(roots);
-  for (std::size_t i = 0; i < roots.size(); ++i) trace.fields[i].node = roots[i];
+  canonicalise(trace);
   return trace;
 }
 

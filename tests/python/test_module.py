@@ -33,7 +33,7 @@ import numpy as np
 STATES = 64
 SEED = 2024
 
-# The error measure of tests/generated (report/relative_error.hpp): ||a - b||_inf / max(1, ||b||_inf),
+# The error measure of tests/generated (oracle/relative_error.hpp): ||a - b||_inf / max(1, ||b||_inf),
 # per output vector, judged against factor * eps * kappa with kappa = max(1, cond_s(E^A_cstr,0),
 # 1 / min rho_i) of the state (docs/stability.md; python_test_problems computes it with the
 # binary128 referee), only inside each scalar's domain of validity (tests/support/rounding_bound.hpp:
@@ -324,11 +324,74 @@ class ModuleTest:
                 self.assertEqual(raised.exception.result["dropped_pivots"], 1)
 
 
+class DerivativeModuleTest:
+    """derivatives() of a module whose scene has derivatives: true (README "Derivatives"); subclassed per
+    scene below (STEM, SCENE).
+      - batched calls return (K, rows, columns) blocks equal to single calls bit for bit;
+      - the values qdd, nu, tau_cmd against solve() on the same state: the same traced operations in
+        another function, so within the 40 eps kappa of the module test above;
+      - the qd, tau_ff and beta columns against central differences of solve() with step 1: at fixed q
+        and pivot decisions the solve is affine in tau_ff and beta and quadratic in qd (every velocity
+        term is a product of two velocities), so the central difference has no truncation error, only
+        the rounding of the two solves, 2 x 40 eps kappa relative to their scale over 2 x 1; the q
+        columns are the same trace's (tests/test_generated_derivatives.cpp checks all of them)."""
+
+    STEM = SCENE = None
+
+    @classmethod
+    def setUpClass(cls):
+        cls.m = importlib.import_module(cls.STEM)
+        cls.data = ProblemSet(cls.SCENE, "random")
+
+    def test_derivatives(self):
+        d, v = self.data, self.m.f64
+        n, nc = d.dof, d.nc
+        self.assertEqual(v.derivative_columns, 3 * n + nc)
+        q, qd, drivers, beta = d.split(d.flat)
+        judged = d.kappa <= MAX_KAPPA["f64"]
+        for policy in v.derivative_policies:
+            batched = v.derivatives(q, qd, drivers, beta, policy=policy)
+            self.assertEqual(batched["d_qdd_dq"].shape, (STATES, n, n))
+            self.assertEqual(batched["d_nu_dbeta"].shape, (STATES, nc, nc))
+            self.assertEqual(batched["d_tau_cmd_dtau_ff"].shape, (STATES, n, n))
+            tau_0 = 0  # tau_ff leads the drivers (the scene's one torque driver)
+            for k in range(STATES):
+                where = f"{policy} row {k}"
+                single = v.derivatives(q[k], qd[k], drivers[k], beta[k], policy=policy)
+                self.assertTrue(results_equal(row(batched, k), single), where)
+                if not judged[k]:
+                    continue
+                bound = FACTORS["f64"] * max(1.0, d.kappa[k])
+                solved = v.solve(q[k], qd[k], drivers[k], beta[k], policy=policy)
+                for key in ("qdd", "nu", "tau_cmd"):
+                    self.assertLessEqual(relative_error(single[key], solved[key]), bound, f"{where} {key}")
+                for block, width, offset, index in (("dqd", n, 0, 0), ("dtau_ff", n, tau_0, 1), ("dbeta", nc, 0, 2)):
+                    for j in range(width):
+                        plus = [qd[k].copy(), drivers[k].copy(), beta[k].copy()]
+                        minus = [qd[k].copy(), drivers[k].copy(), beta[k].copy()]
+                        plus[index][offset + j] += 1.0
+                        minus[index][offset + j] -= 1.0
+                        up = v.solve(q[k], plus[0], plus[1], plus[2], policy=policy)
+                        down = v.solve(q[k], minus[0], minus[1], minus[2], policy=policy)
+                        for key in ("qdd", "nu", "tau_cmd"):
+                            difference = (up[key] - down[key]) / 2
+                            scale = max(1.0, float(np.max(np.abs(up[key]), initial=0)),
+                                        float(np.max(np.abs(down[key]), initial=0)))
+                            error = float(np.max(np.abs(single[f"d_{key}_{block}"][:, j] - difference), initial=0)) / scale
+                            self.assertLessEqual(error, 2 * bound, f"{where} d_{key}_{block} column {j}")
+        print(f"[derivatives] {self.STEM}: {int(judged.sum())} of {STATES} states judged (kappa <= 1e8)", file=sys.stderr)
+        self.assertGreaterEqual(judged.sum(), 0.75 * STATES)  # six random directions: see tests/test_solve_derivatives.cpp
+
+
 def load_tests(loader, tests, pattern):
     suite = unittest.TestSuite()
     for pair in os.environ["SWEEPGEN_PYTHON_SCENES"].split(","):
         stem, scene = pair.split("=", 1)
         case = type(f"Module_{stem}", (ModuleTest, unittest.TestCase), {"STEM": stem, "SCENE": scene})
+        suite.addTests(loader.loadTestsFromTestCase(case))
+    for pair in filter(None, os.environ.get("SWEEPGEN_PYTHON_DERIVATIVE_SCENES", "").split(",")):
+        stem, scene = pair.split("=", 1)
+        case = type(f"Derivatives_{stem}", (DerivativeModuleTest, unittest.TestCase), {"STEM": stem, "SCENE": scene})
         suite.addTests(loader.loadTestsFromTestCase(case))
     return suite
 

@@ -7,9 +7,9 @@
 #include <iostream>
 #include <limits>
 
-#include "report/condition_number.hpp"
+#include "oracle/condition_number.hpp"
 #include "report/measure.hpp"
-#include "report/relative_error.hpp"
+#include "oracle/relative_error.hpp"
 #include "report/stability_errors.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/flat_problem.hpp"
@@ -22,7 +22,7 @@ namespace {
 // (report/stability_errors.hpp, docs/stability.md): the amplification of rounding any solver of
 // a given precision suffers on it.
 double kappa(const solver::ReferenceSolver<long double>& reference) {
-  return report::kappa(report::scaled_condition_number(reference.articulated().body[0].constraint_energy),
+  return report::kappa(oracle::scaled_condition_number(reference.articulated().body[0].constraint_energy),
                        static_cast<double>(solver::min_relative_joint_inertia(reference.model(), reference.articulated())));
 }
 
@@ -114,9 +114,9 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
       };
       const auto vec = [](const auto& v) { return std::vector<long double>(v.data(), v.data() + v.size()); };
       const auto error = [&](const auto& answer) {
-        return std::max({report::relative_error<long double>(slice(layout.qdd(), n), vec(answer.qdd)),
-                         report::relative_error<long double>(slice(layout.tau_cmd(), n), vec(answer.tau_cmd)),
-                         report::relative_error<long double>(slice(layout.nu(), nc), vec(answer.nu))});
+        return std::max({oracle::relative_error<long double>(slice(layout.qdd(), n), vec(answer.qdd)),
+                         oracle::relative_error<long double>(slice(layout.tau_cmd(), n), vec(answer.tau_cmd)),
+                         oracle::relative_error<long double>(slice(layout.nu(), nc), vec(answer.nu))});
       };
       if (!inside) continue;
       const long double e_same = error(t), e_accuracy = error(r);
@@ -208,7 +208,7 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
       in[layout.beta() + layout.input_directions[j]] *= scale;
     }
     EXPECT_EQ(status_of(entry), 0u) << entry.policy;
-    const long double e = report::relative_error<long double>(std::vector<long double>(out.begin(), out.begin() + n),
+    const long double e = oracle::relative_error<long double>(std::vector<long double>(out.begin(), out.begin() + n),
                                          std::vector<long double>(unit_qdd.begin(), unit_qdd.end()));
     EXPECT_LE(e, 1e4L * std::numeric_limits<Scalar>::epsilon()) << entry.policy << ": alpha and beta scaled by 64";
   }

@@ -28,13 +28,13 @@
 #include <vector>
 
 #include "model/chain.hpp"
-#include "report/kdl_convention.hpp"
+#include "oracle/kdl_convention.hpp"
 #include "spatial/spatial.hpp"
 
 namespace sweepgen::test {
 
 inline KDL::Wrench to_kdl(const spatial::Force<double>& f) {
-  return KDL::Wrench(report::kdl_vector(f.force), report::kdl_vector(f.moment));
+  return KDL::Wrench(oracle::kdl_vector(f.force), oracle::kdl_vector(f.moment));
 }
 
 class KdlTreeDynamics {
@@ -71,7 +71,7 @@ class KdlTreeDynamics {
       wrenches.erase(root_link_);
     }
     const Eigen::Vector3d gravity = base_coordinates_ > 0 ? Eigen::Vector3d(base_rotation.transpose() * gravity_) : gravity_;
-    KDL::TreeIdSolver_RNE inverse_dynamics(tree_, report::kdl_vector(gravity));
+    KDL::TreeIdSolver_RNE inverse_dynamics(tree_, oracle::kdl_vector(gravity));
     if (inverse_dynamics.CartToJnt(kq, kqd, kqdd, wrenches, torques) < 0) throw std::runtime_error("KDL tree RNE failed");
     Eigen::VectorXd tau(static_cast<Eigen::Index>(tree_index_.size()));
     for (std::size_t i = 0; i < tree_index_.size(); ++i) tau[static_cast<Eigen::Index>(i)] = torques(tree_index_[i]);

@@ -9,17 +9,17 @@
 #include <string>
 #include <vector>
 
-#include "report/relative_error.hpp"
+#include "oracle/relative_error.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
-#include "report/dense_dynamics.hpp"
+#include "oracle/dense_dynamics.hpp"
 #include "support/random_chain.hpp"
 #include "support/random_problem.hpp"
 
 namespace sweepgen::test {
 
 using LongDouble = long double;
-using Oracle = report::DenseDynamics<LongDouble>;
+using Oracle = oracle::DenseDynamics<LongDouble>;
 using OracleVec = Oracle::Vec;
 using OracleMat = Oracle::Mat;
 
@@ -137,10 +137,10 @@ inline const solver::Solution<double>& solve(solver::ReferenceSolver<double>& s,
   return s.solve(policy, p.beta);
 }
 
-// ‖a − b‖∞ / max(1, ‖b‖∞) (report/relative_error.hpp), in the oracles' precision.
+// ‖a − b‖∞ / max(1, ‖b‖∞) (oracle/relative_error.hpp), in the oracles' precision.
 template <class A, class B>
 double relative_error(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
-  return static_cast<double>(report::relative_error<LongDouble>(a.derived(), b.derived()));
+  return static_cast<double>(oracle::relative_error<LongDouble>(a.derived(), b.derived()));
 }
 
 }  // namespace sweepgen::test

@@ -1,4 +1,4 @@
-#include "report/kdl_chain.hpp"
+#include "oracle/kdl_chain.hpp"
 
 #ifdef SWEEPGEN_HAVE_KDL
 
@@ -10,7 +10,7 @@
 #include <kdl_parser/kdl_parser.hpp>
 #include <set>
 
-namespace sweepgen::report {
+namespace sweepgen::oracle {
 namespace {
 
 // kdl_parser::treeFromFile with its console messages (e.g. "the root link has an inertia",
@@ -121,6 +121,6 @@ bool kdl_chain(const std::string& urdf, const model::Chain& chain, KDL::Chain& o
   return true;
 }
 
-}  // namespace sweepgen::report
+}  // namespace sweepgen::oracle
 
 #endif  // SWEEPGEN_HAVE_KDL

@@ -3,7 +3,7 @@
 // behind fixed joints after it, and every branch that leaves the chain (fixed side links, and
 // links behind moving joints held where model::Chain::locked_joints holds them), lumped into the
 // segments' inertias through KDL's own frames and inertias; rotor inertia as KDL joint inertia.
-// Shared by `sweepgen report` (report/kdl_oracle.cpp) and tests/test_reference_kdl.cpp. Only
+// Shared by `sweepgen report` (report/kdl_row.cpp) and tests/test_reference_kdl.cpp. Only
 // with KDL (SWEEPGEN_HAVE_KDL).
 #pragma once
 
@@ -14,12 +14,12 @@
 
 #include "model/chain.hpp"
 
-namespace sweepgen::report {
+namespace sweepgen::oracle {
 
 // false, with the reason in `why`, when KDL cannot read `urdf` or its chain is not `chain`'s
 // (fixed joints between moving ones, other bodies).
 bool kdl_chain(const std::string& urdf, const model::Chain& chain, KDL::Chain& out, std::string& why);
 
-}  // namespace sweepgen::report
+}  // namespace sweepgen::oracle
 
 #endif  // SWEEPGEN_HAVE_KDL

@@ -12,7 +12,7 @@
 #include <limits>
 #include <type_traits>
 
-namespace sweepgen::report {
+namespace sweepgen::oracle {
 namespace detail {
 
 template <class Scalar, class V>
@@ -44,4 +44,4 @@ Scalar relative_error(const A& result, const B& answer) {
   return diff / scale;
 }
 
-}  // namespace sweepgen::report
+}  // namespace sweepgen::oracle

@@ -3,7 +3,7 @@
 // tests/test_reference_kdl.cpp:
 //  - the KDL chain runs from the root to the last *moving* link (KDL's solver cannot take
 //    fixed joints), the links behind fixed joints after it and the branches off the chain
-//    lumped into its segments' inertias (report/kdl_chain.hpp); fixed joints before it make the
+//    lumped into its segments' inertias (oracle/kdl_chain.hpp); fixed joints before it make the
 //    scene inexpressible (the row says so). A tip behind
 //    fixed joints is expressed on that link: alfa_k is tip().X^T alpha_k
 //    (generator/spatial/spatial.hpp), and a wrench on a lumped link likewise through

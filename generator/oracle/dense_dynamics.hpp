@@ -34,7 +34,7 @@
 
 #include "model/chain.hpp"
 
-namespace sweepgen::report {
+namespace sweepgen::oracle {
 
 template <class Scalar>
 class DenseDynamics {
@@ -415,4 +415,4 @@ class DenseDynamics {
   std::map<std::string, LinkData> links_;
 };
 
-}  // namespace sweepgen::report
+}  // namespace sweepgen::oracle

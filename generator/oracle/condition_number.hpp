@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-namespace sweepgen::report {
+namespace sweepgen::oracle {
 
 // cond_2(E): 1 for an empty matrix, infinite for a singular one.
 template <class Derived>
@@ -35,4 +35,4 @@ double scaled_condition_number(const Eigen::MatrixBase<Derived>& E) {
   return condition_number(S);
 }
 
-}  // namespace sweepgen::report
+}  // namespace sweepgen::oracle

@@ -1,4 +1,4 @@
-#include "report/kdl_oracle.hpp"
+#include "report/kdl_row.hpp"
 
 #ifndef SWEEPGEN_HAVE_KDL
 
@@ -18,12 +18,20 @@ VariantResult measure_kdl(const scene::Scene&, const model::Chain&, const std::v
 #include <kdl/chainjnttojacsolver.hpp>
 #include <kdl/tree.hpp>
 
-#include "report/kdl_chain.hpp"
-#include "report/kdl_convention.hpp"
+#include "oracle/kdl_chain.hpp"
+#include "oracle/kdl_convention.hpp"
 #include "solver/reference_solver.hpp"
 
 namespace sweepgen::report {
 namespace {
+
+using oracle::body_rotations;
+using oracle::from_kdl_base;
+using oracle::kdl_chain;
+using oracle::kdl_directions;
+using oracle::kdl_joints;
+using oracle::kdl_root_acceleration;
+using oracle::to_kdl_base;
 
 VariantResult unavailable(const std::string& why) { return {"kdl", "double", why, {}, {}}; }
 

@@ -1,5 +1,6 @@
-// `sweepgen report`'s "dense KKT" row: the textbook alternative to a recursive solver. M(q),
-// b(q, q̇) and the tip Jacobian from Newton–Euler (report/dense_dynamics.hpp, which shares no
+// The dense KKT solve (`sweepgen report`'s "dense KKT" row, bench_calls, the tests): the textbook
+// alternative to a recursive solver. M(q),
+// b(q, q̇) and the tip Jacobian from Newton–Euler (oracle/dense_dynamics.hpp, which shares no
 // code with generator/solver), then the (n + Nc) saddle-point system of Gauss' principle,
 //   [ M   −Jcᵀ ] [q̈]   [ τ + Σ J_iᵀ F_ext,i − b ]
 //   [ Jc    0  ] [ν] = [ β − αᵀ c               ],   Jc = αᵀ J_tip,
@@ -11,10 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "report/dense_dynamics.hpp"
-#include "report/measure.hpp"
+#include "oracle/dense_dynamics.hpp"
+#include "scene/scene.hpp"
+#include "solver/drivers.hpp"
+#include "solver/solve_inputs.hpp"
 
-namespace sweepgen::report {
+namespace sweepgen::oracle {
 
 // One problem posed for the dense KKT solve, as the report times it and bench_calls counts it:
 // the oracle with this state's gravity (a floating base's turned by its base rotation, (O4)),
@@ -48,7 +51,4 @@ struct DenseKktProblem {
   }
 };
 
-VariantResult measure_dense_kkt(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
-                                const TimingOptions& timing);
-
-}  // namespace sweepgen::report
+}  // namespace sweepgen::oracle

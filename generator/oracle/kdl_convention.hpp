@@ -1,5 +1,5 @@
 // Translation between sweepgen's conventions and those of KDL's ChainHdSolver_Vereshchagin, in
-// one place for `sweepgen report` (report/kdl_oracle.cpp) and tests/test_reference_kdl.cpp,
+// one place for `sweepgen report` (report/kdl_row.cpp) and tests/test_reference_kdl.cpp,
 // which verifies every line of it against KDL itself (its header has the table):
 //   sweepgen                                      KDL
 //   motion [angular; linear], force [moment; force]  Twist(vel, rot), Wrench(force, torque)
@@ -21,7 +21,7 @@
 #include "solver/state.hpp"
 #include "spatial/spatial.hpp"
 
-namespace sweepgen::report {
+namespace sweepgen::oracle {
 
 inline KDL::Vector kdl_vector(const Eigen::Vector3d& v) { return KDL::Vector(v.x(), v.y(), v.z()); }
 inline Eigen::Vector3d from_kdl(const KDL::Vector& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
@@ -69,6 +69,6 @@ inline KDL::Twist kdl_root_acceleration(const Eigen::Vector3d& gravity) {
   return KDL::Twist(kdl_vector(-gravity), KDL::Vector::Zero());
 }
 
-}  // namespace sweepgen::report
+}  // namespace sweepgen::oracle
 
 #endif  // SWEEPGEN_HAVE_KDL

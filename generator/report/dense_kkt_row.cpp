@@ -1,11 +1,13 @@
-#include "report/dense_kkt.hpp"
+#include "report/dense_kkt_row.hpp"
+
+#include "oracle/dense_kkt.hpp"
 
 namespace sweepgen::report {
 
 VariantResult measure_dense_kkt(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
                                 const TimingOptions& timing) {
-  using Dynamics = DenseDynamics<double>;
-  std::vector<DenseKktProblem> posed;
+  using Dynamics = oracle::DenseDynamics<double>;
+  std::vector<oracle::DenseKktProblem> posed;
   for (const Problem& p : problems) posed.emplace_back(s, chain, p);
   const std::string& tip = chain.tip_link;
   std::vector<Dynamics::KktSolution> solutions(problems.size());

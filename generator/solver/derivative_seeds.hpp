@@ -1,0 +1,52 @@
+// The columns of the solve's Jacobians and the dual scalar's seeds along them (docs/derivation.md,
+// (D2)), shared by the reference derivatives (solve_derivatives.hpp) and the trace the generated
+// derivatives come from (symbolic/trace_derivatives.cpp): one numbering, one seeding.
+#pragma once
+
+#include <cstddef>
+#include <utility>
+
+#include "solver/dual_scalar.hpp"
+#include "spatial/spatial.hpp"
+
+namespace sweepgen::solver {
+
+// (D2): q (dof), q̇ (dof), τff (dof), β (Nc), in this order.
+struct DerivativeColumns {
+  std::size_t dof = 0, constraints = 0;
+
+  std::size_t count() const { return 3 * dof + constraints; }
+  std::size_t q(std::size_t i) const { return i; }
+  std::size_t qd(std::size_t i) const { return dof + i; }
+  std::size_t tau_ff(std::size_t i) const { return 2 * dof + i; }
+  std::size_t beta(std::size_t k) const { return 3 * dof + k; }
+};
+
+// `value` with tangent e_column (of `columns.count()` entries).
+template <class T>
+Dual<T> seeded(const T& value, std::size_t column, const DerivativeColumns& columns) {
+  typename Dual<T>::Tangent tangent(columns.count(), T(0));
+  tangent[column] = T(1);
+  return Dual<T>(value, std::move(tangent));
+}
+
+// world_R_base exp([δθ]×) at δθ = 0, δθ the first three q columns (a floating base's rotation
+// vector in its own frame): ∂R/∂δθ_k = R [e_k]×.
+template <class T>
+spatial::Mat3<Dual<T>> seeded_base_rotation(const spatial::Mat3<T>& R, const DerivativeColumns& columns) {
+  spatial::Mat3<Dual<T>> seeded_R;
+  for (Eigen::Index r = 0; r < 3; ++r)
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      typename Dual<T>::Tangent tangent(columns.count(), T(0));
+      for (Eigen::Index k = 0; k < 3; ++k) {
+        const spatial::Mat3<T> K = spatial::skew(spatial::Vec3<T>(spatial::Vec3<T>::Unit(k)));
+        T sum(0);
+        for (Eigen::Index l = 0; l < 3; ++l) sum = sum + R(r, l) * K(l, c);
+        tangent[columns.q(static_cast<std::size_t>(k))] = sum;
+      }
+      seeded_R(r, c) = Dual<T>(R(r, c), std::move(tangent));
+    }
+  return seeded_R;
+}
+
+}  // namespace sweepgen::solver

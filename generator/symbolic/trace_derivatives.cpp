@@ -1,0 +1,94 @@
+#include "symbolic/trace_derivatives.hpp"
+
+#include "solver/derivative_seeds.hpp"
+#include "solver/outward_sweep.hpp"
+#include "solver/solver_sweep.hpp"
+#include "solver/state_fields.hpp"
+#include "symbolic/trace_inputs.hpp"
+
+namespace sweepgen::symbolic {
+namespace {
+
+using D = solver::Dual<Symbol>;
+
+// One output y of a solve: its values (`name`) and its Jacobian (`d_<name>`, component
+// r · columns + j: row r, column j of (D2)).
+template <class Vector>
+void record_output(Trace& trace, const std::string& group, const std::string& name, const Vector& y,
+                   const solver::DerivativeColumns& columns) {
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    trace.fields.push_back({group, name, solver::kBodyless, static_cast<int>(r), y[r].value().id(), true});
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    for (std::size_t j = 0; j < columns.count(); ++j)
+      trace.fields.push_back({group, "d_" + name, solver::kBodyless, static_cast<int>(r * columns.count() + j),
+                              y[r].derivative(j).id(), true});
+}
+
+}  // namespace
+
+Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request) {
+  Trace trace;
+  TraceScope scope(trace.graph);
+  const solver::DriverLayout& layout = request.layout;
+  const solver::SolverModel<D> model(chain, layout, request.options, request.epsilon);
+  const std::size_t n = model.dof(), nc = model.constraints(), base = model.base_coordinates();
+  const solver::DerivativeColumns columns{n, nc};
+  trace.layout = layout;
+  trace.dof = n;
+  trace.constraints = nc;
+  for (solver::Policy policy : request.policies)
+    if (solver::differentiable(policy)) trace.policies.push_back(policy);
+
+  // The generated code's inputs, seeded along (D2)'s columns.
+  const TracedKinematicsInputs in = traced_kinematics_inputs(trace, n, base);
+  solver::JointVector<D> q(n), qd(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    q[i] = i < base ? D(in.q[i]) : solver::seeded(in.q[i], columns.q(i), columns);
+    qd[i] = solver::seeded(in.qd[i], columns.qd(i), columns);
+  }
+  const spatial::Mat3<D> base_rotation =
+      base > 0 ? solver::seeded_base_rotation(in.base_rotation, columns) : spatial::Mat3<D>(in.base_rotation.cast<D>());
+  auto kin = solver::KinematicsState<D>::sized(n);
+  solver::outward_sweep_base_to_tip(model, q, qd, kin, base_rotation);
+
+  const solver::DriverInputs<Symbol> symbols = traced_driver_inputs(trace, layout, n);
+  auto drivers = solver::DriverInputs<D>::sized(layout, n);
+  for (std::size_t t = 0; t < layout.torques.size(); ++t)
+    for (std::size_t i = 0; i < n; ++i)
+      drivers.torques[t][i] = t == 0 ? solver::seeded(symbols.torques[t][i], columns.tau_ff(i), columns) : D(symbols.torques[t][i]);
+  for (std::size_t e = 0; e < layout.external_forces.size(); ++e)
+    drivers.external_forces[e] = {symbols.external_forces[e].moment.cast<D>(), symbols.external_forces[e].force.cast<D>()};
+  for (std::size_t k = 0; k < nc; ++k)
+    drivers.constraint_directions[k] = {symbols.constraint_directions[k].moment.cast<D>(),
+                                        symbols.constraint_directions[k].force.cast<D>()};
+  auto art = solver::ArticulatedState<D>::sized(n, nc, layout.tracks.size());
+  solver::decomposition_sweep_tip_to_base(model, kin, drivers, art);
+
+  const solver::ConstraintVector<Symbol> beta_symbols = traced_setpoints(trace, nc);
+  solver::ConstraintVector<D> beta(nc);
+  for (std::size_t k = 0; k < nc; ++k) beta[k] = solver::seeded(beta_symbols[k], columns.beta(k), columns);
+
+  // The sweeps' values, as in the solve's trace: they name and anchor (banner) what the
+  // derivative functions compute; they are not stored.
+  const auto record = [&trace](const std::string& group) {
+    return [&trace, group](const std::string& array, int body, int component, const D& value) {
+      trace.fields.push_back({group, array, body, component, value.value().id(), false});
+    };
+  };
+  solver::visit_fields(kin, record("kinematics"));
+  solver::visit_fields(art, layout, record("articulated"));
+  for (solver::Policy policy : trace.policies) {
+    auto solution = solver::Solution<D>::sized(n, nc, layout.listed_sets());
+    solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
+    const std::string group = solver::name(policy);
+    record_output(trace, group, "qdd", solution.qdd, columns);
+    record_output(trace, group, "nu", solution.nu, columns);
+    record_output(trace, group, "tau_cmd", solution.tau_cmd, columns);
+    trace.fields.push_back({group, "dropped_pivots", solver::kBodyless, 0, solution.dropped_pivots.value().id(), true});
+    trace.fields.push_back({group, "locked_joints", solver::kBodyless, 0, solution.locked_joints.value().id(), true});
+  }
+  canonicalise(trace);
+  return trace;
+}
+
+}  // namespace sweepgen::symbolic

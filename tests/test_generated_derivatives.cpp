@@ -1,0 +1,124 @@
+// Generated derivatives (scene key derivatives; docs/derivation.md, (D1)–(D3)): bundled scenes with
+// `derivatives: true` are generated, compiled and loaded (report/compiled_solver.hpp), and each
+// derivatives_<policy>_flat entry point is compared, value by value and Jacobian entry by entry,
+// with the reference solver's own derivatives (solver/solve_derivatives.hpp, itself checked
+// against binary128 differences in tests/test_solve_derivatives.cpp). Kinds: a chain with six
+// run-time directions under both differentiable policies, six fixed directions, a floating base.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "report/compiled_solver.hpp"
+#include "support/derivative_case.hpp"
+#include "support/rounding_bound.hpp"
+#include "support/skip_count.hpp"
+#include "support/state_count.hpp"
+#include "support/temp_dir.hpp"
+
+namespace sweepgen {
+namespace {
+
+using solver::Policy;
+
+// |generated − reference| <= bound(κ) · max(1, ‖reference block‖max), κ of test::derivative_condition.
+// The two run the same traced operations in the same order but for the trace's constant folding
+// (a rounding dropped or moved where a factor is 1 or a term 0) and the compiler's contraction of
+// a·b + c into an FMA: each such site perturbs one intermediate by at most one rounding, as each
+// of the reference's own operations does, so the difference is at most the reference's own
+// rounding bound, which tests/test_solve_derivatives.cpp asserts as 100 ε κ against binary128
+// (the same factor here; the solve's generated-vs-reference test, tests/test_emitter.cpp, measured
+// its difference at a third of its bound). A dropped or misplaced term is O(1) relative. Ceiling
+// as there, the bound at double's domain of validity (κ = 1e8): beyond it a state is counted, not judged.
+const test::RoundingBound kBound{100, 100 * std::numeric_limits<double>::epsilon() * test::kDoubleMaxKappa};
+
+// Each costs a compile of its derivative functions (about a minute at -O2 here): a chain with
+// run-time directions under both policies, fixed directions, a floating base. (Trees and
+// constraint sets are covered by the reference's own test; the generated code is the same trace.)
+const char* const kScenes[] = {"panda/panda_nc6.yaml", "iiwa14/iiwa14_lean_nc6_fixed.yaml",
+                               "mobile_panda/mobile_panda_hand.yaml"};
+
+std::string test_name(const char* relative) {
+  std::string name = relative;
+  name = name.substr(name.find('/') + 1);
+  return name.substr(0, name.find('.'));
+}
+
+class GeneratedDerivatives : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
+  const std::string relative = GetParam();
+  test::SceneCase c = test::load_scene_case(relative);
+  // Both differentiable policies on the first scene, the original one on the others (each policy is
+  // a compile of its own).
+  std::vector<Policy> policies{Policy::original};
+  if (relative == kScenes[0]) policies.push_back(Policy::prioritize_external);
+  c.scene = report::report_scene(c.scene, policies);
+  c.scene.scalars = {"double"};  // the derivatives are compared in double
+  c.scene.derivatives = true;
+  test::TempDir dir;
+  const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
+  const report::CompiledSolver compiled = report::compile_scene_solver(c.scene, c.chain, dir.path(), "c++", quiet);
+  ASSERT_EQ(compiled.derivatives_f64_of.size(), policies.size());
+
+  const std::size_t n = c.chain.dof(), nc = c.scene.layout.constraints;
+  const solver::DerivativeColumns columns{n, nc};
+  const std::size_t m = columns.count();
+  solver::DerivativeSolver<double> reference(c.chain, c.scene.layout, c.scene.solver_options());
+  const auto problems = report::random_problems(c.scene, c.chain, static_cast<std::size_t>(test::state_count(50)), 23);
+  // Six random directions at the Panda's hand leave up to a quarter of the states beyond the
+  // ceiling (tests/test_solve_derivatives.cpp, kRandomSixDirectionsSkipped); the others none.
+  test::SkipCount skips(relative + " generated derivatives", 0.25);
+  test::WorstRatio worst(relative + " generated derivatives against the reference's");
+  for (const auto& [policy, derivatives] : compiled.derivatives_f64_of) {
+    for (const report::Problem& p : problems) {
+      // out = [qdd, nu, tau_cmd, d_qdd, d_nu, d_tau_cmd, status] (the header's derivative_flat_out).
+      std::vector<double> out(2 * n + nc + (2 * n + nc) * m + 1, 0.0);
+      derivatives(p.flat.data(), out.data());
+      const solver::SolveDerivatives<double> d = reference.solve(p, policy);
+      const std::string where = relative + " " + solver::name(policy);
+      ASSERT_EQ(static_cast<unsigned>(out.back()), d.status) << where;
+      const double kappa = test::derivative_condition(c, p);
+      if (skips.skip(d.status != solver::status_ok || !kBound.judged(kappa), "status raised or kappa beyond the ceiling"))
+        continue;
+      const Eigen::Map<const Eigen::VectorXd> flat(out.data(), static_cast<Eigen::Index>(out.size()));
+      const auto rows = [](std::size_t r) { return static_cast<Eigen::Index>(r); };
+      Eigen::Index at = 0;
+      const auto next = [&](std::size_t size) {
+        const Eigen::VectorXd v = flat.segment(at, rows(size));
+        at += rows(size);
+        return v;
+      };
+      const Eigen::VectorXd qdd = next(n), nu = next(nc), tau_cmd = next(n);
+      const auto jacobian = [&](std::size_t r) {
+        const Eigen::VectorXd v = next(r * m);
+        return Eigen::MatrixXd(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            v.data(), rows(r), rows(m)));
+      };
+      const Eigen::MatrixXd d_qdd = jacobian(n), d_nu = jacobian(nc), d_tau_cmd = jacobian(n);
+      const std::pair<Eigen::MatrixXd, Eigen::MatrixXd> pairs[] = {
+          {qdd, d.qdd}, {nu, d.nu}, {tau_cmd, d.tau_cmd}, {d_qdd, test::stacked(d.d_qdd)}, {d_nu, test::stacked(d.d_nu)},
+          {d_tau_cmd, test::stacked(d.d_tau_cmd)}};
+      const char* names[] = {"qdd", "nu", "tau_cmd", "d_qdd", "d_nu", "d_tau_cmd"};
+      for (int k = 0; k < 6; ++k) {
+        const auto& [generated, theirs] = pairs[k];
+        if (theirs.size() == 0) continue;
+        const double scale = std::max(1.0, theirs.cwiseAbs().maxCoeff());
+        Eigen::Index r = 0, j = 0;
+        const double error = (generated - theirs).cwiseAbs().maxCoeff(&r, &j) / scale;
+        worst.add(error, kappa);
+        EXPECT_LE(error, kBound(kappa)) << where << " " << names[k] << " (" << r << ", " << j << "): " << generated(r, j)
+                                        << " vs " << theirs(r, j) << ", kappa " << kappa;
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, GeneratedDerivatives, ::testing::ValuesIn(kScenes),
+                         [](const auto& info) { return test_name(info.param); });
+
+}  // namespace
+}  // namespace sweepgen
