@@ -17,7 +17,6 @@
 #include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
 #include "support/state_count.hpp"
-#include "support/state_count.hpp"
 #include "support/temp_dir.hpp"
 
 namespace sweepgen {
