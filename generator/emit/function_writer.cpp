@@ -28,6 +28,7 @@ class Writer {
   FunctionText write() {
     name_fields();
     count_uses();
+    find_hoisted();
     name_leaves();
     collect_stores();
     for (std::size_t i = 0; i < f_.computed.size();) {
@@ -147,9 +148,26 @@ class Writer {
     }
   }
 
+  // Nodes computed inside a path block that a node of another block reads (a factorisation on one
+  // path that two solves on that path use: the refinement, R1, in one function): declared before
+  // their block and assigned in it, so that they outlive it.
+  void find_hoisted() {
+    std::map<NodeId, int> block_of;
+    for (std::size_t i = 0; i < f_.computed.size(); ++i) block_of[f_.computed[i]] = f_.path_block[i];
+    for (std::size_t i = 0; i < f_.computed.size(); ++i) {
+      const Node& n = graph_.node(f_.computed[i]);
+      for (int k = 0; k < symbolic::arity(n.op); ++k) {
+        const auto found = block_of.find(n.args[k]);
+        if (found != block_of.end() && found->second != 0 && found->second != f_.path_block[i] &&
+            plan_.guard[n.args[k]] != kAlways)
+          hoisted_.insert(n.args[k]);
+      }
+    }
+  }
+
   void write_node(NodeId id, OpCount& ops) {
     ops.count(graph_.node(id).op);
-    if (local_.count(id) || uses_[id] != 1) declare(id);
+    if (local_.count(id) || uses_[id] != 1 || hoisted_.count(id)) declare(id);
   }
 
   // computed[begin, end): one if/else on a path condition (Plan::guard). The select_path results
@@ -171,6 +189,12 @@ class Writer {
       local_.try_emplace(id, "e" + std::to_string(next_expression_++));
       text_ << indent_ << scalar_ << " " << local_[id] << ";\n";
     }
+    for (int arm = 0; arm < 2; ++arm)
+      for (NodeId id : branch[arm])
+        if (hoisted_.count(id)) {
+          local_.try_emplace(id, "e" + std::to_string(next_expression_++));
+          text_ << indent_ << scalar_ << " " << local_[id] << ";  // assigned on one path, read by a later block of it\n";
+        }
     const std::string test = binary(condition.greater, kSum, " > ", condition.than, kSum);
     flush_loads();
     text_ << indent_ << "if (" << test << ") {  // (C4): the path the condition picks\n";
@@ -185,7 +209,8 @@ class Writer {
         flush_loads();
         text_ << indent_ << local_[id] << " = " << value << ";\n";
       }
-      for (NodeId id : branch[arm]) declared_.erase(id);
+      for (NodeId id : branch[arm])
+        if (!hoisted_.count(id)) declared_.erase(id);
       loaded_ = loaded_before;
       indent_ = "  ";
     }
@@ -219,7 +244,7 @@ class Writer {
     if (!local_.count(id)) local_[id] = "e" + std::to_string(next_expression_++);
     const std::string value = expression(id, kTernary);
     flush_loads();
-    text_ << indent_ << "const " << scalar_ << " " << local_[id] << " = " << value << ";\n";
+    text_ << indent_ << (hoisted_.count(id) ? "" : "const " + scalar_ + " ") << local_[id] << " = " << value << ";\n";
     declared_[id] = true;
     store(id);
   }
@@ -360,6 +385,7 @@ class Writer {
   OpCount ops_;                       // outside the path blocks
   OpCount taken_extra_, worst_extra_;  // inside them: the taken branches, the costlier ones
   std::string indent_ = "  ";
+  std::set<NodeId> hoisted_;  // find_hoisted
   int next_expression_ = 0;
   int block_body_ = -2;
   std::string block_sweep_, block_array_;
