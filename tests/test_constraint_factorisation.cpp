@@ -158,12 +158,12 @@ TEST(ConstraintFactorisation, NaturalOrderPathDecidesAsThePivotedFactorisation) 
       // solution's own error bound, 64 ε cond_s (Higham, LDLᵀ backward error times cond).
       Vector pivoted_nu = pivoted;
       for (int j = 0; j < n; ++j) pivoted_nu[j] *= solver::equilibration_scale(E(j, j));
-      const double cond = report::scaled_condition_number(E);
+      const double cond = oracle::scaled_condition_number(E);
       const double difference = multiplier_error(E, both.nu, pivoted_nu);
       EXPECT_LE(difference, 64 * kEps * cond) << "trial " << trial << " cond_s " << cond;
       worst_difference = std::max(worst_difference, difference / (kEps * cond));
     }
-    if (rank == n && trial % 3 == 0 && report::scaled_condition_number(E) < 1e8) {
+    if (rank == n && trial % 3 == 0 && oracle::scaled_condition_number(E) < 1e8) {
       ++well_conditioned;
       well_conditioned_natural += took_natural;
     }

@@ -326,7 +326,7 @@ std::vector<std::string> code_lines(const std::filesystem::path& file) {
   while (std::getline(in, line)) {
     const auto comment = line.find("//");
     if (comment != std::string::npos) line.erase(comment);
-    if (line.rfind("#include ", 0) == 0) line.clear();
+    if (line.rfind("#", 0) == 0) line.clear();  // includes and the preprocessor lines checked apart
     lines.push_back(line);
   }
   return lines;
@@ -339,7 +339,7 @@ struct Function {
 };
 
 std::vector<Function> functions(const std::vector<std::string>& lines) {
-  static const std::regex definition(R"(^(void|Drivers) (\w+)\()");
+  static const std::regex definition(R"(^(?:SWEEPGEN_FLAT_SOLVE )?(void|Drivers) (\w+)\()");
   std::vector<Function> result;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     std::smatch m;
@@ -355,13 +355,20 @@ TEST(GeneratedSources, ExistAndIncludeOnlyTheirHeaderAndMath) {
   for (const auto& file : files) {
     std::ifstream in(file);
     const std::string own = "#include \"" + file.stem().string() + ".hpp\"";
+    // Besides the includes, the template's few preprocessor lines: the GCC-only attribute that
+    // fuses a flat solve and the diagnostic pragma around the (C4) path blocks.
+    static const std::set<std::string> preprocessor = {
+        "#if defined(__GNUC__) && !defined(__clang__)", "#pragma GCC diagnostic push",
+        "#pragma GCC diagnostic ignored \"-Wmaybe-uninitialized\"", "#pragma GCC diagnostic pop", "#endif", "#else",
+        "#if defined(__GNUC__)", "#define SWEEPGEN_FLAT_SOLVE __attribute__((flatten))", "#define SWEEPGEN_FLAT_SOLVE",
+        "#undef SWEEPGEN_FLAT_SOLVE"};
     for (std::string line; std::getline(in, line);) {
       if (line.rfind("#", 0) != 0) continue;
       // <cstdint>, <cstring>, <type_traits>: the equilibration helper's bit copy of one
       // scalar (std::memcpy of 4 or 8 bytes, no allocation).
       EXPECT_TRUE(line == own || line == "#include <algorithm>" || line == "#include <cmath>" ||
                   line == "#include <limits>" || line == "#include <cstdint>" || line == "#include <cstring>" ||
-                  line == "#include <type_traits>")
+                  line == "#include <type_traits>" || preprocessor.count(line))
           << file << ": " << line;
     }
     const auto fs = functions(code_lines(file));
@@ -403,10 +410,13 @@ TEST(GeneratedSources, HaveNoUnboundedOrHiddenControlFlow) {
   // Keywords that would mean a data-dependent loop, a jump, an allocation, an exception or
   // hidden state.
   static const std::regex forbidden(
-      R"(\b(while|do|goto|switch|case|break|continue|else|throw|try|catch|new|delete|malloc|calloc|realloc|free|alloca|setjmp|longjmp|static|thread_local|virtual|asm|typeid|dynamic_cast)\b|"|/\*)");
+      R"(\b(while|do|goto|switch|case|break|continue|throw|try|catch|new|delete|malloc|calloc|realloc|free|alloca|setjmp|longjmp|static|thread_local|virtual|asm|typeid|dynamic_cast)\b|"|/\*)");
+  // `else` only as the second branch of a (C4) path block (BranchOnlyThroughSelects).
+  static const std::regex any_else(R"(\belse\b)");
   for (const auto& file : generated_sources()) {
     const auto lines = code_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
+      if (std::regex_search(lines[i], any_else)) EXPECT_EQ(lines[i], "  } else {") << file << ":" << i + 1;
       std::smatch m;
       EXPECT_FALSE(std::regex_search(lines[i], m, forbidden)) << file << ":" << i + 1 << ": '" << m.str() << "' in "
                                                               << lines[i];
@@ -424,12 +434,15 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   //       if (out.saturated[i]) status |= status_saturated;
   // a fixed-count loop whose only effect is to OR one bit (no early exit, no work skipped).
   // The only returns are drivers_from_flat's `return drivers;` and the one of the template's
-  // equilibration_scale helper (a select between the power of two and 0).
+  // equilibration_scale helper (a select between the power of two and 0). The other `if`s are the
+  // path blocks of (C4) (docs/derivation.md): `if (a > b) {` straight-line code `} else {`
+  // straight-line code `}`, at the function's top level, each branch bounded like the rest.
   static const std::regex any_if(R"(\bif\b)");
+  static const std::regex path_if(R"(^  if \(\w+ > \w+\) \{ *$)");
   static const std::regex status_if(R"(^    if \(out\.saturated\[i\]\) status \|= status_saturated;$)");
   static const std::regex loop_header(R"(^  for \(int i = 0; i < dof; \+\+i\)$)");
   static const std::regex any_return(R"(\breturn\b)");
-  long ifs = 0, selects = 0, returns = 0;
+  long ifs = 0, path_ifs = 0, selects = 0, returns = 0;
   for (const auto& file : generated_sources()) {
     const auto lines = code_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
@@ -439,12 +452,25 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
         ++returns;
       }
       if (!std::regex_search(lines[i], any_if)) continue;
+      if (std::regex_search(lines[i], path_if)) {
+        ++path_ifs;
+        std::size_t j = i + 1;  // its else at the same depth, then its end
+        while (j < lines.size() && lines[j] != "  } else {") {
+          EXPECT_EQ(lines[j].rfind("  }", 0), std::string::npos) << file << ":" << j + 1 << ": a path block ends without else";
+          EXPECT_FALSE(std::regex_search(lines[j], any_if)) << file << ":" << j + 1 << ": a branch in a path block";
+          ++j;
+        }
+        ASSERT_LT(j, lines.size()) << file << ":" << i + 1;
+        continue;
+      }
       ++ifs;
       EXPECT_TRUE(std::regex_search(lines[i], status_if)) << file << ":" << i + 1 << ": " << lines[i];
       EXPECT_TRUE(i > 0 && std::regex_search(lines[i - 1], loop_header)) << file << ":" << i + 1;
     }
   }
-  std::cout << selects << " ?: selects; " << ifs << " status-flag ifs; " << returns << " returns\n";
+  std::cout << selects << " ?: selects; " << ifs << " status-flag ifs; " << path_ifs << " path blocks; " << returns
+            << " returns\n";
+  EXPECT_GT(path_ifs, 0);
   EXPECT_GT(selects, 0);
 }
 
