@@ -211,8 +211,7 @@ void path_guards(const symbolic::Trace& trace, const std::vector<NodeId>& roots,
     const Node& n = graph.node(id);
     int condition = -1;
     if (n.op == Op::select_path && g == kAlways) {
-      for (std::size_t c = 0; c < plan.conditions.size() && condition < 0; ++c)
-        if (plan.conditions[c].greater == n.args[0] && plan.conditions[c].than == n.args[1]) condition = static_cast<int>(c);
+      condition = plan.condition_of(n);
       if (condition < 0) {
         condition = static_cast<int>(plan.conditions.size());
         plan.conditions.push_back({n.args[0], n.args[1]});
@@ -230,10 +229,7 @@ void path_guards(const symbolic::Trace& trace, const std::vector<NodeId>& roots,
 int path_of(const Graph& graph, const Plan& plan, NodeId id) {
   if (plan.guard[id] != kAlways) return plan.guard[id] / 2;
   const Node& n = graph.node(id);
-  if (n.op != Op::select_path) return -1;
-  for (std::size_t c = 0; c < plan.conditions.size(); ++c)
-    if (plan.conditions[c].greater == n.args[0] && plan.conditions[c].than == n.args[1]) return static_cast<int>(c);
-  return -1;
+  return n.op == Op::select_path ? plan.condition_of(n) : -1;
 }
 
 // Gathers each condition's nodes into contiguous if/else blocks (FunctionPlan::path_block). One

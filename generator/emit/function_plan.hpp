@@ -53,6 +53,12 @@ struct Plan {
   std::map<NodeId, std::size_t> exposed_field; // a State field already storing the node
   std::vector<std::size_t> state_fields;       // fields stored in the State (expose: all)
   std::vector<PathCondition> conditions;       // of the select_path nodes the functions need
+  // The index in `conditions` of a select_path node's condition, -1 if it is not listed.
+  int condition_of(const symbolic::Node& select) const {
+    for (std::size_t c = 0; c < conditions.size(); ++c)
+      if (conditions[c].greater == select.args[0] && conditions[c].than == select.args[1]) return static_cast<int>(c);
+    return -1;
+  }
   // Per node: kAlways, or 2 c + 0 / 2 c + 1 where only the taken / the other path of condition c
   // needs it (every use of the node is on that path): it is computed inside that path's branch.
   std::vector<int> guard;

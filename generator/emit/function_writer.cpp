@@ -182,8 +182,8 @@ class Writer {
     }
     const NodeId probe = f_.computed[begin];
     const PathCondition& condition = plan_.conditions[plan_.guard[probe] == kAlways
-                                                          ? condition_of(probe)
-                                                          : static_cast<std::size_t>(plan_.guard[probe] / 2)];
+                                                          ? plan_.condition_of(graph_.node(probe))
+                                                          : plan_.guard[probe] / 2];
     for (NodeId id : results) {
       banner_for(id);
       local_.try_emplace(id, "e" + std::to_string(next_expression_++));
@@ -222,13 +222,6 @@ class Writer {
     }
     taken_extra_ += cost[0];
     worst_extra_ += cost[cost[1].total() > cost[0].total() ? 1 : 0];
-  }
-
-  std::size_t condition_of(NodeId select) const {
-    const Node& n = graph_.node(select);
-    for (std::size_t c = 0; c < plan_.conditions.size(); ++c)
-      if (plan_.conditions[c].greater == n.args[0] && plan_.conditions[c].than == n.args[1]) return c;
-    return 0;
   }
 
   void store(NodeId id) {
