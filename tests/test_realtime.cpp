@@ -435,10 +435,10 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   // a fixed-count loop whose only effect is to OR one bit (no early exit, no work skipped).
   // The only returns are drivers_from_flat's `return drivers;` and the one of the template's
   // equilibration_scale helper (a select between the power of two and 0). The other `if`s are the
-  // path blocks of (C4) (docs/derivation.md): `if (a > b) {` straight-line code `} else {`
+  // path blocks of (C4) (docs/derivation.md): `if (a > b) {` (a a name or a literal) straight-line code `} else {`
   // straight-line code `}`, at the function's top level, each branch bounded like the rest.
   static const std::regex any_if(R"(\bif\b)");
-  static const std::regex path_if(R"(^  if \(\w+ > \w+\) \{ *$)");
+  static const std::regex path_if(R"(^  if \([\w.]+ > \w+\) \{ *$)");  // a name or a literal (C4: 1.0 > bound)
   static const std::regex status_if(R"(^    if \(out\.saturated\[i\]\) status \|= status_saturated;$)");
   static const std::regex loop_header(R"(^  for \(int i = 0; i < dof; \+\+i\)$)");
   static const std::regex any_return(R"(\breturn\b)");

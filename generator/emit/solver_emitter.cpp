@@ -12,6 +12,7 @@
 #include "emit/equations.hpp"
 #include "emit/function_plan.hpp"
 #include "emit/function_writer.hpp"
+#include "emit/joint_inertia_note.hpp"
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
 #include "emit/templates.hpp"
@@ -166,8 +167,9 @@ std::string factorisation_note(const solver::SolverOptions& options, std::size_t
       options.pivot_tolerance > 0 ? literal(options.pivot_tolerance, "double") : std::string("1000 epsilon of the scalar");
   return options.constraint_factorisation == solver::ConstraintFactorisation::damped
              ? "E^A_cstr,0: equilibrated, damped by " + tolerance + " (damped least squares; scene: constraint_factorisation)."
-             : "E^A_cstr,0: equilibrated; LDL^T in the natural order where its pivots show that the pivoted\n"
-               "// order would keep every direction (C4), else pivoted LDL^T (C2), relative pivot tolerance " +
+             : "E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it\n"
+               "// gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative\n"
+               "// pivot tolerance " +
                    tolerance + " (scene: constraint_factorisation).";
 }
 
@@ -434,6 +436,12 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("factorisation_note", factorisation_note(request.trace.options, nc));
   values.set("rows_note", rows_line.empty() ? "" : "\n// " + rows_line);
   if (!rows_line.empty()) result.choices.push_back(rows_line);
+  std::vector<double> epsilons;
+  for (const std::string& scalar : request.scalars) epsilons.push_back(epsilon_of(scalar));
+  const std::string joint_line =
+      joint_inertia_note(chain, request.trace.layout, request.trace.options, request.scalars, epsilons);
+  values.set("joint_inertia_note", joint_line);
+  result.choices.push_back(joint_line);
   result.choices.push_back(fused ? "solve_<policy>_flat: one function each (outward, decompose and the solve inlined)"
                                  : "solve_<policy>_flat: calls outward, decompose and the solve (" +
                                        std::to_string(file_operations + fused_operations) + " operations fused would exceed " +

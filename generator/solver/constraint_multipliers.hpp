@@ -3,8 +3,8 @@
 // natural-order path (C4)).
 //
 // Paths (C4): the pivoted factorisation below is the fallback. First an LDL^T in the natural
-// order (no swaps) is formed; where the product of its pivots shows that the pivoted order would
-// drop no direction (kNaturalOrderMargin), its solution is the answer, and the generated code
+// order (no swaps) is formed; where the diagonal of Ê^-1 from its factors shows that the pivoted
+// order would drop no direction (kNaturalOrderMargin), its solution is the answer, and the generated code
 // computes only that path (select_path: the pivoted one runs inside the `else` of an if). Ranks
 // and statuses are those of the pivoted path on every state; both paths are exact solves of
 // the same equilibrated system, so they differ by rounding only.
@@ -51,13 +51,16 @@
 
 namespace sweepgen::solver {
 
-// (C4)'s margin M: the natural order is taken where Π d_k > M tol Π Ê_kk. Every pivot ratio
-// d_k / Ê_kk of an LDL^T of a positive semi-definite matrix lies in [0, 1] and their product is
-// det Ê / Π Ê_kk in every order, so in exact arithmetic no ratio of (C2)'s order is below the
-// product: a product above tol means (C2) drops nothing. Computed, each order's product is that
-// of Ê perturbed by its own rounding (~(Nc + 1) ε per entry, the backward error of a
-// Cholesky-type factorisation); the margin keeps the states where that could tip a decision,
-// within a factor M of the tolerance, on the pivoted path, which decides as before
+// (C4)'s margin M: the natural order is taken where M tol Σ_j Ê_jj (Ê^-1)_jj < 1. In exact
+// arithmetic, whatever the order, direction j reaches its pivot with some set K of the others
+// eliminated, and its pivot is the Schur complement S_jj(K) >= S_jj(all others) = 1 / (Ê^-1)_jj
+// (eliminating more directions of a positive semi-definite matrix only lowers a Schur diagonal):
+// every ratio d / Ê_jj of (C2)'s order is >= 1 / (Ê_jj (Ê^-1)_jj) > M tol, so (C2) drops nothing.
+// (The first version's rule, Π d_k > M tol Π Ê_kk, is weaker by up to the product of the other
+// Nc − 1 ratios: with two 6-D sets, Nc = 12, it sent most states to the pivoted path.) Computed,
+// each quantity is that of Ê perturbed by its own rounding (~(Nc + 1) ε per entry, the backward
+// error of a Cholesky-type factorisation); the margin keeps the states where that could tip a
+// decision, within a factor M of the tolerance, on the pivoted path, which decides as before
 // (tests/test_constraint_factorisation.cpp asserts equal decisions on near-singular systems).
 inline constexpr double kNaturalOrderMargin = 4;
 
@@ -152,28 +155,45 @@ ConstraintVector<Scalar> pivoted_solve(EquilibratedSystem<Scalar> sys, bool damp
   return y;
 }
 
-// (C4): x̂ with Ê x̂ = r̂ by LDL^T in the natural order (no swaps), and the products Π d_k and
-// Π Ê_kk of its pivots and of Ê's diagonal, the rule of (C4) that says whether (C2) would keep
-// every direction.
+// (C4): x̂ with Ê x̂ = r̂ by LDL^T in the natural order (no swaps), and `coupling` = Σ_j Ê_jj (Ê^-1)_jj,
+// (Ê^-1)_jj = Σ_{m>=j} (L^-1)_mj² / d_m from the same factors, what the rule of (C4) bounds: a sum of
+// positive terms (an Inf or NaN is never lost), each invariant under scaling its direction (tr Ê^-1
+// alone is not: Ê is (C1)'s up to a power of two per direction, and a robot scaled by powers of two
+// then crossed the threshold differently, tests/test_stability.cpp). A pivot below tol / 2 (the
+// natural order broke down) is read as tol / 2: its term Ê_mm / d_m >= 2 / tol is then far above
+// the rule's bound and (C2) decides; where the rule holds, every d_m > M tol Ê_mm >= M tol, so the
+// natural solution used the true pivots (and the clamp, the same in every unit system, decided
+// nothing).
 template <class Scalar>
-ConstraintVector<Scalar> natural_order_solve(EquilibratedSystem<Scalar> sys, Scalar& pivot_product,
-                                             Scalar& diagonal_product) {
+ConstraintVector<Scalar> natural_order_solve(EquilibratedSystem<Scalar> sys, const Scalar& tolerance,
+                                             Scalar& coupling) {
   const Eigen::Index nc = sys.y.size();
   ConstraintMatrix<Scalar>& A = sys.A;
+  const ConstraintVector<Scalar> diagonal = A.diagonal();
   ConstraintMatrix<Scalar> L = ConstraintMatrix<Scalar>::Identity(nc, nc);
   ConstraintVector<Scalar> inverse_pivot(nc);
-  pivot_product = Scalar(1);
-  diagonal_product = Scalar(1);
   for (Eigen::Index k = 0; k < nc; ++k) {
-    diagonal_product *= A(k, k);
     for (Eigen::Index j = 0; j < k; ++j) A(k, k) -= L(k, j) * A(k, j);  // d_k = Ê_kk − Σ_{j<k} L_kj (L_kj d_j)
-    pivot_product *= maximum(A(k, k), Scalar(0));  // a pivot <= 0 makes the product 0: (C2) decides
-    inverse_pivot[k] = Scalar(1) / A(k, k);
+    inverse_pivot[k] = Scalar(1) / maximum(A(k, k), Scalar(0.5) * tolerance);
     // Column k below the pivot: A(i, k) becomes L_ik d_k = Ê_ik − Σ_{j<k} L_ij (L_kj d_j) and stays
     // so (the rows below read it as L_ik d_k: the left-looking form), L_ik = A(i, k) / d_k.
     for (Eigen::Index i = k + 1; i < nc; ++i)
       for (Eigen::Index j = 0; j < k; ++j) A(i, k) -= L(i, j) * A(k, j);
     for (Eigen::Index i = k + 1; i < nc; ++i) L(i, k) = A(i, k) * inverse_pivot[k];
+  }
+  // Column j of L^-1 (unit lower triangular): v_j = 1, v_m = −Σ_{j<=l<m} L_ml v_l for m > j.
+  coupling = Scalar(0);
+  for (Eigen::Index j = 0; j < nc; ++j) {
+    ConstraintVector<Scalar> v = ConstraintVector<Scalar>::Zero(nc);
+    v[j] = Scalar(1);
+    Scalar inverse_diagonal = inverse_pivot[j];  // (Ê^-1)_jj
+    for (Eigen::Index m = j + 1; m < nc; ++m) {
+      for (Eigen::Index l = j; l < m; ++l) v[m] -= L(m, l) * v[l];
+      inverse_diagonal += v[m] * v[m] * inverse_pivot[m];
+    }
+    // Ê_jj is in [1, 4), or 0 for a zero direction (C1 scales it by 0), read as 1: its own term
+    // 1 / d_j >= 2 / tol then fails the rule, as the direction must (it is dropped).
+    coupling += maximum(diagonal[j], Scalar(1)) * inverse_diagonal;
   }
   substitute(L, inverse_pivot, sys.y);
   return sys.y;
@@ -193,12 +213,12 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
   ConstraintVector<Scalar> x = pivoted_solve(sys, damped, tolerance, dropped_pivots);
   if (!damped) {
     // (C4): the natural order's pivots keep every direction by a margin: (C2) would drop none.
-    Scalar pivot_product, diagonal_product;
-    const ConstraintVector<Scalar> natural = natural_order_solve(sys, pivot_product, diagonal_product);
-    const Scalar bound = Scalar(kNaturalOrderMargin) * tolerance * diagonal_product;
-    for (Eigen::Index j = 0; j < nc; ++j) x[j] = select_path(pivot_product, bound, natural[j], x[j]);
-    dropped_pivots = select_path(pivot_product, bound, Scalar(0), dropped_pivots);
-    if (took_pivoted_path != nullptr) *took_pivoted_path = select_greater(pivot_product, bound, Scalar(0), Scalar(1));
+    Scalar coupling;
+    const ConstraintVector<Scalar> natural = natural_order_solve(sys, tolerance, coupling);
+    const Scalar one(1), bound = Scalar(kNaturalOrderMargin) * tolerance * coupling;
+    for (Eigen::Index j = 0; j < nc; ++j) x[j] = select_path(one, bound, natural[j], x[j]);
+    dropped_pivots = select_path(one, bound, Scalar(0), dropped_pivots);
+    if (took_pivoted_path != nullptr) *took_pivoted_path = select_greater(one, bound, Scalar(0), Scalar(1));
   }
   for (Eigen::Index j = 0; j < nc; ++j) x[j] *= sys.scale[j];
   return x;

@@ -3,7 +3,8 @@
 //
 // Per body i, p = λ(i) its parent, with U_i = M^A_i S_i, D_i = d_i + S_i^T U_i and
 // P_i^T F = F − U_i D_i^-1 S_i^T F (I0), D_i^-1 := 0 where the joint-inertia policy locks joint i
-// (J1), each child i adds to its parent (on a chain p = i-1 has one child):
+// (J1) (without the test where it provably never does, J2, whose exact zeros of S_i^T P_i^T are
+// written in), each child i adds to its parent (on a chain p = i-1 has one child):
 //   M^A_p     += X_i^T P_i^T M^A_i X_i                       (from M^A_p = M_p)            (I1)
 //   F^A_cstr,p += X_i^T P_i^T F^A_cstr,i                     (from own_cstr,p)             (I2)
 //   E^A_cstr,p += E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i  (from 0)          (I3)
@@ -64,7 +65,9 @@ spatial::Force<Scalar> track_force_to_parent(const JointModel<Scalar>& joint, co
                                              const BodyArticulated<Scalar>& art, const spatial::Force<Scalar>& Fc,
                                              const Scalar& tau, Scalar& u_out) {
   u_out = tau - spatial::dot(Fc, joint.S);
-  return body.X.apply_transpose(Fc + art.U * (art.inverse_D * u_out));
+  spatial::Force<Scalar> handed = Fc + art.U * (art.inverse_D * u_out);
+  set_axis_component_to_torque(joint, handed, tau);  // (J2)
+  return body.X.apply_transpose(handed);
 }
 
 // @pre kin from outward_sweep_base_to_tip for the same q, q̇; art sized by make_articulated_state.
@@ -102,13 +105,21 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
     // Joint-inertia policy (J1, solver/joint_inertia.hpp): D_i <= tol (d_i + tr block) is treated
     // as 0, branch-free: D_i^-1 := 0, so the joint is locked (no projection in (I1), q̈_i = 0)
     // and no Inf/NaN can arise where M(q) is singular.
-    const Scalar threshold = model.joint_inertia_tolerance * joint_inertia_scale(joint, a.articulated_inertia);
-    a.locked = select_greater(a.D, threshold, Scalar(0), Scalar(1));
-    a.inverse_D = select_greater(a.D, threshold, Scalar(1), Scalar(0)) / select_greater(a.D, threshold, a.D, Scalar(1));
+    // Where the model's bounds prove it never locks (J2), D_i^-1 = 1 / D_i without the test.
+    if (joint.can_lock) {
+      const Scalar threshold = model.joint_inertia_tolerance * joint_inertia_scale(joint, a.articulated_inertia);
+      a.locked = select_greater(a.D, threshold, Scalar(0), Scalar(1));
+      a.inverse_D = select_greater(a.D, threshold, Scalar(1), Scalar(0)) / select_greater(a.D, threshold, a.D, Scalar(1));
+    } else {
+      a.locked = Scalar(0);
+      a.inverse_D = Scalar(1) / a.D;
+    }
 
-    if (p > 0)  // (I1)
-      parent.articulated_inertia = parent.articulated_inertia +
-                                   a.articulated_inertia.minus_outer(a.U, a.inverse_D).transformed_to_parent(body.X);
+    if (p > 0) {  // (I1)
+      spatial::Inertia<Scalar> projected = a.articulated_inertia.minus_outer(a.U, a.inverse_D);
+      zero_axis_row_and_column(joint, projected);  // (J2)
+      parent.articulated_inertia = parent.articulated_inertia + projected.transformed_to_parent(body.X);
+    }
 
     // (I2) or (I6), (I3)
     ConstraintVector<Scalar> s(nc);
@@ -116,9 +127,11 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
       s = constraint_row_outward(model, kin, art, inputs, reaches, i);
     } else {
       for (std::size_t k = 0; k < nc; ++k) s[k] = spatial::dot(a.constraint_force[k], joint.S);
-      for (std::size_t k = 0; k < nc; ++k)
-        parent.constraint_force[k] = parent.constraint_force[k] +
-                                     body.X.apply_transpose(a.constraint_force[k] - a.U * (a.inverse_D * s[k]));
+      for (std::size_t k = 0; k < nc; ++k) {
+        spatial::Force<Scalar> projected = a.constraint_force[k] - a.U * (a.inverse_D * s[k]);
+        set_axis_component(joint, projected, Scalar(0));  // (J2)
+        parent.constraint_force[k] = parent.constraint_force[k] + body.X.apply_transpose(projected);
+      }
     }
     a.constraint_row = s;
     parent.constraint_energy = parent.constraint_energy + (a.constraint_energy + s * (a.inverse_D * s.transpose()));

@@ -24,6 +24,41 @@ Scalar joint_inertia_scale(const JointModel<Scalar>& joint, const spatial::Inert
   return joint.rotor_inertia + block(0, 0) + block(1, 1) + block(2, 2);
 }
 
+// (J2): where d_i = 0 and joint i never locks, S_i^T (F − U_i D_i^-1 S_i^T F) = S_i^T F (1 − S_i^T U_i / D_i)
+// = 0 for every F, and S_i^T (F + U_i D_i^-1 (τ − S_i^T F)) = τ. With S_i = ±e_k the k-th component
+// of the projected force is set to those values exactly (`value` 0 or ±τ), and row and column k
+// of the projected inertia M^A_i − U_i D_i^-1 U_i^T to 0: the rounding they would carry goes, and
+// the symbolic scalar sees literal zeros that fold through the transforms to the parent.
+template <class Scalar>
+void set_axis_component(const JointModel<Scalar>& joint, spatial::Force<Scalar>& f, const Scalar& value) {
+  if (joint.exact_zero_component < 0) return;
+  Vec3<Scalar>& part = joint.type == model::JointType::revolute ? f.moment : f.force;
+  part[joint.exact_zero_component] = value;
+}
+
+// S_i^T F' = τ for the force handed on: F' = F + U_i D_i^-1 (τ − S_i^T F), S_i = ±e_k: F'_k = ±τ.
+template <class Scalar>
+void set_axis_component_to_torque(const JointModel<Scalar>& joint, spatial::Force<Scalar>& f, const Scalar& tau) {
+  if (joint.exact_zero_component < 0) return;
+  const Vec3<Scalar>& axis = joint.type == model::JointType::revolute ? joint.S.angular : joint.S.linear;
+  set_axis_component(joint, f, axis[joint.exact_zero_component] * tau);
+}
+
+template <class Scalar>
+void zero_axis_row_and_column(const JointModel<Scalar>& joint, spatial::Inertia<Scalar>& projected) {
+  const int k = joint.exact_zero_component;
+  if (k < 0) return;
+  if (joint.type == model::JointType::revolute) {  // column k of [A; B^T]: A's row and column, B's row
+    projected.A.row(k).setZero();
+    projected.A.col(k).setZero();
+    projected.B.row(k).setZero();
+  } else {  // column k of [B; C]
+    projected.C.row(k).setZero();
+    projected.C.col(k).setZero();
+    projected.B.col(k).setZero();
+  }
+}
+
 // ρ_i = D_i / (d_i + tr block), 0 where the scale is 0 (nothing moves through the joint).
 // For measurements; the solver's rule compares without dividing.
 template <class Scalar>

@@ -2,9 +2,11 @@
 // For the symbolic scalar these become folded constants of the generated code.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "model/chain.hpp"
+#include "model/joint_inertia_bounds.hpp"
 #include "solver/drivers.hpp"
 #include "solver/scalar_ops.hpp"
 #include "spatial/spatial.hpp"
@@ -71,6 +73,12 @@ struct JointModel {
   Scalar rotor_inertia;  // d_i
   Scalar effort_limit;   // used by the saturating policies
   bool floating_base_coordinate = false;  // held at q = 0, no velocity-product term (F5, O2)
+  // (J2): false where the bounds of model/joint_inertia_bounds.hpp prove that (J1) never locks
+  // the joint; then D_i^-1 = 1 / D_i without a test.
+  bool can_lock = true;
+  // (J2): k where the joint never locks, d_i = 0 and S_i = ±e_k in its angular (revolute) or
+  // linear (prismatic) part: the k-th component of P_i^T F is then exactly 0; else -1.
+  int exact_zero_component = -1;
 
   // X_i = X_J(q) X_T, the motion transform from body λ(i) to body i (F2); X_T for a floating
   // base's coordinate, which is held at q = 0 (F5).
@@ -165,6 +173,16 @@ struct SolverModel {
     constraint_factorisation = options.constraint_factorisation;
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
     joint_inertia_tolerance = Scalar(options.joint_inertia_tolerance_for(epsilon));
+    for (std::size_t i = 1; i <= n; ++i) {
+      // (J2): a margin of 2 over (J1)'s rule keeps the rounding of the computed D_i and of its
+      // threshold (a few ε of the scale, against a tolerance of 1000 ε by default) from mattering.
+      const model::JointInertiaBounds bounds = model::joint_inertia_bounds(chain, i);
+      JointModel<Scalar>& jm = joints[i];
+      jm.can_lock = !(bounds.lower > 2 * options.joint_inertia_tolerance_for(epsilon) * bounds.upper);
+      const model::Vec3& axis = chain.joints[i].axis;
+      for (int k = 0; k < 3; ++k)
+        if (!jm.can_lock && chain.joints[i].rotor_inertia == 0 && std::abs(axis[k]) == 1) jm.exact_zero_component = k;
+    }
     refinement = options.refinement;
     constraint_rows = options.constraint_rows;
   }
