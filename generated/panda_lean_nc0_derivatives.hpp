@@ -38,7 +38,7 @@
 //   f64::decompose: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
 //   f64::solve_original: add 219, mul 186, div 0, neg 9, sin/cos 0, compare 0 (total 414)
 //   f64: outward + decompose + solve_original: add 916, mul 1102, div 6, neg 54, sin/cos 12, compare 18 (total 2108)
-//   f64::derivatives_original: add 8241, mul 9915, div 27, neg 689, sin/cos 12, compare 39 (total 18923)
+//   f64::derivatives_original: add 6247, mul 7422, div 6, neg 326, sin/cos 12, compare 18 (total 14031)
 #pragma once
 
 namespace panda_lean_nc0_derivatives {

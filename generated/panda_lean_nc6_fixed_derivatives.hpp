@@ -41,7 +41,7 @@
 //   f64::solve_original: add 405, mul 429, div 0, neg 9, sin/cos 0, compare 2 (total 845)
 //   f64: outward + decompose + solve_original: add 1695, mul 2167, div 12, neg 93, sin/cos 12, compare 33 (total 4012)
 //   f64, pivoted path: outward + decompose + solve_original: add 1741, mul 2243, div 17, neg 93, sin/cos 12, compare 245 (total 4351)
-//   f64::derivatives_original: add 16490, mul 20795, div 69, neg 1123, sin/cos 12, compare 53 (total 38542)
+//   f64::derivatives_original: add 10905, mul 13492, div 12, neg 473, sin/cos 12, compare 32 (total 24926)
 #pragma once
 
 namespace panda_lean_nc6_fixed_derivatives {

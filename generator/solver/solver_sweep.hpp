@@ -80,6 +80,15 @@ void link_accelerations(const SolverModel<Scalar>& model, Solution<Scalar>& sol)
   for (std::size_t c = 0; c < sol.set_acceleration.size(); ++c) sol.set_acceleration[c] = set_acceleration(model, sol, c);
 }
 
+// (S5) for the q̈ in `sol`: Ẍ_i = a_i + S_i q̈_i, base to tip.
+template <class Scalar>
+void accelerations_of_motion(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin, Solution<Scalar>& sol) {
+  sol.acceleration[0] = kin.base_acceleration;
+  for (std::size_t i = 1; i <= model.dof(); ++i)
+    sol.acceleration[i] = carried_acceleration(model, kin, sol, i) + model.joints[i].S * sol.qdd[i - 1];
+  link_accelerations(model, sol);
+}
+
 // (q̈): accelerations from τff + τctrl; `extra_force` (F^A_Δ) is added when given.
 template <class Scalar>
 void accelerations_base_to_tip(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
