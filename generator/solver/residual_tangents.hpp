@@ -18,10 +18,13 @@ namespace sweepgen::solver {
 // Whether (D5) gives the derivative of the solution returned: a solution of the equations ρ = 0,
 // r = 0 (with the directions the pivoted factorisation keeps and the joints not locked: those
 // it drops or locks have zero ∂y/∂β or ∂y/∂τff columns, so their residuals do not enter).
-// `original` with the pivoted factorisation; `prioritize_external` leaves r ≠ 0 by design and the
-// damped factorisation (C3) is biased, so those are differentiated through every sweep (D1).
-inline bool differentiates_by_residuals(Policy policy, ConstraintFactorisation factorisation) {
-  return policy == Policy::original && factorisation == ConstraintFactorisation::pivoted_ldlt;
+// `original` with the pivoted factorisation, and every policy without constraints (no r, no
+// factorisation); with constraints, `prioritize_external` leaves r ≠ 0 by design and the damped
+// factorisation (C3) is biased, so those are differentiated through every sweep (D1).
+template <class Scalar>
+bool differentiates_by_residuals(const SolverModel<Scalar>& model, Policy policy) {
+  return model.constraints() == 0 ||
+         (policy == Policy::original && model.constraint_factorisation == ConstraintFactorisation::pivoted_ldlt);
 }
 
 // The value of every entry, without tangent: what the sweeps of the τff and β columns read.

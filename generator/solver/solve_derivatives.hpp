@@ -1,8 +1,8 @@
 // The solution of one solve and its Jacobians (docs/derivation.md, (D1)–(D5)): ∂q̈, ∂ν and
 // ∂τcmd with respect to q, q̇, τff and β, by running the reference sweeps with the dual scalar
 // (dual_scalar.hpp) seeded along the input coordinates: every one, or, where (D5) applies
-// (residual_tangents.hpp), τff and β through the solve and q, q̇ through its equations' residuals. The equations are the solver's own;
-// nothing here restates them.
+// (residual_tangents.hpp), τff and β through the solve and q, q̇ through its equations'
+// residuals. The equations are the solver's own; nothing here restates them.
 //
 // Coordinates (D2), the columns of each Jacobian:
 //   q   dof columns: the joints' positions; a floating base's six leading columns are its tangent
@@ -77,7 +77,7 @@ class DerivativeSolver {
     const Mat3<D> rotation =
         base > 0 ? seeded_base_rotation(in.base_rotation, columns) : Mat3<D>(in.base_rotation.template cast<D>());
     // (D5): the sweeps read q, q̇ without tangent; the q and q̇ columns come from the residuals.
-    const bool by_residuals = differentiates_by_residuals(policy, model.constraint_factorisation);
+    const bool by_residuals = differentiates_by_residuals(model, policy);
     if (by_residuals)
       solver_.outward(values_of<Scalar>(q), values_of<Scalar>(qd), values_of<Scalar>(rotation));
     else

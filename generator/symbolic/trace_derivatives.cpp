@@ -88,7 +88,7 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request) 
   solver::visit_fields(art, layout, record("articulated"));
   for (solver::Policy policy : trace.policies) {
     auto solution = solver::Solution<D>::sized(n, nc, layout.listed_sets());
-    if (solver::differentiates_by_residuals(policy, model.constraint_factorisation)) {
+    if (solver::differentiates_by_residuals(model, policy)) {
       solver::solver_sweep_base_to_tip(model, kin_values, decomposed(kin_values), drivers, beta, policy, solution);
       solver::complete_by_residuals(model, kin, drivers, beta, solution);
     } else {
