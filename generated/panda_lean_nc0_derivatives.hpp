@@ -39,7 +39,7 @@
 //   f64::decompose: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
 //   f64::solve_original: add 214, mul 181, div 0, neg 9, sin/cos 0, compare 0 (total 404)
 //   f64: outward + decompose + solve_original: add 802, mul 1005, div 6, neg 42, sin/cos 12, compare 0 (total 1867)
-//   f64::derivatives_original: add 7594, mul 9388, div 27, neg 610, sin/cos 12, compare 0 (total 17631)
+//   f64::derivatives_original: add 6113, mul 7314, div 6, neg 303, sin/cos 12, compare 0 (total 13748)
 #pragma once
 
 namespace panda_lean_nc0_derivatives {

@@ -43,7 +43,7 @@
 //   f64::solve_original: add 405, mul 429, div 0, neg 10, sin/cos 0, compare 2 (total 846)
 //   f64: outward + decompose + solve_original: add 1621, mul 2116, div 12, neg 80, sin/cos 12, compare 21 (total 3862)
 //   f64, pivoted path: outward + decompose + solve_original: add 1667, mul 2192, div 18, neg 80, sin/cos 12, compare 233 (total 4202)
-//   f64::derivatives_original: add 20098, mul 25470, div 69, neg 1263, sin/cos 12, compare 56 (total 46968)
+//   f64::derivatives_original: add 10811, mul 13428, div 12, neg 439, sin/cos 12, compare 20 (total 24722)
 #pragma once
 
 namespace panda_lean_nc6_fixed_derivatives {

@@ -1,4 +1,4 @@
-// Derivatives of the constrained solve (docs/derivation.md, (D1)–(D3); solver/solve_derivatives.hpp):
+// Derivatives of the constrained solve (docs/derivation.md, (D1)–(D5); solver/solve_derivatives.hpp):
 // the dual-scalar Jacobians of ReferenceSolver<double> against
 //   (a) central differences of the binary128 referee ReferenceSolver<Quad>, entry by entry, on
 //       the bundled scenes of every kind: chains with Nc = 0, 3, 6 (run-time directions) and 6
@@ -54,7 +54,10 @@ SceneCase load(const std::string& relative) { return test::load_scene_case(relat
 //    a derivative in q or q̇ also differentiates M⁻¹, whose first-order perturbation is bounded by
 //    cond(M) times that of M (‖δ(M⁻¹)‖/‖M⁻¹‖ <= κ(M) ‖δM‖/‖M‖): hence the factor κ(M) in κ.
 //    The factor 100 is the dense-oracle test's 10 with a further 10 for the derivative's second
-//    pass through the chain (the tangent of a product sums two rounded products).
+//    pass through the chain (the tangent of a product sums two rounded products). Where (D5)
+//    applies, the q and q̇ columns are the τff and β columns (rounding as above) times tangents of
+//    the rigid-body sweeps' residuals (rounding by a few ε of their own scale, no cond(M) or
+//    cond(E)): the same bound.
 //  - Ceiling: the bound at double's domain of validity, κ = kDoubleMaxKappa = 1e8 (2.2e-6); a state
 //    beyond it is not judged, but counted.
 const test::RoundingBound kBound{100, 100 * std::numeric_limits<double>::epsilon() * test::kDoubleMaxKappa};

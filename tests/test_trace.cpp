@@ -15,12 +15,15 @@
 
 #include "oracle/condition_number.hpp"
 #include "report/measure.hpp"
+#include "solver/derivative_seeds.hpp"
 #include "solver/flat_layout.hpp"
+#include "solver/outward_sweep.hpp"
 #include "solver/reference_solver.hpp"
 #include "solver/state_fields.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/random_problem.hpp"
 #include "support/skip_count.hpp"
+#include "symbolic/symbol.hpp"
 #include "symbolic/trace.hpp"
 
 namespace sweepgen {
@@ -188,6 +191,43 @@ TEST(Trace, ABranchWithoutConstraintsCarriesNoConstraintTerms) {
   EXPECT_EQ(computed_terms({{"left_panda_hand", 6, {}}}, true), 0) << "the right arm computes constraint terms";
   EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}}, false), 0);
   EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}, {"right_panda_hand", 6, {}}}, true), 0);
+}
+
+// Tree sparsity of the derivatives (D1, D2): body i's velocity and bias force do not depend on
+// q_j or q̇_j of a joint j outboard of it, and the dual scalar over Symbol folds those tangents to
+// the constant 0 (x·0 = 0, x + 0 = x), so the derivative functions compute none of them; the
+// tangents along body i's own joint are computed.
+TEST(Trace, TangentsAlongOutboardJointsFoldToZero) {
+  using D = solver::Dual<symbolic::Symbol>;
+  const model::Chain chain = test::load_bundled(test::bundled_robots().front());
+  solver::DriverLayout layout;
+  layout.torques = {"tau_ff"};
+  layout.decompose_all();
+  symbolic::Graph graph;
+  symbolic::TraceScope scope(graph);
+  const solver::SolverModel<D> model(chain, layout, {}, std::numeric_limits<double>::epsilon());
+  const std::size_t n = model.dof();
+  const solver::DerivativeColumns columns{n, 0};
+  solver::JointVector<D> q(n), qd(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    q[i] = solver::seeded(symbolic::Symbol::from_node(graph.input()), columns.q(i), columns);
+    qd[i] = solver::seeded(symbolic::Symbol::from_node(graph.input()), columns.qd(i), columns);
+  }
+  auto kin = solver::KinematicsState<D>::sized(n);
+  solver::outward_sweep_base_to_tip(model, q, qd, kin);
+  int outboard_computed = 0, own_computed = 0;
+  for (std::size_t i = 1; i <= n; ++i)
+    for (std::size_t j = 1; j <= n; ++j)
+      for (const D* x : {&kin.body[i].velocity.angular[0], &kin.body[i].velocity.linear[0],
+                         &kin.body[i].bias_force.moment[0], &kin.body[i].bias_force.force[0]})
+        for (int c = 0; c < 3; ++c)
+          for (const std::size_t column : {columns.q(j - 1), columns.qd(j - 1)}) {
+            const bool computed = !graph.is_constant(x[c].derivative(column).id(), 0);
+            if (j > i) outboard_computed += computed;
+            if (j == i) own_computed += computed;
+          }
+  EXPECT_EQ(outboard_computed, 0) << "tangents along joints outboard of a body are computed";
+  EXPECT_GT(own_computed, 0);
 }
 
 }  // namespace

@@ -205,7 +205,7 @@ const char* policy_doc(const std::string& group) {
   return "Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.";
 }
 
-// ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D3) ----
+// ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D5) ----
 
 // The arrays of a derivative function's Derivatives, in the order of its flat output.
 std::vector<std::pair<std::string, std::size_t>> derivative_arrays(std::size_t n, std::size_t nc) {

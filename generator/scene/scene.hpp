@@ -138,7 +138,7 @@ struct Scene {
   bool refinement = true;      // (R1)
   std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (fewer operations)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
-  bool derivatives = false;    // emit derivatives_<policy> (D1–D3)
+  bool derivatives = false;    // emit derivatives_<policy> (D1–D5)
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
   // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",

@@ -100,6 +100,9 @@ class Dual {
     const auto pick = [&](const T& u, const T& v) { return select_path(a.value_, b.value_, u, v); };
     return {pick(x.value_, y.value_), combine(x, y, pick)};
   }
+  // (D4): the refinement (R1) corrects the value; the tangent is the first pass's, which the
+  // refined one equals to rounding (r = 0 in exact arithmetic for every input, so ∂r = 0).
+  friend Dual refined_value(const Dual& refined, const Dual& first_pass) { return {refined.value_, first_pass.tangent_}; }
   friend Dual minimum(const Dual& a, const Dual& b) { return select_greater(a, b, b, a); }
   friend Dual maximum(const Dual& a, const Dual& b) { return select_greater(a, b, a, b); }
   friend Dual abs_value(const Dual& a) { return select_greater(a, Dual(T(0)), a, -a); }

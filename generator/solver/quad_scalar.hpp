@@ -94,6 +94,7 @@ inline Quad select_path(const Quad& a, const Quad& b, const Quad& if_greater, co
 inline Quad minimum(const Quad& a, const Quad& b) { return b < a ? b : a; }
 inline Quad maximum(const Quad& a, const Quad& b) { return a < b ? b : a; }
 inline Quad abs_value(const Quad& a) { return abs(a); }
+inline Quad refined_value(const Quad& refined, const Quad& /*first_pass*/) { return refined; }
 inline Quad equilibration_scale(const Quad& x) {  // as scalar_ops.hpp's
   const int k = x > Quad(0) ? ilogbq(x.raw()) : 0;
   return x > Quad(0) ? Quad::from_raw(ldexpq(1, ((k & 1) - k) / 2)) : Quad(0);

@@ -41,6 +41,13 @@ Scalar abs_value(const Scalar& a) {
   return std::abs(a);
 }
 
+// The refined pass's value, differentiated as the first pass (docs/derivation.md, D4): the dual
+// scalar (dual_scalar.hpp) takes `first_pass`'s tangent; in arithmetic it is `refined` itself.
+template <class Scalar, std::enable_if_t<std::is_floating_point_v<Scalar>, int> = 0>
+Scalar refined_value(const Scalar& refined, const Scalar& /*first_pass*/) {
+  return refined;
+}
+
 // The power of two s with s² x in [1, 4) for x > 0 (x = f 2^k, f in [1, 2): s = 2^-floor(k/2)),
 // and 0 for x <= 0 or NaN. Multiplying by it is exact (no rounding), so it rescales a quantity
 // to unit order without changing any digit: the constraint factorisation equilibrates

@@ -1,7 +1,8 @@
-// The solution of one solve and its Jacobians (docs/derivation.md, (D1)–(D3)): ∂q̈, ∂ν and
+// The solution of one solve and its Jacobians (docs/derivation.md, (D1)–(D5)): ∂q̈, ∂ν and
 // ∂τcmd with respect to q, q̇, τff and β, by running the reference sweeps with the dual scalar
-// (dual_scalar.hpp) seeded along every input coordinate. The equations are the solver's own;
-// nothing here restates them.
+// (dual_scalar.hpp) seeded along the input coordinates: every one, or, where (D5) applies
+// (residual_tangents.hpp), τff and β through the solve and q, q̇ through its equations'
+// residuals. The equations are the solver's own; nothing here restates them.
 //
 // Coordinates (D2), the columns of each Jacobian:
 //   q   dof columns: the joints' positions; a floating base's six leading columns are its tangent
@@ -22,6 +23,7 @@
 
 #include "solver/derivative_seeds.hpp"
 #include "solver/reference_solver.hpp"
+#include "solver/residual_tangents.hpp"
 
 namespace sweepgen::solver {
 
@@ -65,7 +67,8 @@ class DerivativeSolver {
                                   " has no derivative (its clamp is a kink); differentiable: original, prioritize_external");
     const std::size_t n = dof(), nc = constraints();
     const DerivativeColumns columns{n, nc};
-    const std::size_t base = solver_.model().base_coordinates();
+    const SolverModel<D>& model = solver_.model();
+    const std::size_t base = model.base_coordinates();
     JointVector<D> q(n), qd(n);
     for (std::size_t i = 0; i < n; ++i) {
       q[i] = i < base ? D(in.q[i]) : seeded(in.q[i], columns.q(i), columns);
@@ -73,7 +76,12 @@ class DerivativeSolver {
     }
     const Mat3<D> rotation =
         base > 0 ? seeded_base_rotation(in.base_rotation, columns) : Mat3<D>(in.base_rotation.template cast<D>());
-    solver_.outward(q, qd, rotation);
+    // (D5): the sweeps read q, q̇ without tangent; the q and q̇ columns come from the residuals.
+    const bool by_residuals = differentiates_by_residuals(model, policy);
+    if (by_residuals)
+      solver_.outward(values_of<Scalar>(q), values_of<Scalar>(qd), values_of<Scalar>(rotation));
+    else
+      solver_.outward(q, qd, rotation);
     auto& drivers = solver_.drivers();
     for (std::size_t t = 0; t < in.torques.size(); ++t) drivers.torques[t] = in.torques[t].template cast<D>();
     for (std::size_t i = 0; i < n; ++i) drivers.torques[0][i] = seeded(in.torques[0][i], columns.tau_ff(i), columns);
@@ -85,7 +93,12 @@ class DerivativeSolver {
     solver_.decompose();
     ConstraintVector<D> beta(nc);
     for (std::size_t k = 0; k < nc; ++k) beta[k] = seeded(in.beta[k], columns.beta(k), columns);
-    const Solution<D>& s = solver_.solve(policy, beta);
+    Solution<D> s = solver_.solve(policy, beta);
+    if (by_residuals) {
+      auto kin = KinematicsState<D>::sized(n);
+      outward_sweep_base_to_tip(model, q, qd, kin, rotation);
+      complete_by_residuals(model, kin, drivers, beta, s);
+    }
 
     SolveDerivatives<Scalar> out;
     out.status = solver_.status();

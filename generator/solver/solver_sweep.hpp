@@ -9,6 +9,7 @@
 //   a_i     = X_i Ẍ_λ(i) + Ẍb_i,       Ẍ_i = a_i + S_i q̈_i                              (S5)
 // Refinement (original policy, pivoted factorisation): with r_k = E_cstr,k − α_kᵀ Ẍ_link(k) the
 // residual of the first pass, (S2)–(S5) once more with the setpoints E_cstr + r             (R1)
+// and, for derivatives, ν differentiated as the first pass (its tangents need no refinement) (D4)
 // Exact saturation clamps τcmd instead and runs forward dynamics with it: the extra torque
 // Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity (X1).
 #pragma once
@@ -65,6 +66,29 @@ spatial::Motion<Scalar> set_acceleration(const SolverModel<Scalar>& model, const
   return set.frame.apply(sol.acceleration[set.body]);
 }
 
+// a_i = X_i Ẍ_λ(i) + Ẍb_i, body i's acceleration before its own joint's (S4), from Ẍ_λ(i) in `sol`.
+template <class Scalar>
+spatial::Motion<Scalar> carried_acceleration(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                             const Solution<Scalar>& sol, std::size_t i) {
+  return kin.body[i].X.apply(sol.acceleration[model.parent[i]]) + kin.body[i].bias_acceleration;
+}
+
+// Ẍ_tip and each listed set's Ẍ_link, from the Ẍ_i in `sol` (S5).
+template <class Scalar>
+void link_accelerations(const SolverModel<Scalar>& model, Solution<Scalar>& sol) {
+  sol.tip_acceleration = model.tip.apply(sol.acceleration[model.dof()]);
+  for (std::size_t c = 0; c < sol.set_acceleration.size(); ++c) sol.set_acceleration[c] = set_acceleration(model, sol, c);
+}
+
+// (S5) for the q̈ in `sol`: Ẍ_i = a_i + S_i q̈_i, base to tip.
+template <class Scalar>
+void accelerations_of_motion(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin, Solution<Scalar>& sol) {
+  sol.acceleration[0] = kin.base_acceleration;
+  for (std::size_t i = 1; i <= model.dof(); ++i)
+    sol.acceleration[i] = carried_acceleration(model, kin, sol, i) + model.joints[i].S * sol.qdd[i - 1];
+  link_accelerations(model, sol);
+}
+
 // (q̈): accelerations from τff + τctrl; `extra_force` (F^A_Δ) is added when given.
 template <class Scalar>
 void accelerations_base_to_tip(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
@@ -74,8 +98,7 @@ void accelerations_base_to_tip(const SolverModel<Scalar>& model, const Kinematic
   for (std::size_t i = 1; i <= model.dof(); ++i) {
     const JointModel<Scalar>& joint = model.joints[i];
     const BodyArticulated<Scalar>& a = art.body[i];
-    const spatial::Motion<Scalar> a_i =
-        kin.body[i].X.apply(sol.acceleration[model.parent[i]]) + kin.body[i].bias_acceleration;
+    const spatial::Motion<Scalar> a_i = carried_acceleration(model, kin, sol, i);
     spatial::Force<Scalar> F = a.articulated_inertia * a_i;
     for (std::size_t t = 0; t < model.layout.tracks.size(); ++t)
       if (composes(model.layout.tracks[t], policy)) F += art.track[t][i].articulated_force;
@@ -84,8 +107,7 @@ void accelerations_base_to_tip(const SolverModel<Scalar>& model, const Kinematic
         a.inverse_D * (feedforward_torque(inputs, i) + sol.tau_ctrl[i - 1] - spatial::dot(F, joint.S));
     sol.acceleration[i] = a_i + joint.S * sol.qdd[i - 1];
   }
-  sol.tip_acceleration = model.tip.apply(sol.acceleration[model.dof()]);
-  for (std::size_t c = 0; c < sol.set_acceleration.size(); ++c) sol.set_acceleration[c] = set_acceleration(model, sol, c);
+  link_accelerations(model, sol);
 }
 
 // Exact saturation, after an original solve filled sol.tau_cmd: clamp it, hand the extra
@@ -125,22 +147,30 @@ bool refines(const SolverModel<Scalar>& model, Policy constraint_policy) {
   return refines(model.refinement, model.constraints(), constraint_policy, model.constraint_factorisation);
 }
 
-// (R1): E_cstr + r with r_k = E_cstr,k − α_kᵀ Ẍ_link(k). ν comes from E^A_cstr,0, formed as a sum of
+// (R1): E_cstr + r (refined_setpoints) with r_k = E_cstr,k − α_kᵀ Ẍ_link(k) (constraint_residuals). ν comes from E^A_cstr,0, formed as a sum of
 // products over the chain like the normal equations of the constraint Jacobian, so its rounding
 // is amplified by cond(E) (the square of the Jacobian's); Ẍ_link comes from the sweeps of the
 // motion itself, so r measures that error without forming E again, and ν + E^-1 r removes it to
 // first order (docs/stability.md, "Refinement"). A dropped direction's r changes nothing: its
 // column of L and its pivot are 0.
 template <class Scalar>
-ConstraintVector<Scalar> refined_setpoints(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
-                                           const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
-  ConstraintVector<Scalar> refined(model.constraints());
+ConstraintVector<Scalar> constraint_residuals(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
+                                              const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
+  ConstraintVector<Scalar> r(model.constraints());
   for (std::size_t c = 0; c < model.constraint_sets.size(); ++c) {
     const spatial::Motion<Scalar> achieved = set_acceleration(model, sol, c);
     const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
     for (std::size_t k = set.first; k < set.first + set.count; ++k)
-      refined[k] = setpoints[k] + (setpoints[k] - spatial::dot(inputs.constraint_directions[k], achieved));
+      r[k] = setpoints[k] - spatial::dot(inputs.constraint_directions[k], achieved);
   }
+  return r;
+}
+template <class Scalar>
+ConstraintVector<Scalar> refined_setpoints(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
+                                           const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
+  const ConstraintVector<Scalar> r = constraint_residuals(model, inputs, setpoints, sol);
+  ConstraintVector<Scalar> refined(model.constraints());
+  for (std::size_t k = 0; k < model.constraints(); ++k) refined[k] = setpoints[k] + r[k];
   return refined;
 }
 
@@ -153,13 +183,18 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
   sol.locked_joints = Scalar(0);
   for (std::size_t i = 1; i <= model.dof(); ++i) sol.locked_joints += art.body[i].locked;
   const std::vector<spatial::Force<Scalar>>* no_extra_force = nullptr;
-  const auto constrained_motion = [&](const ConstraintVector<Scalar>& targets) {  // (S2)–(S5)
-    constraint_multipliers(model, art, targets, constraint_policy, sol);
+  const auto motion = [&] {  // (S3)–(S5)
     control_torques(model, art, constraint_policy, sol);
     accelerations_base_to_tip(model, kin, art, inputs, constraint_policy, no_extra_force, sol);
   };
-  constrained_motion(setpoints);
-  if (refines(model, constraint_policy)) constrained_motion(refined_setpoints(model, inputs, setpoints, sol));
+  constraint_multipliers(model, art, setpoints, constraint_policy, sol);  // (S2)
+  motion();
+  if (refines(model, constraint_policy)) {
+    const ConstraintVector<Scalar> first_pass = sol.nu;
+    constraint_multipliers(model, art, refined_setpoints(model, inputs, setpoints, sol), constraint_policy, sol);
+    for (std::size_t k = 0; k < model.constraints(); ++k) sol.nu[k] = refined_value(sol.nu[k], first_pass[k]);  // (D4)
+    motion();
+  }
   if (policy == Policy::saturate)
     inverse_dynamics_torque_tip_to_base(model, kin, inputs, sol);
   else

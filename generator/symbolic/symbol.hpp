@@ -52,6 +52,7 @@ class Symbol {
   friend Symbol cos(const Symbol& a) { return make(Op::cos, a); }
   friend Symbol abs_value(const Symbol& a) { return make(Op::abs, a); }
   friend Symbol equilibration_scale(const Symbol& a) { return make(Op::equilibration_scale, a); }
+  friend Symbol refined_value(const Symbol& refined, const Symbol& /*first_pass*/) { return refined; }
   friend Symbol minimum(const Symbol& a, const Symbol& b) { return make(Op::min, a, b); }
   friend Symbol maximum(const Symbol& a, const Symbol& b) { return make(Op::max, a, b); }
   friend Symbol select_greater(const Symbol& a, const Symbol& b, const Symbol& x, const Symbol& y) {

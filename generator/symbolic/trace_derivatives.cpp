@@ -2,6 +2,7 @@
 
 #include "solver/derivative_seeds.hpp"
 #include "solver/outward_sweep.hpp"
+#include "solver/residual_tangents.hpp"
 #include "solver/solver_sweep.hpp"
 #include "solver/state_fields.hpp"
 #include "symbolic/trace_inputs.hpp"
@@ -50,6 +51,10 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request) 
       base > 0 ? solver::seeded_base_rotation(in.base_rotation, columns) : spatial::Mat3<D>(in.base_rotation.cast<D>());
   auto kin = solver::KinematicsState<D>::sized(n);
   solver::outward_sweep_base_to_tip(model, q, qd, kin, base_rotation);
+  // (D5): the sweeps of the τff and β columns read q, q̇ without tangent.
+  auto kin_values = solver::KinematicsState<D>::sized(n);
+  solver::outward_sweep_base_to_tip(model, solver::values_of<Symbol>(q), solver::values_of<Symbol>(qd), kin_values,
+                                    solver::values_of<Symbol>(base_rotation));
 
   const solver::DriverInputs<Symbol> symbols = traced_driver_inputs(trace, layout, n);
   auto drivers = solver::DriverInputs<D>::sized(layout, n);
@@ -61,8 +66,12 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request) 
   for (std::size_t k = 0; k < nc; ++k)
     drivers.constraint_directions[k] = {symbols.constraint_directions[k].moment.cast<D>(),
                                         symbols.constraint_directions[k].force.cast<D>()};
-  auto art = solver::ArticulatedState<D>::sized(n, nc, layout.tracks.size());
-  solver::decomposition_sweep_tip_to_base(model, kin, drivers, art);
+  const auto decomposed = [&](const solver::KinematicsState<D>& sweep_kin) {
+    auto art = solver::ArticulatedState<D>::sized(n, nc, layout.tracks.size());
+    solver::decomposition_sweep_tip_to_base(model, sweep_kin, drivers, art);
+    return art;
+  };
+  const auto art = decomposed(kin);
 
   const solver::ConstraintVector<Symbol> beta_symbols = traced_setpoints(trace, nc);
   solver::ConstraintVector<D> beta(nc);
@@ -79,7 +88,12 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request) 
   solver::visit_fields(art, layout, record("articulated"));
   for (solver::Policy policy : trace.policies) {
     auto solution = solver::Solution<D>::sized(n, nc, layout.listed_sets());
-    solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
+    if (solver::differentiates_by_residuals(model, policy)) {
+      solver::solver_sweep_base_to_tip(model, kin_values, decomposed(kin_values), drivers, beta, policy, solution);
+      solver::complete_by_residuals(model, kin, drivers, beta, solution);
+    } else {
+      solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
+    }
     const std::string group = solver::name(policy);
     record_output(trace, group, "qdd", solution.qdd, columns);
     record_output(trace, group, "nu", solution.nu, columns);
