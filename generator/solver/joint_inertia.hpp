@@ -40,8 +40,7 @@ void set_axis_component(const JointModel<Scalar>& joint, spatial::Force<Scalar>&
 template <class Scalar>
 void set_axis_component_to_torque(const JointModel<Scalar>& joint, spatial::Force<Scalar>& f, const Scalar& tau) {
   if (joint.exact_zero_component < 0) return;
-  const Vec3<Scalar>& axis = joint.type == model::JointType::revolute ? joint.S.angular : joint.S.linear;
-  set_axis_component(joint, f, axis[joint.exact_zero_component] * tau);
+  set_axis_component(joint, f, joint.axis[joint.exact_zero_component] * tau);
 }
 
 template <class Scalar>

@@ -172,16 +172,17 @@ struct SolverModel {
     gravity = options.gravity.cast<Scalar>();
     constraint_factorisation = options.constraint_factorisation;
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
-    joint_inertia_tolerance = Scalar(options.joint_inertia_tolerance_for(epsilon));
+    const double lock_tolerance = options.joint_inertia_tolerance_for(epsilon);
+    joint_inertia_tolerance = Scalar(lock_tolerance);
     for (std::size_t i = 1; i <= n; ++i) {
       // (J2): a margin of 2 over (J1)'s rule keeps the rounding of the computed D_i and of its
       // threshold (a few ε of the scale, against a tolerance of 1000 ε by default) from mattering.
       const model::JointInertiaBounds bounds = model::joint_inertia_bounds(chain, i);
       JointModel<Scalar>& jm = joints[i];
-      jm.can_lock = !(bounds.lower > 2 * options.joint_inertia_tolerance_for(epsilon) * bounds.upper);
-      const model::Vec3& axis = chain.joints[i].axis;
+      jm.can_lock = !(bounds.lower > 2 * lock_tolerance * bounds.upper);
+      if (jm.can_lock || chain.joints[i].rotor_inertia != 0) continue;
       for (int k = 0; k < 3; ++k)
-        if (!jm.can_lock && chain.joints[i].rotor_inertia == 0 && std::abs(axis[k]) == 1) jm.exact_zero_component = k;
+        if (std::abs(chain.joints[i].axis[k]) == 1) jm.exact_zero_component = k;
     }
     refinement = options.refinement;
     constraint_rows = options.constraint_rows;
