@@ -16,7 +16,6 @@
 #include "support/derivative_case.hpp"
 #include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
-#include "support/state_count.hpp"
 #include "support/temp_dir.hpp"
 
 namespace sweepgen {
@@ -35,7 +34,8 @@ using solver::Policy;
 // as there, the bound at double's domain of validity (κ = 1e8): beyond it a state is counted, not judged.
 const test::RoundingBound kBound{100, 100 * std::numeric_limits<double>::epsilon() * test::kDoubleMaxKappa};
 
-// Each costs a compile of its derivative functions (about a minute at -O2 here): a chain with
+// Each costs a compile of its derivative functions, at -O0 (report::Optimisation::checked: the same
+// numbers bit for bit as -O2, in seconds instead of a minute or two): a chain with
 // run-time directions under both policies, fixed directions, a floating base. (Trees and
 // constraint sets are covered by the reference's own test; the generated code is the same trace.)
 const char* const kScenes[] = {"panda/panda_nc6.yaml", "iiwa14/iiwa14_lean_nc6_fixed.yaml",
@@ -61,7 +61,7 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
   c.scene.derivatives = true;
   test::TempDir dir;
   const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
-  const report::CompiledSolver compiled = report::compile_scene_solver(c.scene, c.chain, dir.path(), "c++", quiet);
+  const report::CompiledSolver compiled = report::compile_scene_solver(c.scene, c.chain, dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
   ASSERT_EQ(compiled.derivatives_f64_of.size(), policies.size());
 
   const std::size_t n = c.chain.dof(), nc = c.scene.layout.constraints;
@@ -119,11 +119,7 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
   }
 }
 
-// The sanitizer build (test::kStateDivisor > 1) compiles the first scene only: its job is every
-// code path under the sanitizers, and each further scene is a minute of compiling (the release
-// build runs all three).
-INSTANTIATE_TEST_SUITE_P(Scenes, GeneratedDerivatives,
-                         ::testing::ValuesIn(std::begin(kScenes), test::kStateDivisor > 1 ? std::begin(kScenes) + 1 : std::end(kScenes)),
+INSTANTIATE_TEST_SUITE_P(Scenes, GeneratedDerivatives, ::testing::ValuesIn(kScenes),
                          [](const auto& info) { return test_name(info.param); });
 
 }  // namespace

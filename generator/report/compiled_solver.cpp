@@ -40,7 +40,7 @@ scene::Scene report_scene(scene::Scene s, std::vector<solver::Policy> policies) 
 
 CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& chain,
                                     const std::filesystem::path& build_dir, const std::string& cxx,
-                                    const CompileProgress& progress, Isa isa) {
+                                    const CompileProgress& progress, Isa isa, Optimisation optimisation) {
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   // 1. Generate the solver and the C wrapper.
   progress.step(1, "generating " + s.solver + " (" + std::to_string(n) + " joints, Nc = " + std::to_string(nc) +
@@ -70,7 +70,8 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   const std::string library = (build_dir / ("libsweepgen_report_" + stem + ".so")).string();
   const std::string log = (build_dir / "compile.log").string();
   compiled.command =
-      compile_command(cxx, {(build_dir / (stem + ".cpp")).string(), wrapper}, build_dir.string(), library, isa);
+      compile_command(cxx, {(build_dir / (stem + ".cpp")).string(), wrapper}, build_dir.string(), library, isa,
+                                     optimisation);
   files.push_back({(build_dir / "compile.command").string(), command_line(compiled.command) + "\n"});
   compiled.reused = std::filesystem::exists(library) &&
                     std::all_of(files.begin(), files.end(), [](const io::OutputFile& f) { return holds(f.path, f.text); });

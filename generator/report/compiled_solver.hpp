@@ -40,13 +40,15 @@ struct CompiledSolver {
   std::map<solver::Policy, FlatSolve<double>> derivatives_f64_of;
 };
 
-// Generates `s` (a report_scene, or one in double alone) into `build_dir`, compiles it with `cxx` for `isa` and loads it.
+// Generates `s` (a report_scene, or one in double alone) into `build_dir`, compiles it with `cxx` for `isa`
+// (and `optimisation`, report/native_library.hpp) and loads it.
 // When build_dir already holds a library built from byte-identical sources with the same
 // command, it is loaded as it is (a rerun of the report does not recompile). Throws io::IoError
 // when the compiler cannot be run or fails (its output in build_dir/compile.log), dlopen()
 // fails, or the library's flat sizes do not match the scene.
 CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& chain,
                                     const std::filesystem::path& build_dir, const std::string& cxx,
-                                    const CompileProgress& progress, Isa isa = Isa::baseline);
+                                    const CompileProgress& progress, Isa isa = Isa::baseline,
+                                    Optimisation optimisation = Optimisation::deployed);
 
 }  // namespace sweepgen::report

@@ -10,6 +10,7 @@
 #include <deque>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "io/output_files.hpp"
 
@@ -101,9 +102,14 @@ bool cpu_supports(Isa isa) {
 }
 
 std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
-                                         const std::string& include_dir, const std::string& output, Isa isa) {
+                                         const std::string& include_dir, const std::string& output, Isa isa,
+                                         Optimisation optimisation) {
   std::vector<std::string> argv = {compiler, "-std=c++17"};
-  if (isa == Isa::x86_64_v3)
+  if (optimisation == Optimisation::checked && isa != Isa::baseline)
+    throw std::invalid_argument("compile_command: checked (-O0) code is compiled for the x86-64 baseline only");
+  if (optimisation == Optimisation::checked)
+    argv.push_back("-O0");
+  else if (isa == Isa::x86_64_v3)
     argv.insert(argv.end(), {"-O3", "-march=x86-64-v3"});
   else
     argv.push_back("-O2");

@@ -37,10 +37,21 @@ std::string isa_name(Isa isa);  // "x86-64", "x86-64-v3"
 // Whether this CPU runs `isa` (baseline: always).
 bool cpu_supports(Isa isa);
 
-// The compile command for `sources` into the shared library `output`: -O2 for the baseline,
-// -O3 -march=x86-64-v3 for v3 (the flag pairs the benchmarks quote).
+// What the compiled code is for. `deployed`: run and timed as a controller would build it, -O2 for
+// the baseline and -O3 -march=x86-64-v3 for v3 (the flag pairs the benchmarks quote). `checked`:
+// run only for its numbers (the stability study, the tests), at -O0 and for the baseline only.
+// There both give the same numbers bit for bit: x86-64 without -march has no fused multiply-add,
+// -std=c++17 turns contraction off, and every double and float operation is one SSE2 instruction
+// rounding to its type, at any -O (tests/test_emitter.cpp, OptimisationDoesNotChangeTheNumbers).
+// A long straight-line generated file compiles ~25x faster at -O0 (a floating base's derivative
+// functions: 4.2 s against 110 s at -O2).
+enum class Optimisation { deployed, checked };
+
+// The compile command for `sources` into the shared library `output`. Throws std::invalid_argument
+// for `checked` code for v3, whose contractions differ by -O.
 std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
-                                         const std::string& include_dir, const std::string& output, Isa isa);
+                                         const std::string& include_dir, const std::string& output, Isa isa,
+                                         Optimisation optimisation = Optimisation::deployed);
 
 // A dlopen()ed shared library, closed on destruction. Throws io::IoError with dlerror()'s text.
 class SharedLibrary {

@@ -46,7 +46,8 @@ std::vector<StabilityRow> measure_stability_case(const StabilityCase& c, const S
     const std::string name = policy_name(policy);
     const scene::Scene& s = scenes.at(name);
     const CompiledSolver compiled =
-        compile_scene_solver(s, c.chain, options.build_dir / name, options.cxx, options.progress(name));
+        compile_scene_solver(s, c.chain, options.build_dir / name, options.cxx, options.progress(name), Isa::baseline,
+                             Optimisation::checked);  // untimed: only its numbers count
     const std::vector<VariantResult> results = {
         measure_reference_double(s, c.chain, problems, untimed),
         measure_generated<double>(compiled.solve_f64_of.at(solver::Policy::original), "double", s.flat_layout(n), problems, untimed),
