@@ -9,25 +9,15 @@
 
 namespace sweepgen::oracle {
 
-// cond_2 of a dense matrix: 1 for an empty matrix, infinite for a singular one. The SVD is compiled
-// once for double and long double (oracle/condition_number.cpp); binary128 instantiates it here.
-template <class Scalar>
-double dense_condition_number(const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& E) {
-  if (E.rows() == 0) return 1;
-  const Eigen::Matrix<Scalar, Eigen::Dynamic, 1> sv =
-      Eigen::JacobiSVD<Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>>(E).singularValues();
-  return sv(sv.size() - 1) > Scalar(0) ? static_cast<double>(sv(0) / sv(sv.size() - 1))
-                                        : std::numeric_limits<double>::infinity();
-}
-extern template double dense_condition_number<double>(const Eigen::MatrixXd&);
-extern template double dense_condition_number<long double>(
-    const Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>&);
-
-// cond_2(E) of any matrix expression.
+// cond_2(E): 1 for an empty matrix, infinite for a singular one.
 template <class Derived>
 double condition_number(const Eigen::MatrixBase<Derived>& E) {
   using Scalar = typename Derived::Scalar;
-  return dense_condition_number<Scalar>(Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>(E));
+  using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+  if (E.rows() == 0) return 1;
+  const Eigen::Matrix<Scalar, Eigen::Dynamic, 1> sv = Eigen::JacobiSVD<Matrix>(Matrix(E)).singularValues();
+  return sv(sv.size() - 1) > Scalar(0) ? static_cast<double>(sv(0) / sv(sv.size() - 1))
+                                        : std::numeric_limits<double>::infinity();
 }
 
 // cond_s(E) = cond_2 of diag(E)^-1/2 E diag(E)^-1/2: the condition the equilibrated, pivoted
@@ -42,7 +32,7 @@ double scaled_condition_number(const Eigen::MatrixBase<Derived>& E) {
     if (!(E(k, k) > Scalar(0))) return std::numeric_limits<double>::infinity();
   for (Eigen::Index r = 0; r < E.rows(); ++r)
     for (Eigen::Index c = 0; c < E.cols(); ++c) S(r, c) = E(r, c) / sqrt(E(r, r) * E(c, c));
-  return dense_condition_number<Scalar>(S);
+  return condition_number(S);
 }
 
 }  // namespace sweepgen::oracle

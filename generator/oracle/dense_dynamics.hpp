@@ -415,8 +415,4 @@ class DenseDynamics {
   std::map<std::string, LinkData> links_;
 };
 
-// Compiled once, in oracle/dense_dynamics.cpp, for the scalars its users take.
-extern template class DenseDynamics<double>;
-extern template class DenseDynamics<long double>;
-
 }  // namespace sweepgen::oracle
