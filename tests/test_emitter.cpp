@@ -396,7 +396,8 @@ TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
   const std::size_t n = c.chain.dof();
   test::TempDir dir;
   const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
-  const report::CompiledSolver compiled = report::compile_scene_solver(c.scene, c.chain, dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
+  const report::CompiledSolver compiled = report::compile_scene_solver(
+      c.scene, c.chain, dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
 
   const auto problems = report::random_problems(c.scene, c.chain, test::state_count(200), 17);
   const auto truth = report::precise_reference(c.scene, c.chain, problems);
@@ -478,7 +479,7 @@ TEST(Emitter, OptimisationDoesNotChangeTheNumbers) {
 
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   const std::size_t out_size = s.flat_layout(n).out_size();
-  const std::size_t derivative_out_size = 2 * n + nc + (2 * n + nc) * solver::DerivativeColumns{n, nc}.count() + 1;
+  const std::size_t derivative_out_size = solver::DerivativeColumns{n, nc}.flat_out_size();
   const auto run = [](auto function, const auto& in, std::size_t size) {
     std::vector<std::decay_t<decltype(in[0])>> out(size);
     function(in.data(), out.data());

@@ -61,7 +61,8 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
   c.scene.derivatives = true;
   test::TempDir dir;
   const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
-  const report::CompiledSolver compiled = report::compile_scene_solver(c.scene, c.chain, dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
+  const report::CompiledSolver compiled = report::compile_scene_solver(
+      c.scene, c.chain, dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
   ASSERT_EQ(compiled.derivatives_f64_of.size(), policies.size());
 
   const std::size_t n = c.chain.dof(), nc = c.scene.layout.constraints;
@@ -78,7 +79,7 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
   for (const auto& [policy, derivatives] : compiled.derivatives_f64_of) {
     for (const report::Problem& p : problems) {
       // out = [qdd, nu, tau_cmd, d_qdd, d_nu, d_tau_cmd, status] (the header's derivative_flat_out).
-      std::vector<double> out(2 * n + nc + (2 * n + nc) * m + 1, 0.0);
+      std::vector<double> out(columns.flat_out_size(), 0.0);
       derivatives(p.flat.data(), out.data());
       const solver::SolveDerivatives<double> d = reference.solve(p, policy);
       const std::string where = relative + " " + solver::name(policy);

@@ -459,9 +459,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("has_derivatives", request.derivatives);
   values.set("derivative_columns", std::to_string(solver::DerivativeColumns{n, nc}.count()));
   values.set("derivative_flat_out", derivative_flat_out(n, nc));
-  std::size_t derivative_out_size = 1;
-  for (const auto& array : derivative_arrays(n, nc)) derivative_out_size += array.second;
-  values.set("derivative_flat_out_size", std::to_string(derivative_out_size));
+  values.set("derivative_flat_out_size", std::to_string(solver::DerivativeColumns{n, nc}.flat_out_size()));
   values.set("check_inputs", request.check_inputs);
   values.set("check_inputs_value", request.check_inputs ? "true" : "false");
   values.set("op_counts", op_lines);

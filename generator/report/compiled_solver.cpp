@@ -69,9 +69,8 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   compiled.operations = std::move(operations);
   const std::string library = (build_dir / ("libsweepgen_report_" + stem + ".so")).string();
   const std::string log = (build_dir / "compile.log").string();
-  compiled.command =
-      compile_command(cxx, {(build_dir / (stem + ".cpp")).string(), wrapper}, build_dir.string(), library, isa,
-                                     optimisation);
+  compiled.command = compile_command(cxx, {(build_dir / (stem + ".cpp")).string(), wrapper}, build_dir.string(),
+                                     library, isa, optimisation);
   files.push_back({(build_dir / "compile.command").string(), command_line(compiled.command) + "\n"});
   compiled.reused = std::filesystem::exists(library) &&
                     std::all_of(files.begin(), files.end(), [](const io::OutputFile& f) { return holds(f.path, f.text); });

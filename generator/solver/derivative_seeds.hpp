@@ -20,6 +20,9 @@ struct DerivativeColumns {
   std::size_t qd(std::size_t i) const { return dof + i; }
   std::size_t tau_ff(std::size_t i) const { return 2 * dof + i; }
   std::size_t beta(std::size_t k) const { return 3 * dof + k; }
+  // Values in a derivatives_<policy>_flat output: q̈ (dof), ν (Nc), τcmd (dof), each followed by
+  // its Jacobian over count() columns, and the status.
+  std::size_t flat_out_size() const { return (2 * dof + constraints) * (1 + count()) + 1; }
 };
 
 // `value` with tangent e_column (of `columns.count()` entries).
