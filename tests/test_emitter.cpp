@@ -21,6 +21,7 @@
 #include "solver/derivative_seeds.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/bundled_robots.hpp"
+#include "support/compiled_scene.hpp"
 #include "support/oracle_problem.hpp"
 #include "support/random_chain.hpp"
 #include "support/state_count.hpp"
@@ -395,9 +396,7 @@ TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
   const EmitterCase& c = emitter_cases().at(GetParam());
   const std::size_t n = c.chain.dof();
   test::TempDir dir;
-  const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
-  const report::CompiledSolver compiled = report::compile_scene_solver(
-      c.scene, c.chain, dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
+  const report::CompiledSolver compiled = test::compile_scene(c.scene, c.chain, dir.path());
 
   const auto problems = report::random_problems(c.scene, c.chain, test::state_count(200), 17);
   const auto truth = report::precise_reference(c.scene, c.chain, problems);
@@ -470,11 +469,10 @@ TEST(Emitter, OptimisationDoesNotChangeTheNumbers) {
   layout.decompose_all();
   scene::Scene s = case_scene("optimisation_levels", chain, std::move(layout), {solver::Policy::original});
   s.derivatives = true;
-  const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
   test::TempDir deployed_dir, checked_dir;
-  const report::CompiledSolver deployed = report::compile_scene_solver(s, chain, deployed_dir.path(), "c++", quiet);
-  const report::CompiledSolver checked = report::compile_scene_solver(
-      s, chain, checked_dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
+  const report::CompiledSolver deployed =
+      test::compile_scene(s, chain, deployed_dir.path(), report::Optimisation::deployed);
+  const report::CompiledSolver checked = test::compile_scene(s, chain, checked_dir.path());
   ASSERT_NE(deployed.command, checked.command);
 
   const std::size_t n = chain.dof(), nc = s.layout.constraints;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "report/compiled_solver.hpp"
+#include "support/compiled_scene.hpp"
 #include "support/derivative_case.hpp"
 #include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
@@ -60,9 +60,7 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
   c.scene.scalars = {"double"};  // the derivatives are compared in double
   c.scene.derivatives = true;
   test::TempDir dir;
-  const report::CompileProgress quiet{[](int, const std::string&) {}, [](const std::string&) {}};
-  const report::CompiledSolver compiled = report::compile_scene_solver(
-      c.scene, c.chain, dir.path(), "c++", quiet, report::Isa::baseline, report::Optimisation::checked);
+  const report::CompiledSolver compiled = test::compile_scene(c.scene, c.chain, dir.path());
   ASSERT_EQ(compiled.derivatives_f64_of.size(), policies.size());
 
   const std::size_t n = c.chain.dof(), nc = c.scene.layout.constraints;
