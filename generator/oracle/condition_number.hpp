@@ -1,38 +1,34 @@
 // Condition numbers of the constraint-space matrix E^A_cstr,0 (docs/stability.md, "Errors and
 // condition numbers"), computed in the matrix's own scalar: binary128 measures them up to ~1e30,
-// double up to ~1e15.
+// double up to ~1e15. The SVD behind them is compiled once, in oracle/condition_number.cpp, for
+// double, long double and binary128 (solver::Quad), the scalars the report and the tests use.
 #pragma once
 
-#include <Eigen/SVD>
-#include <cmath>
-#include <limits>
+#include <Eigen/Core>
 
 namespace sweepgen::oracle {
 
+template <class Scalar>
+using DenseMatrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+
 // cond_2(E): 1 for an empty matrix, infinite for a singular one.
-template <class Derived>
-double condition_number(const Eigen::MatrixBase<Derived>& E) {
-  using Scalar = typename Derived::Scalar;
-  using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
-  if (E.rows() == 0) return 1;
-  const Eigen::Matrix<Scalar, Eigen::Dynamic, 1> sv = Eigen::JacobiSVD<Matrix>(Matrix(E)).singularValues();
-  return sv(sv.size() - 1) > Scalar(0) ? static_cast<double>(sv(0) / sv(sv.size() - 1))
-                                        : std::numeric_limits<double>::infinity();
-}
+template <class Scalar>
+double condition_number_of(const DenseMatrix<Scalar>& E);
 
 // cond_s(E) = cond_2 of diag(E)^-1/2 E diag(E)^-1/2: the condition the equilibrated, pivoted
 // factorisation sees, invariant under the units of each direction; infinite when a diagonal entry
 // is not positive.
+template <class Scalar>
+double scaled_condition_number_of(const DenseMatrix<Scalar>& E);
+
+// The same for any matrix expression, evaluated into a dense matrix of its scalar.
+template <class Derived>
+double condition_number(const Eigen::MatrixBase<Derived>& E) {
+  return condition_number_of<typename Derived::Scalar>(E);
+}
 template <class Derived>
 double scaled_condition_number(const Eigen::MatrixBase<Derived>& E) {
-  using Scalar = typename Derived::Scalar;
-  using std::sqrt;
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> S = E;
-  for (Eigen::Index k = 0; k < E.rows(); ++k)
-    if (!(E(k, k) > Scalar(0))) return std::numeric_limits<double>::infinity();
-  for (Eigen::Index r = 0; r < E.rows(); ++r)
-    for (Eigen::Index c = 0; c < E.cols(); ++c) S(r, c) = E(r, c) / sqrt(E(r, r) * E(c, c));
-  return condition_number(S);
+  return scaled_condition_number_of<typename Derived::Scalar>(E);
 }
 
 }  // namespace sweepgen::oracle

@@ -1,0 +1,39 @@
+// The condition numbers of oracle/condition_number.hpp, instantiated for the report's and the
+// tests' scalars.
+#include "oracle/condition_number.hpp"
+
+#include <Eigen/SVD>
+#include <cmath>
+#include <limits>
+
+#include "solver/quad_scalar.hpp"
+
+namespace sweepgen::oracle {
+
+template <class Scalar>
+double condition_number_of(const DenseMatrix<Scalar>& E) {
+  if (E.rows() == 0) return 1;
+  const Eigen::Matrix<Scalar, Eigen::Dynamic, 1> sv = Eigen::JacobiSVD<DenseMatrix<Scalar>>(E).singularValues();
+  return sv(sv.size() - 1) > Scalar(0) ? static_cast<double>(sv(0) / sv(sv.size() - 1))
+                                        : std::numeric_limits<double>::infinity();
+}
+
+template <class Scalar>
+double scaled_condition_number_of(const DenseMatrix<Scalar>& E) {
+  using std::sqrt;
+  DenseMatrix<Scalar> S = E;
+  for (Eigen::Index k = 0; k < E.rows(); ++k)
+    if (!(E(k, k) > Scalar(0))) return std::numeric_limits<double>::infinity();
+  for (Eigen::Index r = 0; r < E.rows(); ++r)
+    for (Eigen::Index c = 0; c < E.cols(); ++c) S(r, c) = E(r, c) / sqrt(E(r, r) * E(c, c));
+  return condition_number_of<Scalar>(S);
+}
+
+template double condition_number_of<double>(const DenseMatrix<double>&);
+template double condition_number_of<long double>(const DenseMatrix<long double>&);
+template double condition_number_of<solver::Quad>(const DenseMatrix<solver::Quad>&);
+template double scaled_condition_number_of<double>(const DenseMatrix<double>&);
+template double scaled_condition_number_of<long double>(const DenseMatrix<long double>&);
+template double scaled_condition_number_of<solver::Quad>(const DenseMatrix<solver::Quad>&);
+
+}  // namespace sweepgen::oracle
