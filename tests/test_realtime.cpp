@@ -416,7 +416,9 @@ TEST(GeneratedSources, HaveNoUnboundedOrHiddenControlFlow) {
   for (const auto& file : generated_sources()) {
     const auto lines = code_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
-      if (std::regex_search(lines[i], any_else)) EXPECT_EQ(lines[i], "  } else {") << file << ":" << i + 1;
+      if (std::regex_search(lines[i], any_else)) {
+        EXPECT_EQ(lines[i], "  } else {") << file << ":" << i + 1;
+      }
       std::smatch m;
       EXPECT_FALSE(std::regex_search(lines[i], m, forbidden)) << file << ":" << i + 1 << ": '" << m.str() << "' in "
                                                               << lines[i];
