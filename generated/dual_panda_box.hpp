@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (13879 operations), not the rows r_i outward (I6) (14245 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (14245 operations), not the columns F^A_cstr,i inward (I2) (13879 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 15.
 //
 // Call order (docs: README, "Generated code"):
@@ -49,14 +49,14 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1733, mul 2242, div 13, neg 105, sin/cos 28, compare 0 (total 4121)
-//   f64::decompose: add 2363, mul 3343, div 12, neg 115, sin/cos 0, compare 37 (total 5870)
-//   f64::solve_original: add 1230, mul 1252, div 0, neg 30, sin/cos 0, compare 2 (total 2514)
-//   f64: outward + decompose + solve_original: add 5326, mul 6837, div 25, neg 250, sin/cos 28, compare 39 (total 12505)
-//   f64::solve_prioritize_external: add 642, mul 681, div 0, neg 17, sin/cos 0, compare 1 (total 1341)
-//   f64: outward + decompose + solve_prioritize_external: add 4738, mul 6266, div 25, neg 237, sin/cos 28, compare 38 (total 11332)
-//   f64, pivoted path: outward + decompose + solve_original: add 5635, mul 7311, div 37, neg 250, sin/cos 28, compare 1823 (total 15084)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 5047, mul 6740, div 37, neg 237, sin/cos 28, compare 1602 (total 13691)
+//   f64::outward: add 2513, mul 3373, div 13, neg 191, sin/cos 28, compare 0 (total 6118)
+//   f64::decompose: add 1775, mul 2443, div 12, neg 7, sin/cos 0, compare 37 (total 4274)
+//   f64::solve_original: add 1206, mul 1252, div 0, neg 32, sin/cos 0, compare 2 (total 2492)
+//   f64: outward + decompose + solve_original: add 5494, mul 7068, div 25, neg 230, sin/cos 28, compare 39 (total 12884)
+//   f64::solve_prioritize_external: add 630, mul 681, div 0, neg 16, sin/cos 0, compare 1 (total 1328)
+//   f64: outward + decompose + solve_prioritize_external: add 4918, mul 6497, div 25, neg 214, sin/cos 28, compare 38 (total 11720)
+//   f64, pivoted path: outward + decompose + solve_original: add 5803, mul 7542, div 37, neg 230, sin/cos 28, compare 1823 (total 15463)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 5227, mul 6971, div 37, neg 214, sin/cos 28, compare 1602 (total 14079)
 #pragma once
 
 namespace dual_panda_box {
@@ -84,7 +84,7 @@ namespace f64 {
 
 using Scalar = double;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -251,6 +251,11 @@ struct State {
   Scalar articulated_inertia_14_15;
   Scalar articulated_inertia_14_16;
   Scalar inverse_D_14_0;
+  Scalar constraint_row_14_6_term;
+  Scalar constraint_row_14_6_term_2;
+  Scalar constraint_row_14_6_term_3;
+  Scalar constraint_row_14_6_term_4;
+  Scalar constraint_row_14_6_term_5;
   Scalar constraint_row_14_6;
   Scalar constraint_row_14_7;
   Scalar constraint_row_14_8;
@@ -267,6 +272,12 @@ struct State {
   Scalar articulated_inertia_13_16;
   Scalar articulated_inertia_13_17;
   Scalar inverse_D_13_0;
+  Scalar constraint_row_13_6_term;
+  Scalar constraint_row_13_6_term_2;
+  Scalar constraint_row_13_6_term_3;
+  Scalar constraint_row_13_6_term_4;
+  Scalar constraint_row_13_6_term_5;
+  Scalar constraint_row_13_6_term_6;
   Scalar constraint_row_13_6;
   Scalar constraint_row_13_7;
   Scalar constraint_row_13_8;
@@ -284,6 +295,12 @@ struct State {
   Scalar articulated_inertia_12_16;
   Scalar articulated_inertia_12_17;
   Scalar inverse_D_12_0;
+  Scalar constraint_row_12_6_term;
+  Scalar constraint_row_12_6_term_2;
+  Scalar constraint_row_12_6_term_3;
+  Scalar constraint_row_12_6_term_4;
+  Scalar constraint_row_12_6_term_5;
+  Scalar constraint_row_12_6_term_6;
   Scalar constraint_row_12_6;
   Scalar constraint_row_12_7;
   Scalar constraint_row_12_8;
@@ -301,6 +318,12 @@ struct State {
   Scalar articulated_inertia_11_16;
   Scalar articulated_inertia_11_17;
   Scalar inverse_D_11_0;
+  Scalar constraint_row_11_6_term;
+  Scalar constraint_row_11_6_term_2;
+  Scalar constraint_row_11_6_term_3;
+  Scalar constraint_row_11_6_term_4;
+  Scalar constraint_row_11_6_term_5;
+  Scalar constraint_row_11_6_term_6;
   Scalar constraint_row_11_6;
   Scalar constraint_row_11_7;
   Scalar constraint_row_11_8;
@@ -317,6 +340,12 @@ struct State {
   Scalar articulated_inertia_10_16;
   Scalar articulated_inertia_10_17;
   Scalar inverse_D_10_0;
+  Scalar constraint_row_10_6_term;
+  Scalar constraint_row_10_6_term_2;
+  Scalar constraint_row_10_6_term_3;
+  Scalar constraint_row_10_6_term_4;
+  Scalar constraint_row_10_6_term_5;
+  Scalar constraint_row_10_6_term_6;
   Scalar constraint_row_10_6;
   Scalar constraint_row_10_7;
   Scalar constraint_row_10_8;
@@ -331,6 +360,12 @@ struct State {
   Scalar articulated_inertia_9_15;
   Scalar articulated_inertia_9_16;
   Scalar inverse_D_9_0;
+  Scalar constraint_row_9_6_term;
+  Scalar constraint_row_9_6_term_2;
+  Scalar constraint_row_9_6_term_3;
+  Scalar constraint_row_9_6_term_4;
+  Scalar constraint_row_9_6_term_5;
+  Scalar constraint_row_9_6_term_6;
   Scalar constraint_row_9_6;
   Scalar constraint_row_9_7;
   Scalar constraint_row_9_8;
@@ -408,6 +443,11 @@ struct State {
   Scalar articulated_inertia_7_15;
   Scalar articulated_inertia_7_16;
   Scalar inverse_D_7_0;
+  Scalar constraint_row_7_0_term;
+  Scalar constraint_row_7_0_term_2;
+  Scalar constraint_row_7_0_term_3;
+  Scalar constraint_row_7_0_term_4;
+  Scalar constraint_row_7_0_term_5;
   Scalar constraint_row_7_0;
   Scalar constraint_row_7_1;
   Scalar constraint_row_7_2;
@@ -424,6 +464,12 @@ struct State {
   Scalar articulated_inertia_6_16;
   Scalar articulated_inertia_6_17;
   Scalar inverse_D_6_0;
+  Scalar constraint_row_6_0_term;
+  Scalar constraint_row_6_0_term_2;
+  Scalar constraint_row_6_0_term_3;
+  Scalar constraint_row_6_0_term_4;
+  Scalar constraint_row_6_0_term_5;
+  Scalar constraint_row_6_0_term_6;
   Scalar constraint_row_6_0;
   Scalar constraint_row_6_1;
   Scalar constraint_row_6_2;
@@ -441,6 +487,12 @@ struct State {
   Scalar articulated_inertia_5_16;
   Scalar articulated_inertia_5_17;
   Scalar inverse_D_5_0;
+  Scalar constraint_row_5_0_term;
+  Scalar constraint_row_5_0_term_2;
+  Scalar constraint_row_5_0_term_3;
+  Scalar constraint_row_5_0_term_4;
+  Scalar constraint_row_5_0_term_5;
+  Scalar constraint_row_5_0_term_6;
   Scalar constraint_row_5_0;
   Scalar constraint_row_5_1;
   Scalar constraint_row_5_2;
@@ -458,6 +510,12 @@ struct State {
   Scalar articulated_inertia_4_16;
   Scalar articulated_inertia_4_17;
   Scalar inverse_D_4_0;
+  Scalar constraint_row_4_0_term;
+  Scalar constraint_row_4_0_term_2;
+  Scalar constraint_row_4_0_term_3;
+  Scalar constraint_row_4_0_term_4;
+  Scalar constraint_row_4_0_term_5;
+  Scalar constraint_row_4_0_term_6;
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
   Scalar constraint_row_4_2;
@@ -474,6 +532,12 @@ struct State {
   Scalar articulated_inertia_3_16;
   Scalar articulated_inertia_3_17;
   Scalar inverse_D_3_0;
+  Scalar constraint_row_3_0_term;
+  Scalar constraint_row_3_0_term_2;
+  Scalar constraint_row_3_0_term_3;
+  Scalar constraint_row_3_0_term_4;
+  Scalar constraint_row_3_0_term_5;
+  Scalar constraint_row_3_0_term_6;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
   Scalar constraint_row_3_2;
@@ -488,6 +552,12 @@ struct State {
   Scalar articulated_inertia_2_15;
   Scalar articulated_inertia_2_16;
   Scalar inverse_D_2_0;
+  Scalar constraint_row_2_0_term;
+  Scalar constraint_row_2_0_term_2;
+  Scalar constraint_row_2_0_term_3;
+  Scalar constraint_row_2_0_term_4;
+  Scalar constraint_row_2_0_term_5;
+  Scalar constraint_row_2_0_term_6;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
   Scalar constraint_row_2_2;
@@ -498,14 +568,25 @@ struct State {
   Scalar articulated_force_bias_2_2;
   Scalar articulated_force_tau_ff_2_1;
   Scalar articulated_force_tau_ff_2_2;
-  Scalar articulated_inertia_1_17;
   Scalar inverse_D_1_0;
+  Scalar constraint_row_1_0_term;
+  Scalar constraint_row_1_0_term_2;
+  Scalar constraint_row_1_0_term_3;
+  Scalar constraint_row_1_0_term_4;
+  Scalar constraint_row_1_0_term_5;
+  Scalar constraint_row_1_0_term_6;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
   Scalar constraint_row_1_2;
   Scalar constraint_row_1_3;
   Scalar constraint_row_1_4;
   Scalar constraint_row_1_5;
+  Scalar constraint_row_1_6_term;
+  Scalar constraint_row_1_6_term_2;
+  Scalar constraint_row_1_6_term_3;
+  Scalar constraint_row_1_6_term_4;
+  Scalar constraint_row_1_6_term_5;
+  Scalar constraint_row_1_6_term_6;
   Scalar constraint_row_1_6;
   Scalar constraint_row_1_7;
   Scalar constraint_row_1_8;
@@ -518,19 +599,23 @@ struct State {
   Scalar articulated_force_tau_ff_1_0_term_2;
   Scalar articulated_force_push_1_2_term;
   Scalar acceleration_energy_bias_0_0_term;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_0_term_6;
+  Scalar acceleration_energy_bias_0_0_term_7;
+  Scalar acceleration_energy_bias_0_0_term_8;
+  Scalar acceleration_energy_bias_0_0_term_9;
+  Scalar acceleration_energy_bias_0_6_term;
+  Scalar acceleration_energy_bias_0_6_term_2;
+  Scalar acceleration_energy_bias_0_6_term_3;
+  Scalar acceleration_energy_bias_0_6_term_4;
+  Scalar acceleration_energy_bias_0_6_term_5;
+  Scalar acceleration_energy_bias_0_6_term_6;
+  Scalar acceleration_energy_bias_0_6_term_7;
+  Scalar acceleration_energy_bias_0_6_term_8;
   Scalar acceleration_energy_tau_ff_0_0_term;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_2;
-  Scalar base_acceleration_energy_3;
-  Scalar base_acceleration_energy_4;
-  Scalar base_acceleration_energy_5;
-  Scalar base_acceleration_energy_6;
-  Scalar base_acceleration_energy_7;
-  Scalar base_acceleration_energy_8;
-  Scalar base_acceleration_energy_9;
-  Scalar base_acceleration_energy_10;
-  Scalar base_acceleration_energy_11;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -622,8 +707,8 @@ struct State {
   Scalar original_nu_0_term_89;
   Scalar original_nu_0_term_90;
   Scalar original_nu_0_term_91;
-  Scalar prioritize_external_conf_energy_10;
-  Scalar original_conf_energy_10;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
@@ -634,8 +719,6 @@ struct State {
   Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar prioritize_external_conf_energy_6;
   Scalar original_conf_energy_6;
   Scalar prioritize_external_conf_energy_7;
@@ -644,6 +727,8 @@ struct State {
   Scalar original_conf_energy_8;
   Scalar prioritize_external_conf_energy_9;
   Scalar original_conf_energy_9;
+  Scalar prioritize_external_conf_energy_10;
+  Scalar original_conf_energy_10;
   Scalar prioritize_external_conf_energy_11;
   Scalar original_conf_energy_11;
   Scalar original_nu_0_term_92;
@@ -837,10 +922,6 @@ struct State {
   Scalar original_nu_0_term_280;
   Scalar original_nu_0_term_281;
   Scalar original_nu_0_term_282;
-  Scalar original_nu_0_term_283;
-  Scalar original_nu_0_term_284;
-  Scalar original_nu_0_term_285;
-  Scalar original_nu_0_term_286;
   Scalar original_dropped_pivots_0;
 
   unsigned kinematics_input_status;  // status_not_finite when q or qd held NaN/Inf (outward)

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (3207 operations), not the rows r_i outward (I6) (3350 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3350 operations), not the columns F^A_cstr,i inward (I2) (3207 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -38,11 +38,11 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 849, mul 1325, div 11, neg 32, sin/cos 12, compare 16 (total 2245)
-//   f64::decompose: add 145, mul 93, div 0, neg 0, sin/cos 0, compare 0 (total 238)
-//   f64::solve_original: add 354, mul 352, div 0, neg 6, sin/cos 0, compare 2 (total 714)
-//   f64: outward + decompose + solve_original: add 1348, mul 1770, div 11, neg 38, sin/cos 12, compare 18 (total 3197)
-//   f64, pivoted path: outward + decompose + solve_original: add 1409, mul 1860, div 17, neg 38, sin/cos 12, compare 230 (total 3566)
+//   f64::outward: add 896, mul 1362, div 12, neg 48, sin/cos 12, compare 19 (total 2349)
+//   f64::decompose: add 128, mul 98, div 0, neg 1, sin/cos 0, compare 0 (total 227)
+//   f64::solve_original: add 374, mul 382, div 0, neg 6, sin/cos 0, compare 2 (total 764)
+//   f64: outward + decompose + solve_original: add 1398, mul 1842, div 12, neg 55, sin/cos 12, compare 21 (total 3340)
+//   f64, pivoted path: outward + decompose + solve_original: add 1444, mul 1918, div 18, neg 55, sin/cos 12, compare 233 (total 3680)
 #pragma once
 
 namespace iiwa14_lean_nc6_fixed {
@@ -70,7 +70,7 @@ namespace f64 {
 
 using Scalar = double;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -145,9 +145,6 @@ struct State {
   Scalar constraint_row_6_4;
   Scalar articulated_force_composed_6_1_term;
   Scalar articulated_force_composed_6_2;
-  Scalar acceleration_energy_composed_6_2;
-  Scalar acceleration_energy_composed_6_3;
-  Scalar acceleration_energy_composed_6_4;
   Scalar articulated_inertia_5_2;
   Scalar articulated_inertia_5_5;
   Scalar articulated_inertia_5_8;
@@ -157,6 +154,7 @@ struct State {
   Scalar inverse_D_5_0;
   Scalar constraint_row_5_0;
   Scalar constraint_row_5_1;
+  Scalar constraint_row_5_2;
   Scalar constraint_row_5_3;
   Scalar constraint_row_5_4;
   Scalar articulated_force_composed_5_0_term;
@@ -168,10 +166,6 @@ struct State {
   Scalar articulated_force_composed_5_1_term_2;
   Scalar articulated_force_composed_5_2;
   Scalar articulated_force_composed_5_5_term;
-  Scalar acceleration_energy_composed_5_0_term;
-  Scalar acceleration_energy_composed_5_1_term;
-  Scalar acceleration_energy_composed_5_3_term;
-  Scalar acceleration_energy_composed_5_4_term;
   Scalar articulated_inertia_4_2;
   Scalar articulated_inertia_4_8;
   Scalar articulated_inertia_4_15;
@@ -180,9 +174,10 @@ struct State {
   Scalar inverse_D_4_0;
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
+  Scalar constraint_row_4_2;
   Scalar constraint_row_4_3;
   Scalar constraint_row_4_4;
-  Scalar constraint_row_4_5;
+  Scalar constraint_row_4_5_term;
   Scalar articulated_force_composed_4_0_term;
   Scalar articulated_force_composed_4_0_term_2;
   Scalar articulated_force_composed_4_0_term_3;
@@ -191,11 +186,6 @@ struct State {
   Scalar articulated_force_composed_4_0_term_6;
   Scalar articulated_force_composed_4_2;
   Scalar articulated_force_composed_4_4_term;
-  Scalar acceleration_energy_composed_4_0_term;
-  Scalar acceleration_energy_composed_4_1_term;
-  Scalar acceleration_energy_composed_4_3_term;
-  Scalar acceleration_energy_composed_4_4_term;
-  Scalar acceleration_energy_composed_4_5;
   Scalar articulated_inertia_3_2_term;
   Scalar articulated_inertia_3_2;
   Scalar articulated_inertia_3_5;
@@ -204,9 +194,10 @@ struct State {
   Scalar inverse_D_3_0;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
+  Scalar constraint_row_3_2;
   Scalar constraint_row_3_3;
   Scalar constraint_row_3_4;
-  Scalar constraint_row_3_5;
+  Scalar constraint_row_3_5_term;
   Scalar articulated_force_composed_3_0_term;
   Scalar articulated_force_composed_3_0_term_2;
   Scalar articulated_force_composed_3_0_term_3;
@@ -215,15 +206,11 @@ struct State {
   Scalar articulated_force_composed_3_1_term;
   Scalar articulated_force_composed_3_1_term_2;
   Scalar articulated_force_composed_3_2;
-  Scalar acceleration_energy_composed_3_0_term;
-  Scalar acceleration_energy_composed_3_1_term;
-  Scalar acceleration_energy_composed_3_3_term;
-  Scalar acceleration_energy_composed_3_4_term;
-  Scalar acceleration_energy_composed_3_5_term;
   Scalar articulated_inertia_2_2;
   Scalar inverse_D_2_0;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
+  Scalar constraint_row_2_2;
   Scalar constraint_row_2_3;
   Scalar constraint_row_2_4;
   Scalar constraint_row_2_5;
@@ -234,14 +221,10 @@ struct State {
   Scalar articulated_force_composed_2_0_term_5;
   Scalar articulated_force_composed_2_0_term_6;
   Scalar articulated_force_composed_2_2;
-  Scalar acceleration_energy_composed_2_0_term;
-  Scalar acceleration_energy_composed_2_1_term;
-  Scalar acceleration_energy_composed_2_3_term;
-  Scalar acceleration_energy_composed_2_4_term;
-  Scalar acceleration_energy_composed_2_5_term;
   Scalar inverse_D_1_0;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
+  Scalar constraint_row_1_2;
   Scalar constraint_row_1_3;
   Scalar constraint_row_1_4;
   Scalar constraint_row_1_5;
@@ -249,22 +232,25 @@ struct State {
   Scalar articulated_force_composed_1_0_term_2;
   Scalar articulated_force_composed_1_0_term_3;
   Scalar articulated_force_composed_1_0_term_4;
-  Scalar acceleration_energy_composed_1_0_term;
-  Scalar acceleration_energy_composed_1_1_term;
-  Scalar acceleration_energy_composed_1_3_term;
-  Scalar acceleration_energy_composed_1_4_term;
-  Scalar acceleration_energy_composed_1_5_term;
   Scalar acceleration_energy_composed_0_0_term;
+  Scalar original_acceleration_2_3;
+  Scalar acceleration_energy_composed_0_0_term_2;
+  Scalar acceleration_energy_composed_0_0_term_3;
+  Scalar acceleration_energy_composed_0_0_term_4;
+  Scalar acceleration_energy_composed_0_0_term_5;
+  Scalar acceleration_energy_composed_0_0_term_6;
+  Scalar acceleration_energy_composed_0_0_term_7;
   Scalar acceleration_energy_composed_0_0;
+  Scalar acceleration_energy_composed_0_1_term;
   Scalar acceleration_energy_composed_0_1;
+  Scalar acceleration_energy_composed_0_2_term;
+  Scalar acceleration_energy_composed_0_2;
+  Scalar acceleration_energy_composed_0_3_term;
   Scalar acceleration_energy_composed_0_3;
+  Scalar acceleration_energy_composed_0_4_term;
   Scalar acceleration_energy_composed_0_4;
+  Scalar acceleration_energy_composed_0_5_term;
   Scalar acceleration_energy_composed_0_5;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_3;
-  Scalar base_acceleration_energy_4;
-  Scalar base_acceleration_energy_5;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -329,11 +315,12 @@ struct State {
   Scalar original_nu_0_term_62;
   Scalar original_nu_0_term_63;
   Scalar original_nu_0_term_64;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_65;
   Scalar original_nu_0_term_66;
   Scalar original_nu_0_term_67;
   Scalar original_nu_0_term_68;
+  Scalar original_nu_0_term_69;
+  Scalar original_nu_0_term_70;
   Scalar original_dropped_pivots_0;
 
 };

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7588 operations), not the rows r_i outward (I6) (9209 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7588 operations), not the rows r_i outward (I6) (9209 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: lock test (J1) on floating_base_rx, floating_base_ry, floating_base_rz, floating_base_px, floating_base_py (the others cannot lock, J2); S_i^T P_i^T = 0 written exactly on floating_base_pz, panda_joint1, panda_joint2, panda_joint3, panda_joint4, panda_joint5, panda_joint6, panda_joint7, panda_finger_joint1, panda_finger_joint2.
 //
 // Call order (docs: README, "Generated code"):

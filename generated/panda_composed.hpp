@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (6435 operations), not the rows r_i outward (I6) (6507 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (6507 operations), not the columns F^A_cstr,i inward (I2) (6435 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -38,17 +38,17 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 589, mul 830, div 6, neg 34, sin/cos 12, compare 0 (total 1471)
-//   f64::decompose: add 849, mul 1147, div 6, neg 51, sin/cos 0, compare 19 (total 2072)
-//   f64::solve_original: add 474, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 982)
-//   f64: outward + decompose + solve_original: add 1912, mul 2473, div 12, neg 95, sin/cos 12, compare 21 (total 4525)
-//   f64::solve_saturate: add 383, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 787)
-//   f64: outward + decompose + solve_saturate: add 1821, mul 2343, div 12, neg 94, sin/cos 12, compare 48 (total 4330)
-//   f64::solve_saturate_exact: add 513, mul 542, div 0, neg 13, sin/cos 0, compare 30 (total 1098)
-//   f64: outward + decompose + solve_saturate_exact: add 1951, mul 2519, div 12, neg 98, sin/cos 12, compare 49 (total 4641)
-//   f64, pivoted path: outward + decompose + solve_original: add 1958, mul 2549, div 18, neg 95, sin/cos 12, compare 233 (total 4865)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 1867, mul 2419, div 18, neg 94, sin/cos 12, compare 220 (total 4630)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1997, mul 2595, div 18, neg 98, sin/cos 12, compare 261 (total 4981)
+//   f64::outward: add 885, mul 1263, div 6, neg 67, sin/cos 12, compare 0 (total 2233)
+//   f64::decompose: add 609, mul 775, div 6, neg 3, sin/cos 0, compare 19 (total 1412)
+//   f64::solve_original: add 462, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 970)
+//   f64: outward + decompose + solve_original: add 1956, mul 2534, div 12, neg 80, sin/cos 12, compare 21 (total 4615)
+//   f64::solve_saturate: add 377, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 781)
+//   f64: outward + decompose + solve_saturate: add 1871, mul 2404, div 12, neg 79, sin/cos 12, compare 48 (total 4426)
+//   f64::solve_saturate_exact: add 501, mul 542, div 0, neg 13, sin/cos 0, compare 30 (total 1086)
+//   f64: outward + decompose + solve_saturate_exact: add 1995, mul 2580, div 12, neg 83, sin/cos 12, compare 49 (total 4731)
+//   f64, pivoted path: outward + decompose + solve_original: add 2002, mul 2610, div 18, neg 80, sin/cos 12, compare 233 (total 4955)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 1917, mul 2480, div 18, neg 79, sin/cos 12, compare 220 (total 4726)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2041, mul 2656, div 18, neg 83, sin/cos 12, compare 261 (total 5071)
 #pragma once
 
 namespace panda_composed {
@@ -76,7 +76,7 @@ namespace f64 {
 
 using Scalar = double;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -222,6 +222,11 @@ struct State {
   Scalar articulated_inertia_6_15;
   Scalar articulated_inertia_6_16;
   Scalar inverse_D_6_0;
+  Scalar constraint_row_6_0_term;
+  Scalar constraint_row_6_0_term_2;
+  Scalar constraint_row_6_0_term_3;
+  Scalar constraint_row_6_0_term_4;
+  Scalar constraint_row_6_0_term_5;
   Scalar constraint_row_6_0;
   Scalar constraint_row_6_1;
   Scalar constraint_row_6_2;
@@ -242,6 +247,12 @@ struct State {
   Scalar articulated_inertia_5_16;
   Scalar articulated_inertia_5_17;
   Scalar inverse_D_5_0;
+  Scalar constraint_row_5_0_term;
+  Scalar constraint_row_5_0_term_2;
+  Scalar constraint_row_5_0_term_3;
+  Scalar constraint_row_5_0_term_4;
+  Scalar constraint_row_5_0_term_5;
+  Scalar constraint_row_5_0_term_6;
   Scalar constraint_row_5_0;
   Scalar constraint_row_5_1;
   Scalar constraint_row_5_2;
@@ -269,6 +280,12 @@ struct State {
   Scalar articulated_inertia_4_16;
   Scalar articulated_inertia_4_17;
   Scalar inverse_D_4_0;
+  Scalar constraint_row_4_0_term;
+  Scalar constraint_row_4_0_term_2;
+  Scalar constraint_row_4_0_term_3;
+  Scalar constraint_row_4_0_term_4;
+  Scalar constraint_row_4_0_term_5;
+  Scalar constraint_row_4_0_term_6;
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
   Scalar constraint_row_4_2;
@@ -288,8 +305,13 @@ struct State {
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
-  Scalar articulated_inertia_3_17;
   Scalar inverse_D_3_0;
+  Scalar constraint_row_3_0_term;
+  Scalar constraint_row_3_0_term_2;
+  Scalar constraint_row_3_0_term_3;
+  Scalar constraint_row_3_0_term_4;
+  Scalar constraint_row_3_0_term_5;
+  Scalar constraint_row_3_0_term_6;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
   Scalar constraint_row_3_2;
@@ -305,9 +327,13 @@ struct State {
   Scalar articulated_force_composed_3_2_term;
   Scalar articulated_force_composed_3_2;
   Scalar articulated_inertia_2_2;
-  Scalar articulated_inertia_2_15;
-  Scalar articulated_inertia_2_16;
   Scalar inverse_D_2_0;
+  Scalar constraint_row_2_0_term;
+  Scalar constraint_row_2_0_term_2;
+  Scalar constraint_row_2_0_term_3;
+  Scalar constraint_row_2_0_term_4;
+  Scalar constraint_row_2_0_term_5;
+  Scalar constraint_row_2_0_term_6;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
   Scalar constraint_row_2_2;
@@ -321,8 +347,13 @@ struct State {
   Scalar articulated_force_composed_2_0_term_5;
   Scalar articulated_force_composed_2_0_term_6;
   Scalar articulated_force_composed_2_2;
-  Scalar articulated_inertia_1_17;
   Scalar inverse_D_1_0;
+  Scalar constraint_row_1_0_term;
+  Scalar constraint_row_1_0_term_2;
+  Scalar constraint_row_1_0_term_3;
+  Scalar constraint_row_1_0_term_4;
+  Scalar constraint_row_1_0_term_5;
+  Scalar constraint_row_1_0_term_6;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
   Scalar constraint_row_1_2;
@@ -334,18 +365,23 @@ struct State {
   Scalar articulated_force_composed_1_0_term_3;
   Scalar articulated_force_composed_1_0_term_4;
   Scalar acceleration_energy_composed_0_0_term;
+  Scalar original_acceleration_2_3;
+  Scalar acceleration_energy_composed_0_0_term_2;
+  Scalar original_acceleration_3_5;
+  Scalar acceleration_energy_composed_0_0_term_3;
+  Scalar acceleration_energy_composed_0_0_term_4;
+  Scalar acceleration_energy_composed_0_0_term_5;
+  Scalar acceleration_energy_composed_0_0_term_6;
+  Scalar acceleration_energy_composed_0_0_term_7;
+  Scalar acceleration_energy_composed_0_0_term_8;
+  Scalar acceleration_energy_composed_0_0_term_9;
+  Scalar acceleration_energy_composed_0_0_term_10;
   Scalar acceleration_energy_composed_0_0;
   Scalar acceleration_energy_composed_0_1;
   Scalar acceleration_energy_composed_0_2;
   Scalar acceleration_energy_composed_0_3;
   Scalar acceleration_energy_composed_0_4;
   Scalar acceleration_energy_composed_0_5;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_2;
-  Scalar base_acceleration_energy_3;
-  Scalar base_acceleration_energy_4;
-  Scalar base_acceleration_energy_5;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -374,7 +410,6 @@ struct State {
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
-  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -417,10 +452,6 @@ struct State {
   Scalar original_nu_0_term_68;
   Scalar original_nu_0_term_69;
   Scalar original_nu_0_term_70;
-  Scalar original_nu_0_term_71;
-  Scalar original_acceleration_2_3;
-  Scalar original_nu_0_term_72;
-  Scalar original_nu_0_term_73;
   Scalar original_dropped_pivots_0;
   Scalar saturate_tau_cmd_0_term;
   Scalar saturate_tau_cmd_0_term_2;

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7671 operations), not the rows r_i outward (I6) (7738 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (7738 operations), not the columns F^A_cstr,i inward (I2) (7671 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -38,34 +38,34 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 691, mul 913, div 6, neg 37, sin/cos 12, compare 0 (total 1659)
-//   f64::decompose: add 998, mul 1410, div 6, neg 64, sin/cos 0, compare 19 (total 2497)
-//   f64::solve_original: add 504, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 1012)
-//   f64: outward + decompose + solve_original: add 2193, mul 2819, div 12, neg 111, sin/cos 12, compare 21 (total 5168)
-//   f64::solve_prioritize_external: add 260, mul 271, div 0, neg 6, sin/cos 0, compare 1 (total 538)
-//   f64: outward + decompose + solve_prioritize_external: add 1949, mul 2594, div 12, neg 107, sin/cos 12, compare 20 (total 4694)
-//   f64::solve_saturate: add 404, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 808)
-//   f64: outward + decompose + solve_saturate: add 2093, mul 2689, div 12, neg 110, sin/cos 12, compare 48 (total 4964)
-//   f64::solve_saturate_exact: add 543, mul 542, div 0, neg 12, sin/cos 0, compare 30 (total 1127)
-//   f64: outward + decompose + solve_saturate_exact: add 2232, mul 2865, div 12, neg 113, sin/cos 12, compare 49 (total 5283)
-//   f64, pivoted path: outward + decompose + solve_original: add 2239, mul 2895, div 18, neg 111, sin/cos 12, compare 233 (total 5508)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1995, mul 2670, div 18, neg 107, sin/cos 12, compare 192 (total 4994)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 2139, mul 2765, div 18, neg 110, sin/cos 12, compare 220 (total 5264)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2278, mul 2941, div 18, neg 113, sin/cos 12, compare 261 (total 5623)
-//   f32::outward: add 691, mul 913, div 6, neg 37, sin/cos 12, compare 0 (total 1659)
-//   f32::decompose: add 998, mul 1410, div 6, neg 64, sin/cos 0, compare 19 (total 2497)
-//   f32::solve_original: add 504, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 1012)
-//   f32: outward + decompose + solve_original: add 2193, mul 2819, div 12, neg 111, sin/cos 12, compare 21 (total 5168)
-//   f32::solve_prioritize_external: add 260, mul 271, div 0, neg 6, sin/cos 0, compare 1 (total 538)
-//   f32: outward + decompose + solve_prioritize_external: add 1949, mul 2594, div 12, neg 107, sin/cos 12, compare 20 (total 4694)
-//   f32::solve_saturate: add 404, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 808)
-//   f32: outward + decompose + solve_saturate: add 2093, mul 2689, div 12, neg 110, sin/cos 12, compare 48 (total 4964)
-//   f32::solve_saturate_exact: add 543, mul 542, div 0, neg 13, sin/cos 0, compare 30 (total 1128)
-//   f32: outward + decompose + solve_saturate_exact: add 2232, mul 2865, div 12, neg 114, sin/cos 12, compare 49 (total 5284)
-//   f32, pivoted path: outward + decompose + solve_original: add 2239, mul 2895, div 18, neg 111, sin/cos 12, compare 233 (total 5508)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1995, mul 2670, div 18, neg 107, sin/cos 12, compare 192 (total 4994)
-//   f32, pivoted path: outward + decompose + solve_saturate: add 2139, mul 2765, div 18, neg 110, sin/cos 12, compare 220 (total 5264)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 2278, mul 2941, div 18, neg 114, sin/cos 12, compare 261 (total 5624)
+//   f64::outward: add 987, mul 1346, div 6, neg 70, sin/cos 12, compare 0 (total 2421)
+//   f64::decompose: add 758, mul 1038, div 6, neg 16, sin/cos 0, compare 19 (total 1837)
+//   f64::solve_original: add 492, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 1000)
+//   f64: outward + decompose + solve_original: add 2237, mul 2880, div 12, neg 96, sin/cos 12, compare 21 (total 5258)
+//   f64::solve_prioritize_external: add 254, mul 271, div 0, neg 6, sin/cos 0, compare 1 (total 532)
+//   f64: outward + decompose + solve_prioritize_external: add 1999, mul 2655, div 12, neg 92, sin/cos 12, compare 20 (total 4790)
+//   f64::solve_saturate: add 398, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 802)
+//   f64: outward + decompose + solve_saturate: add 2143, mul 2750, div 12, neg 95, sin/cos 12, compare 48 (total 5060)
+//   f64::solve_saturate_exact: add 531, mul 542, div 0, neg 13, sin/cos 0, compare 30 (total 1116)
+//   f64: outward + decompose + solve_saturate_exact: add 2276, mul 2926, div 12, neg 99, sin/cos 12, compare 49 (total 5374)
+//   f64, pivoted path: outward + decompose + solve_original: add 2283, mul 2956, div 18, neg 96, sin/cos 12, compare 233 (total 5598)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 2045, mul 2731, div 18, neg 92, sin/cos 12, compare 192 (total 5090)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 2189, mul 2826, div 18, neg 95, sin/cos 12, compare 220 (total 5360)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2322, mul 3002, div 18, neg 99, sin/cos 12, compare 261 (total 5714)
+//   f32::outward: add 987, mul 1346, div 6, neg 70, sin/cos 12, compare 0 (total 2421)
+//   f32::decompose: add 758, mul 1038, div 6, neg 16, sin/cos 0, compare 19 (total 1837)
+//   f32::solve_original: add 492, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 1000)
+//   f32: outward + decompose + solve_original: add 2237, mul 2880, div 12, neg 96, sin/cos 12, compare 21 (total 5258)
+//   f32::solve_prioritize_external: add 254, mul 271, div 0, neg 6, sin/cos 0, compare 1 (total 532)
+//   f32: outward + decompose + solve_prioritize_external: add 1999, mul 2655, div 12, neg 92, sin/cos 12, compare 20 (total 4790)
+//   f32::solve_saturate: add 398, mul 366, div 0, neg 8, sin/cos 0, compare 29 (total 801)
+//   f32: outward + decompose + solve_saturate: add 2143, mul 2750, div 12, neg 94, sin/cos 12, compare 48 (total 5059)
+//   f32::solve_saturate_exact: add 531, mul 542, div 0, neg 14, sin/cos 0, compare 30 (total 1117)
+//   f32: outward + decompose + solve_saturate_exact: add 2276, mul 2926, div 12, neg 100, sin/cos 12, compare 49 (total 5375)
+//   f32, pivoted path: outward + decompose + solve_original: add 2283, mul 2956, div 18, neg 96, sin/cos 12, compare 233 (total 5598)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 2045, mul 2731, div 18, neg 92, sin/cos 12, compare 192 (total 5090)
+//   f32, pivoted path: outward + decompose + solve_saturate: add 2189, mul 2826, div 18, neg 94, sin/cos 12, compare 220 (total 5359)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 2322, mul 3002, div 18, neg 100, sin/cos 12, compare 261 (total 5715)
 #pragma once
 
 namespace panda_nc6 {
@@ -93,7 +93,7 @@ namespace f64 {
 
 using Scalar = double;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -246,6 +246,11 @@ struct State {
   Scalar articulated_inertia_6_15;
   Scalar articulated_inertia_6_16;
   Scalar inverse_D_6_0;
+  Scalar constraint_row_6_0_term;
+  Scalar constraint_row_6_0_term_2;
+  Scalar constraint_row_6_0_term_3;
+  Scalar constraint_row_6_0_term_4;
+  Scalar constraint_row_6_0_term_5;
   Scalar constraint_row_6_0;
   Scalar constraint_row_6_1;
   Scalar constraint_row_6_2;
@@ -263,6 +268,12 @@ struct State {
   Scalar articulated_inertia_5_16;
   Scalar articulated_inertia_5_17;
   Scalar inverse_D_5_0;
+  Scalar constraint_row_5_0_term;
+  Scalar constraint_row_5_0_term_2;
+  Scalar constraint_row_5_0_term_3;
+  Scalar constraint_row_5_0_term_4;
+  Scalar constraint_row_5_0_term_5;
+  Scalar constraint_row_5_0_term_6;
   Scalar constraint_row_5_0;
   Scalar constraint_row_5_1;
   Scalar constraint_row_5_2;
@@ -287,6 +298,12 @@ struct State {
   Scalar articulated_inertia_4_16;
   Scalar articulated_inertia_4_17;
   Scalar inverse_D_4_0;
+  Scalar constraint_row_4_0_term;
+  Scalar constraint_row_4_0_term_2;
+  Scalar constraint_row_4_0_term_3;
+  Scalar constraint_row_4_0_term_4;
+  Scalar constraint_row_4_0_term_5;
+  Scalar constraint_row_4_0_term_6;
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
   Scalar constraint_row_4_2;
@@ -304,8 +321,13 @@ struct State {
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
-  Scalar articulated_inertia_3_17;
   Scalar inverse_D_3_0;
+  Scalar constraint_row_3_0_term;
+  Scalar constraint_row_3_0_term_2;
+  Scalar constraint_row_3_0_term_3;
+  Scalar constraint_row_3_0_term_4;
+  Scalar constraint_row_3_0_term_5;
+  Scalar constraint_row_3_0_term_6;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
   Scalar constraint_row_3_2;
@@ -319,9 +341,13 @@ struct State {
   Scalar articulated_force_contact_3_2;
   Scalar articulated_force_push_3_2;
   Scalar articulated_inertia_2_2;
-  Scalar articulated_inertia_2_15;
-  Scalar articulated_inertia_2_16;
   Scalar inverse_D_2_0;
+  Scalar constraint_row_2_0_term;
+  Scalar constraint_row_2_0_term_2;
+  Scalar constraint_row_2_0_term_3;
+  Scalar constraint_row_2_0_term_4;
+  Scalar constraint_row_2_0_term_5;
+  Scalar constraint_row_2_0_term_6;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
   Scalar constraint_row_2_2;
@@ -334,8 +360,13 @@ struct State {
   Scalar articulated_force_tau_ff_2_2;
   Scalar articulated_force_contact_2_2;
   Scalar articulated_force_push_2_2;
-  Scalar articulated_inertia_1_17;
   Scalar inverse_D_1_0;
+  Scalar constraint_row_1_0_term;
+  Scalar constraint_row_1_0_term_2;
+  Scalar constraint_row_1_0_term_3;
+  Scalar constraint_row_1_0_term_4;
+  Scalar constraint_row_1_0_term_5;
+  Scalar constraint_row_1_0_term_6;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
   Scalar constraint_row_1_2;
@@ -344,14 +375,18 @@ struct State {
   Scalar constraint_row_1_5;
   Scalar articulated_force_bias_1_0_term;
   Scalar articulated_force_tau_ff_1_1;
+  Scalar original_acceleration_2_3;
   Scalar acceleration_energy_bias_0_0_term;
+  Scalar original_acceleration_3_5;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_0_term_6;
+  Scalar acceleration_energy_bias_0_0_term_7;
+  Scalar acceleration_energy_bias_0_0_term_8;
+  Scalar acceleration_energy_bias_0_0_term_9;
   Scalar acceleration_energy_tau_ff_0_0_term;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_2;
-  Scalar base_acceleration_energy_3;
-  Scalar base_acceleration_energy_4;
-  Scalar base_acceleration_energy_5;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -380,7 +415,6 @@ struct State {
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
-  Scalar original_acceleration_3_5;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
   Scalar prioritize_external_conf_energy_0;
@@ -434,12 +468,9 @@ struct State {
   Scalar original_nu_0_term_67;
   Scalar original_nu_0_term_68;
   Scalar original_nu_0_term_69;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;
-  Scalar original_nu_0_term_73;
-  Scalar original_nu_0_term_74;
   Scalar original_dropped_pivots_0;
   Scalar prioritize_external_qdd_0_term;
   Scalar prioritize_external_qdd_1_term;
@@ -529,7 +560,7 @@ namespace f32 {
 
 using Scalar = float;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -682,6 +713,11 @@ struct State {
   Scalar articulated_inertia_6_15;
   Scalar articulated_inertia_6_16;
   Scalar inverse_D_6_0;
+  Scalar constraint_row_6_0_term;
+  Scalar constraint_row_6_0_term_2;
+  Scalar constraint_row_6_0_term_3;
+  Scalar constraint_row_6_0_term_4;
+  Scalar constraint_row_6_0_term_5;
   Scalar constraint_row_6_0;
   Scalar constraint_row_6_1;
   Scalar constraint_row_6_2;
@@ -699,6 +735,12 @@ struct State {
   Scalar articulated_inertia_5_16;
   Scalar articulated_inertia_5_17;
   Scalar inverse_D_5_0;
+  Scalar constraint_row_5_0_term;
+  Scalar constraint_row_5_0_term_2;
+  Scalar constraint_row_5_0_term_3;
+  Scalar constraint_row_5_0_term_4;
+  Scalar constraint_row_5_0_term_5;
+  Scalar constraint_row_5_0_term_6;
   Scalar constraint_row_5_0;
   Scalar constraint_row_5_1;
   Scalar constraint_row_5_2;
@@ -723,6 +765,12 @@ struct State {
   Scalar articulated_inertia_4_16;
   Scalar articulated_inertia_4_17;
   Scalar inverse_D_4_0;
+  Scalar constraint_row_4_0_term;
+  Scalar constraint_row_4_0_term_2;
+  Scalar constraint_row_4_0_term_3;
+  Scalar constraint_row_4_0_term_4;
+  Scalar constraint_row_4_0_term_5;
+  Scalar constraint_row_4_0_term_6;
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
   Scalar constraint_row_4_2;
@@ -740,8 +788,13 @@ struct State {
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
-  Scalar articulated_inertia_3_17;
   Scalar inverse_D_3_0;
+  Scalar constraint_row_3_0_term;
+  Scalar constraint_row_3_0_term_2;
+  Scalar constraint_row_3_0_term_3;
+  Scalar constraint_row_3_0_term_4;
+  Scalar constraint_row_3_0_term_5;
+  Scalar constraint_row_3_0_term_6;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
   Scalar constraint_row_3_2;
@@ -755,9 +808,13 @@ struct State {
   Scalar articulated_force_contact_3_2;
   Scalar articulated_force_push_3_2;
   Scalar articulated_inertia_2_2;
-  Scalar articulated_inertia_2_15;
-  Scalar articulated_inertia_2_16;
   Scalar inverse_D_2_0;
+  Scalar constraint_row_2_0_term;
+  Scalar constraint_row_2_0_term_2;
+  Scalar constraint_row_2_0_term_3;
+  Scalar constraint_row_2_0_term_4;
+  Scalar constraint_row_2_0_term_5;
+  Scalar constraint_row_2_0_term_6;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
   Scalar constraint_row_2_2;
@@ -770,8 +827,13 @@ struct State {
   Scalar articulated_force_tau_ff_2_2;
   Scalar articulated_force_contact_2_2;
   Scalar articulated_force_push_2_2;
-  Scalar articulated_inertia_1_17;
   Scalar inverse_D_1_0;
+  Scalar constraint_row_1_0_term;
+  Scalar constraint_row_1_0_term_2;
+  Scalar constraint_row_1_0_term_3;
+  Scalar constraint_row_1_0_term_4;
+  Scalar constraint_row_1_0_term_5;
+  Scalar constraint_row_1_0_term_6;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
   Scalar constraint_row_1_2;
@@ -780,14 +842,18 @@ struct State {
   Scalar constraint_row_1_5;
   Scalar articulated_force_bias_1_0_term;
   Scalar articulated_force_tau_ff_1_1;
+  Scalar original_acceleration_2_3;
   Scalar acceleration_energy_bias_0_0_term;
+  Scalar original_acceleration_3_5;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_0_term_6;
+  Scalar acceleration_energy_bias_0_0_term_7;
+  Scalar acceleration_energy_bias_0_0_term_8;
+  Scalar acceleration_energy_bias_0_0_term_9;
   Scalar acceleration_energy_tau_ff_0_0_term;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_2;
-  Scalar base_acceleration_energy_3;
-  Scalar base_acceleration_energy_4;
-  Scalar base_acceleration_energy_5;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -816,18 +882,18 @@ struct State {
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -869,13 +935,9 @@ struct State {
   Scalar original_nu_0_term_67;
   Scalar original_nu_0_term_68;
   Scalar original_nu_0_term_69;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;
-  Scalar original_nu_0_term_73;
-  Scalar original_acceleration_3_5;
-  Scalar original_nu_0_term_74;
   Scalar original_dropped_pivots_0;
   Scalar prioritize_external_qdd_0_term;
   Scalar prioritize_external_qdd_1_term;

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (4810 operations), not the rows r_i outward (I6) (4902 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (4902 operations), not the columns F^A_cstr,i inward (I2) (4810 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -41,28 +41,28 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 927, mul 1265, div 6, neg 59, sin/cos 12, compare 6 (total 2275)
-//   f64::decompose: add 214, mul 311, div 4, neg 12, sin/cos 0, compare 11 (total 552)
-//   f64::solve_original: add 354, mul 350, div 0, neg 10, sin/cos 0, compare 2 (total 716)
-//   f64: outward + decompose + solve_original: add 1495, mul 1926, div 10, neg 81, sin/cos 12, compare 19 (total 3543)
-//   f64::solve_prioritize_external: add 199, mul 209, div 0, neg 6, sin/cos 0, compare 1 (total 415)
-//   f64: outward + decompose + solve_prioritize_external: add 1340, mul 1785, div 10, neg 77, sin/cos 12, compare 18 (total 3242)
-//   f64::solve_saturate_exact: add 400, mul 398, div 0, neg 13, sin/cos 0, compare 26 (total 837)
-//   f64: outward + decompose + solve_saturate_exact: add 1541, mul 1974, div 10, neg 84, sin/cos 12, compare 43 (total 3664)
-//   f64, pivoted path: outward + decompose + solve_original: add 1512, mul 1952, div 14, neg 81, sin/cos 12, compare 75 (total 3646)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1357, mul 1811, div 14, neg 77, sin/cos 12, compare 62 (total 3333)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1558, mul 2000, div 14, neg 84, sin/cos 12, compare 99 (total 3767)
-//   f32::outward: add 927, mul 1265, div 6, neg 59, sin/cos 12, compare 6 (total 2275)
-//   f32::decompose: add 214, mul 311, div 4, neg 12, sin/cos 0, compare 11 (total 552)
-//   f32::solve_original: add 354, mul 350, div 0, neg 10, sin/cos 0, compare 2 (total 716)
-//   f32: outward + decompose + solve_original: add 1495, mul 1926, div 10, neg 81, sin/cos 12, compare 19 (total 3543)
-//   f32::solve_prioritize_external: add 199, mul 209, div 0, neg 6, sin/cos 0, compare 1 (total 415)
-//   f32: outward + decompose + solve_prioritize_external: add 1340, mul 1785, div 10, neg 77, sin/cos 12, compare 18 (total 3242)
-//   f32::solve_saturate_exact: add 400, mul 398, div 0, neg 13, sin/cos 0, compare 26 (total 837)
-//   f32: outward + decompose + solve_saturate_exact: add 1541, mul 1974, div 10, neg 84, sin/cos 12, compare 43 (total 3664)
-//   f32, pivoted path: outward + decompose + solve_original: add 1512, mul 1952, div 14, neg 81, sin/cos 12, compare 75 (total 3646)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1357, mul 1811, div 14, neg 77, sin/cos 12, compare 62 (total 3333)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1558, mul 2000, div 14, neg 84, sin/cos 12, compare 99 (total 3767)
+//   f64::outward: add 989, mul 1357, div 6, neg 66, sin/cos 12, compare 6 (total 2436)
+//   f64::decompose: add 197, mul 284, div 4, neg 10, sin/cos 0, compare 11 (total 506)
+//   f64::solve_original: add 346, mul 350, div 0, neg 9, sin/cos 0, compare 2 (total 707)
+//   f64: outward + decompose + solve_original: add 1532, mul 1991, div 10, neg 85, sin/cos 12, compare 19 (total 3649)
+//   f64::solve_prioritize_external: add 195, mul 209, div 0, neg 5, sin/cos 0, compare 1 (total 410)
+//   f64: outward + decompose + solve_prioritize_external: add 1381, mul 1850, div 10, neg 81, sin/cos 12, compare 18 (total 3352)
+//   f64::solve_saturate_exact: add 392, mul 398, div 0, neg 12, sin/cos 0, compare 26 (total 828)
+//   f64: outward + decompose + solve_saturate_exact: add 1578, mul 2039, div 10, neg 88, sin/cos 12, compare 43 (total 3770)
+//   f64, pivoted path: outward + decompose + solve_original: add 1549, mul 2017, div 14, neg 85, sin/cos 12, compare 75 (total 3752)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1398, mul 1876, div 14, neg 81, sin/cos 12, compare 62 (total 3443)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1595, mul 2065, div 14, neg 88, sin/cos 12, compare 99 (total 3873)
+//   f32::outward: add 989, mul 1357, div 6, neg 66, sin/cos 12, compare 6 (total 2436)
+//   f32::decompose: add 197, mul 284, div 4, neg 10, sin/cos 0, compare 11 (total 506)
+//   f32::solve_original: add 346, mul 350, div 0, neg 10, sin/cos 0, compare 2 (total 708)
+//   f32: outward + decompose + solve_original: add 1532, mul 1991, div 10, neg 86, sin/cos 12, compare 19 (total 3650)
+//   f32::solve_prioritize_external: add 195, mul 209, div 0, neg 6, sin/cos 0, compare 1 (total 411)
+//   f32: outward + decompose + solve_prioritize_external: add 1381, mul 1850, div 10, neg 82, sin/cos 12, compare 18 (total 3353)
+//   f32::solve_saturate_exact: add 392, mul 398, div 0, neg 13, sin/cos 0, compare 26 (total 829)
+//   f32: outward + decompose + solve_saturate_exact: add 1578, mul 2039, div 10, neg 89, sin/cos 12, compare 43 (total 3771)
+//   f32, pivoted path: outward + decompose + solve_original: add 1549, mul 2017, div 14, neg 86, sin/cos 12, compare 75 (total 3753)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1398, mul 1876, div 14, neg 82, sin/cos 12, compare 62 (total 3444)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1595, mul 2065, div 14, neg 89, sin/cos 12, compare 99 (total 3874)
 #pragma once
 
 namespace panda_sets {
@@ -90,7 +90,7 @@ namespace f64 {
 
 using Scalar = double;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -104,7 +104,6 @@ struct Drivers {
 struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
-  Scalar bias_acceleration_2_0_term;
   Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar X_E_3_0;
@@ -173,7 +172,7 @@ struct State {
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
   Scalar constraint_row_4_2;
-  Scalar constraint_row_4_3;
+  Scalar constraint_row_4_3_term;
   Scalar constraint_force_4_0;
   Scalar constraint_force_4_1;
   Scalar constraint_force_4_3;
@@ -188,48 +187,63 @@ struct State {
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
-  Scalar articulated_inertia_3_17;
   Scalar inverse_D_3_0;
+  Scalar constraint_row_3_0_term;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
   Scalar constraint_row_3_2;
-  Scalar constraint_row_3_3;
+  Scalar constraint_row_3_3_term;
   Scalar articulated_force_bias_3_0_term;
   Scalar articulated_force_bias_3_2;
   Scalar articulated_force_tau_ff_3_0_term;
   Scalar articulated_force_tau_ff_3_2;
   Scalar articulated_force_contact_3_2;
   Scalar articulated_inertia_2_2;
-  Scalar articulated_inertia_2_15;
-  Scalar articulated_inertia_2_16;
   Scalar inverse_D_2_0;
+  Scalar constraint_row_2_0_term;
+  Scalar constraint_row_2_0_term_2;
+  Scalar constraint_row_2_0_term_3;
+  Scalar constraint_row_2_0_term_4;
+  Scalar constraint_row_2_0_term_5;
+  Scalar constraint_row_2_0_term_6;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
   Scalar constraint_row_2_2;
-  Scalar constraint_row_2_3;
+  Scalar constraint_row_2_3_term;
   Scalar articulated_force_bias_2_0_term;
   Scalar articulated_force_bias_2_2;
   Scalar articulated_force_tau_ff_2_0_term;
   Scalar articulated_force_tau_ff_2_2;
   Scalar articulated_force_contact_2_2;
-  Scalar articulated_inertia_1_17;
   Scalar inverse_D_1_0;
+  Scalar constraint_row_1_0_term;
+  Scalar constraint_row_1_0_term_2;
+  Scalar constraint_row_1_0_term_3;
+  Scalar constraint_row_1_0_term_4;
+  Scalar constraint_row_1_0_term_5;
+  Scalar constraint_row_1_0_term_6;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
   Scalar constraint_row_1_2;
-  Scalar constraint_row_1_3;
+  Scalar constraint_row_1_3_term;
   Scalar articulated_force_bias_1_0_term;
   Scalar articulated_force_tau_ff_1_1;
   Scalar articulated_force_contact_1_2;
+  Scalar original_acceleration_2_3;
   Scalar acceleration_energy_bias_0_0_term;
+  Scalar original_acceleration_3_5;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_0_term_6;
+  Scalar acceleration_energy_bias_0_0_term_7;
+  Scalar acceleration_energy_bias_0_0_term_8;
+  Scalar acceleration_energy_bias_0_0_term_9;
   Scalar acceleration_energy_bias_0_1;
   Scalar acceleration_energy_bias_0_2;
   Scalar acceleration_energy_bias_0_3;
   Scalar acceleration_energy_tau_ff_0_0_term;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_2;
-  Scalar base_acceleration_energy_3;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -278,21 +292,17 @@ struct State {
   Scalar original_nu_0_term_38;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;
-  Scalar original_acceleration_3_5;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_41;
   Scalar original_nu_0_term_42;
   Scalar original_nu_0_term_43;
-  Scalar original_nu_0_term_44;
-  Scalar original_nu_0_term_45;
   Scalar original_dropped_pivots_0;
   Scalar saturate_exact_tau_cmd_6;
   Scalar saturate_exact_tau_ctrl_6;
-  Scalar saturate_exact_correction_force_6_2;
-  Scalar saturate_exact_correction_force_6_3;
   Scalar saturate_exact_correction_force_6_0;
+  Scalar saturate_exact_correction_force_6_2;
   Scalar saturate_exact_correction_force_6_5;
   Scalar saturate_exact_correction_force_6_1;
+  Scalar saturate_exact_correction_force_6_3;
   Scalar saturate_exact_qdd_6_term;
   Scalar saturate_exact_saturated_6;
 
@@ -368,7 +378,7 @@ namespace f32 {
 
 using Scalar = float;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -451,7 +461,7 @@ struct State {
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
   Scalar constraint_row_4_2;
-  Scalar constraint_row_4_3;
+  Scalar constraint_row_4_3_term;
   Scalar constraint_force_4_0;
   Scalar constraint_force_4_1;
   Scalar constraint_force_4_3;
@@ -466,48 +476,63 @@ struct State {
   Scalar articulated_inertia_3_8;
   Scalar articulated_inertia_3_15;
   Scalar articulated_inertia_3_16;
-  Scalar articulated_inertia_3_17;
   Scalar inverse_D_3_0;
+  Scalar constraint_row_3_0_term;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
   Scalar constraint_row_3_2;
-  Scalar constraint_row_3_3;
+  Scalar constraint_row_3_3_term;
   Scalar articulated_force_bias_3_0_term;
   Scalar articulated_force_bias_3_2;
   Scalar articulated_force_tau_ff_3_0_term;
   Scalar articulated_force_tau_ff_3_2;
   Scalar articulated_force_contact_3_2;
   Scalar articulated_inertia_2_2;
-  Scalar articulated_inertia_2_15;
-  Scalar articulated_inertia_2_16;
   Scalar inverse_D_2_0;
+  Scalar constraint_row_2_0_term;
+  Scalar constraint_row_2_0_term_2;
+  Scalar constraint_row_2_0_term_3;
+  Scalar constraint_row_2_0_term_4;
+  Scalar constraint_row_2_0_term_5;
+  Scalar constraint_row_2_0_term_6;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
   Scalar constraint_row_2_2;
-  Scalar constraint_row_2_3;
+  Scalar constraint_row_2_3_term;
   Scalar articulated_force_bias_2_0_term;
   Scalar articulated_force_bias_2_2;
   Scalar articulated_force_tau_ff_2_0_term;
   Scalar articulated_force_tau_ff_2_2;
   Scalar articulated_force_contact_2_2;
-  Scalar articulated_inertia_1_17;
   Scalar inverse_D_1_0;
+  Scalar constraint_row_1_0_term;
+  Scalar constraint_row_1_0_term_2;
+  Scalar constraint_row_1_0_term_3;
+  Scalar constraint_row_1_0_term_4;
+  Scalar constraint_row_1_0_term_5;
+  Scalar constraint_row_1_0_term_6;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
   Scalar constraint_row_1_2;
-  Scalar constraint_row_1_3;
+  Scalar constraint_row_1_3_term;
   Scalar articulated_force_bias_1_0_term;
   Scalar articulated_force_tau_ff_1_1;
   Scalar articulated_force_contact_1_2;
+  Scalar original_acceleration_2_3;
   Scalar acceleration_energy_bias_0_0_term;
+  Scalar original_acceleration_3_5;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_0_term_6;
+  Scalar acceleration_energy_bias_0_0_term_7;
+  Scalar acceleration_energy_bias_0_0_term_8;
+  Scalar acceleration_energy_bias_0_0_term_9;
   Scalar acceleration_energy_bias_0_1;
   Scalar acceleration_energy_bias_0_2;
   Scalar acceleration_energy_bias_0_3;
   Scalar acceleration_energy_tau_ff_0_0_term;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_2;
-  Scalar base_acceleration_energy_3;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -532,11 +557,10 @@ struct State {
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
-  Scalar original_acceleration_3_5;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
   Scalar prioritize_external_conf_energy_3;
@@ -557,12 +581,9 @@ struct State {
   Scalar original_nu_0_term_38;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_41;
   Scalar original_nu_0_term_42;
   Scalar original_nu_0_term_43;
-  Scalar original_nu_0_term_44;
-  Scalar original_nu_0_term_45;
   Scalar original_dropped_pivots_0;
   Scalar saturate_exact_tau_cmd_6;
   Scalar saturate_exact_tau_ctrl_6;

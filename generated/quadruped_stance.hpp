@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (9878 operations), not the rows r_i outward (I6) (10710 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (9878 operations), not the rows r_i outward (I6) (10710 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: lock test (J1) on floating_base_rx, floating_base_ry, floating_base_rz, floating_base_px, floating_base_py (the others cannot lock, J2); S_i^T P_i^T = 0 written exactly on floating_base_pz, FL_hip_joint, FL_thigh_joint, FL_calf_joint, FR_hip_joint, FR_thigh_joint, FR_calf_joint, RL_hip_joint, RL_thigh_joint, RL_calf_joint, RR_hip_joint, RR_thigh_joint, RR_calf_joint.
 //
 // Call order (docs: README, "Generated code"):

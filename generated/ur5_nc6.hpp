@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (4590 operations), not the rows r_i outward (I6) (4725 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (4725 operations), not the columns F^A_cstr,i inward (I2) (4590 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 6.
 //
 // Call order (docs: README, "Generated code"):
@@ -36,34 +36,34 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 695, mul 1106, div 10, neg 23, sin/cos 10, compare 16 (total 1860)
-//   f64::decompose: add 249, mul 242, div 0, neg 3, sin/cos 0, compare 0 (total 494)
-//   f64::solve_original: add 318, mul 300, div 0, neg 9, sin/cos 0, compare 2 (total 629)
-//   f64: outward + decompose + solve_original: add 1262, mul 1648, div 10, neg 35, sin/cos 10, compare 18 (total 2983)
-//   f64::solve_prioritize_external: add 170, mul 170, div 0, neg 5, sin/cos 0, compare 1 (total 346)
-//   f64: outward + decompose + solve_prioritize_external: add 1114, mul 1518, div 10, neg 31, sin/cos 10, compare 17 (total 2700)
-//   f64::solve_saturate: add 258, mul 234, div 0, neg 6, sin/cos 0, compare 25 (total 523)
-//   f64: outward + decompose + solve_saturate: add 1202, mul 1582, div 10, neg 32, sin/cos 10, compare 41 (total 2877)
-//   f64::solve_saturate_exact: add 345, mul 328, div 0, neg 9, sin/cos 0, compare 26 (total 708)
-//   f64: outward + decompose + solve_saturate_exact: add 1289, mul 1676, div 10, neg 35, sin/cos 10, compare 42 (total 3062)
-//   f64, pivoted path: outward + decompose + solve_original: add 1323, mul 1738, div 16, neg 35, sin/cos 10, compare 230 (total 3352)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1165, mul 1598, div 16, neg 31, sin/cos 10, compare 189 (total 3009)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 1253, mul 1662, div 16, neg 32, sin/cos 10, compare 213 (total 3186)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1350, mul 1766, div 16, neg 35, sin/cos 10, compare 254 (total 3431)
-//   f32::outward: add 695, mul 1106, div 10, neg 23, sin/cos 10, compare 16 (total 1860)
-//   f32::decompose: add 249, mul 242, div 0, neg 3, sin/cos 0, compare 0 (total 494)
-//   f32::solve_original: add 318, mul 300, div 0, neg 9, sin/cos 0, compare 2 (total 629)
-//   f32: outward + decompose + solve_original: add 1262, mul 1648, div 10, neg 35, sin/cos 10, compare 18 (total 2983)
-//   f32::solve_prioritize_external: add 170, mul 170, div 0, neg 5, sin/cos 0, compare 1 (total 346)
-//   f32: outward + decompose + solve_prioritize_external: add 1114, mul 1518, div 10, neg 31, sin/cos 10, compare 17 (total 2700)
-//   f32::solve_saturate: add 258, mul 234, div 0, neg 6, sin/cos 0, compare 25 (total 523)
-//   f32: outward + decompose + solve_saturate: add 1202, mul 1582, div 10, neg 32, sin/cos 10, compare 41 (total 2877)
-//   f32::solve_saturate_exact: add 345, mul 328, div 0, neg 9, sin/cos 0, compare 26 (total 708)
-//   f32: outward + decompose + solve_saturate_exact: add 1289, mul 1676, div 10, neg 35, sin/cos 10, compare 42 (total 3062)
-//   f32, pivoted path: outward + decompose + solve_original: add 1323, mul 1738, div 16, neg 35, sin/cos 10, compare 230 (total 3352)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1165, mul 1598, div 16, neg 31, sin/cos 10, compare 189 (total 3009)
-//   f32, pivoted path: outward + decompose + solve_saturate: add 1253, mul 1662, div 16, neg 32, sin/cos 10, compare 213 (total 3186)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1350, mul 1766, div 16, neg 35, sin/cos 10, compare 254 (total 3431)
+//   f64::outward: add 696, mul 1091, div 11, neg 31, sin/cos 10, compare 19 (total 1858)
+//   f64::decompose: add 243, mul 254, div 0, neg 4, sin/cos 0, compare 0 (total 501)
+//   f64::solve_original: add 336, mul 328, div 0, neg 9, sin/cos 0, compare 2 (total 675)
+//   f64: outward + decompose + solve_original: add 1275, mul 1673, div 11, neg 44, sin/cos 10, compare 21 (total 3034)
+//   f64::solve_prioritize_external: add 179, mul 184, div 0, neg 5, sin/cos 0, compare 1 (total 369)
+//   f64: outward + decompose + solve_prioritize_external: add 1118, mul 1529, div 11, neg 40, sin/cos 10, compare 20 (total 2728)
+//   f64::solve_saturate: add 267, mul 248, div 0, neg 6, sin/cos 0, compare 25 (total 546)
+//   f64: outward + decompose + solve_saturate: add 1206, mul 1593, div 11, neg 41, sin/cos 10, compare 44 (total 2905)
+//   f64::solve_saturate_exact: add 359, mul 352, div 0, neg 9, sin/cos 0, compare 26 (total 746)
+//   f64: outward + decompose + solve_saturate_exact: add 1298, mul 1697, div 11, neg 44, sin/cos 10, compare 45 (total 3105)
+//   f64, pivoted path: outward + decompose + solve_original: add 1321, mul 1749, div 17, neg 44, sin/cos 10, compare 233 (total 3374)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1164, mul 1605, div 17, neg 40, sin/cos 10, compare 192 (total 3028)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 1252, mul 1669, div 17, neg 41, sin/cos 10, compare 216 (total 3205)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1344, mul 1773, div 17, neg 44, sin/cos 10, compare 257 (total 3445)
+//   f32::outward: add 696, mul 1091, div 11, neg 31, sin/cos 10, compare 19 (total 1858)
+//   f32::decompose: add 243, mul 254, div 0, neg 4, sin/cos 0, compare 0 (total 501)
+//   f32::solve_original: add 336, mul 328, div 0, neg 9, sin/cos 0, compare 2 (total 675)
+//   f32: outward + decompose + solve_original: add 1275, mul 1673, div 11, neg 44, sin/cos 10, compare 21 (total 3034)
+//   f32::solve_prioritize_external: add 179, mul 184, div 0, neg 5, sin/cos 0, compare 1 (total 369)
+//   f32: outward + decompose + solve_prioritize_external: add 1118, mul 1529, div 11, neg 40, sin/cos 10, compare 20 (total 2728)
+//   f32::solve_saturate: add 267, mul 248, div 0, neg 6, sin/cos 0, compare 25 (total 546)
+//   f32: outward + decompose + solve_saturate: add 1206, mul 1593, div 11, neg 41, sin/cos 10, compare 44 (total 2905)
+//   f32::solve_saturate_exact: add 359, mul 352, div 0, neg 9, sin/cos 0, compare 26 (total 746)
+//   f32: outward + decompose + solve_saturate_exact: add 1298, mul 1697, div 11, neg 44, sin/cos 10, compare 45 (total 3105)
+//   f32, pivoted path: outward + decompose + solve_original: add 1321, mul 1749, div 17, neg 44, sin/cos 10, compare 233 (total 3374)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1164, mul 1605, div 17, neg 40, sin/cos 10, compare 192 (total 3028)
+//   f32, pivoted path: outward + decompose + solve_saturate: add 1252, mul 1669, div 17, neg 41, sin/cos 10, compare 216 (total 3205)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1344, mul 1773, div 17, neg 44, sin/cos 10, compare 257 (total 3445)
 #pragma once
 
 namespace ur5_nc6 {
@@ -91,7 +91,7 @@ namespace f64 {
 
 using Scalar = double;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -150,7 +150,6 @@ struct State {
   Scalar sin_q_5;
   Scalar bias_acceleration_6_0;
   Scalar bias_acceleration_6_1_term;
-  Scalar bias_acceleration_6_1;
   Scalar bias_acceleration_6_3;
   Scalar bias_acceleration_6_4_term;
   Scalar bias_force_6_0;
@@ -182,6 +181,7 @@ struct State {
   Scalar inverse_D_4_0;
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
+  Scalar constraint_row_4_2;
   Scalar constraint_row_4_3;
   Scalar constraint_row_4_4;
   Scalar constraint_row_4_5;
@@ -193,10 +193,6 @@ struct State {
   Scalar articulated_force_bias_4_2_term;
   Scalar articulated_force_bias_4_2;
   Scalar articulated_force_bias_4_4_term;
-  Scalar acceleration_energy_bias_4_0_term;
-  Scalar acceleration_energy_bias_4_1_term;
-  Scalar acceleration_energy_bias_4_3_term;
-  Scalar acceleration_energy_bias_4_4_term;
   Scalar articulated_force_tau_ff_4_2;
   Scalar articulated_force_tool_load_4_2;
   Scalar articulated_inertia_3_2;
@@ -208,9 +204,10 @@ struct State {
   Scalar inverse_D_3_0;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
+  Scalar constraint_row_3_2;
   Scalar constraint_row_3_3;
   Scalar constraint_row_3_4;
-  Scalar constraint_row_3_5;
+  Scalar constraint_row_3_5_term;
   Scalar articulated_force_bias_3_0_term;
   Scalar articulated_force_bias_3_0_term_2;
   Scalar articulated_force_bias_3_0_term_3;
@@ -218,11 +215,6 @@ struct State {
   Scalar articulated_force_bias_3_0_term_5;
   Scalar articulated_force_bias_3_1_term;
   Scalar articulated_force_bias_3_2;
-  Scalar acceleration_energy_bias_3_0_term;
-  Scalar acceleration_energy_bias_3_1_term;
-  Scalar acceleration_energy_bias_3_3_term;
-  Scalar acceleration_energy_bias_3_4_term;
-  Scalar acceleration_energy_bias_3_5_term;
   Scalar articulated_force_tau_ff_3_2;
   Scalar articulated_force_tool_load_3_2;
   Scalar articulated_inertia_2_2;
@@ -230,9 +222,10 @@ struct State {
   Scalar inverse_D_2_0;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
+  Scalar constraint_row_2_2;
   Scalar constraint_row_2_3;
   Scalar constraint_row_2_4;
-  Scalar constraint_row_2_5;
+  Scalar constraint_row_2_5_term;
   Scalar articulated_force_bias_2_0_term;
   Scalar articulated_force_bias_2_0_term_2;
   Scalar articulated_force_bias_2_0_term_3;
@@ -240,35 +233,32 @@ struct State {
   Scalar articulated_force_bias_2_2_term;
   Scalar articulated_force_bias_2_2_term_2;
   Scalar articulated_force_bias_2_2;
-  Scalar acceleration_energy_bias_2_0_term;
-  Scalar acceleration_energy_bias_2_1_term;
-  Scalar acceleration_energy_bias_2_3_term;
-  Scalar acceleration_energy_bias_2_4_term;
-  Scalar acceleration_energy_bias_2_5_term;
   Scalar articulated_force_tau_ff_2_2;
   Scalar articulated_force_tool_load_2_0_term;
   Scalar articulated_force_tool_load_2_2;
   Scalar inverse_D_1_0;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
+  Scalar constraint_row_1_2;
   Scalar constraint_row_1_3;
   Scalar constraint_row_1_4;
   Scalar constraint_row_1_5;
   Scalar articulated_force_bias_1_0_term;
   Scalar articulated_force_bias_1_0_term_2;
   Scalar articulated_force_bias_1_0_term_3;
-  Scalar acceleration_energy_bias_1_0_term;
-  Scalar acceleration_energy_bias_1_1_term;
-  Scalar acceleration_energy_bias_1_3_term;
-  Scalar acceleration_energy_bias_1_4_term;
-  Scalar acceleration_energy_bias_1_5_term;
   Scalar articulated_force_tool_load_1_0_term;
   Scalar articulated_force_tool_load_1_2;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_3;
-  Scalar base_acceleration_energy_4;
-  Scalar base_acceleration_energy_5;
+  Scalar original_acceleration_2_4;
+  Scalar acceleration_energy_bias_0_0_term;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_1_term;
+  Scalar acceleration_energy_bias_0_2_term;
+  Scalar acceleration_energy_bias_0_3_term;
+  Scalar acceleration_energy_bias_0_4_term;
+  Scalar acceleration_energy_bias_0_5_term;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -291,16 +281,6 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
@@ -308,10 +288,20 @@ struct State {
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
-  Scalar original_nu_0_term_30;
-  Scalar original_nu_0_term_31;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
+  Scalar original_nu_0_term_30;
+  Scalar original_nu_0_term_31;
   Scalar original_nu_0_term_32;
   Scalar original_nu_0_term_33;
   Scalar original_nu_0_term_34;
@@ -349,13 +339,15 @@ struct State {
   Scalar original_nu_0_term_66;
   Scalar original_nu_0_term_67;
   Scalar original_nu_0_term_68;
-  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_69;
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;
   Scalar original_nu_0_term_73;
   Scalar original_nu_0_term_74;
+  Scalar original_nu_0_term_75;
+  Scalar original_nu_0_term_76;
+  Scalar original_nu_0_term_77;
   Scalar original_dropped_pivots_0;
   Scalar saturate_tau_cmd_0_term;
   Scalar saturate_tau_cmd_0_term_2;
@@ -438,7 +430,7 @@ namespace f32 {
 
 using Scalar = float;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = false;
+constexpr bool outward_constraint_rows = true;
 
 // Driver values read by decompose().
 struct Drivers {
@@ -497,7 +489,6 @@ struct State {
   Scalar sin_q_5;
   Scalar bias_acceleration_6_0;
   Scalar bias_acceleration_6_1_term;
-  Scalar bias_acceleration_6_1;
   Scalar bias_acceleration_6_3;
   Scalar bias_acceleration_6_4_term;
   Scalar bias_force_6_0;
@@ -529,6 +520,7 @@ struct State {
   Scalar inverse_D_4_0;
   Scalar constraint_row_4_0;
   Scalar constraint_row_4_1;
+  Scalar constraint_row_4_2;
   Scalar constraint_row_4_3;
   Scalar constraint_row_4_4;
   Scalar constraint_row_4_5;
@@ -540,10 +532,6 @@ struct State {
   Scalar articulated_force_bias_4_2_term;
   Scalar articulated_force_bias_4_2;
   Scalar articulated_force_bias_4_4_term;
-  Scalar acceleration_energy_bias_4_0_term;
-  Scalar acceleration_energy_bias_4_1_term;
-  Scalar acceleration_energy_bias_4_3_term;
-  Scalar acceleration_energy_bias_4_4_term;
   Scalar articulated_force_tau_ff_4_2;
   Scalar articulated_force_tool_load_4_2;
   Scalar articulated_inertia_3_2;
@@ -555,9 +543,10 @@ struct State {
   Scalar inverse_D_3_0;
   Scalar constraint_row_3_0;
   Scalar constraint_row_3_1;
+  Scalar constraint_row_3_2;
   Scalar constraint_row_3_3;
   Scalar constraint_row_3_4;
-  Scalar constraint_row_3_5;
+  Scalar constraint_row_3_5_term;
   Scalar articulated_force_bias_3_0_term;
   Scalar articulated_force_bias_3_0_term_2;
   Scalar articulated_force_bias_3_0_term_3;
@@ -565,11 +554,6 @@ struct State {
   Scalar articulated_force_bias_3_0_term_5;
   Scalar articulated_force_bias_3_1_term;
   Scalar articulated_force_bias_3_2;
-  Scalar acceleration_energy_bias_3_0_term;
-  Scalar acceleration_energy_bias_3_1_term;
-  Scalar acceleration_energy_bias_3_3_term;
-  Scalar acceleration_energy_bias_3_4_term;
-  Scalar acceleration_energy_bias_3_5_term;
   Scalar articulated_force_tau_ff_3_2;
   Scalar articulated_force_tool_load_3_2;
   Scalar articulated_inertia_2_2;
@@ -577,9 +561,10 @@ struct State {
   Scalar inverse_D_2_0;
   Scalar constraint_row_2_0;
   Scalar constraint_row_2_1;
+  Scalar constraint_row_2_2;
   Scalar constraint_row_2_3;
   Scalar constraint_row_2_4;
-  Scalar constraint_row_2_5;
+  Scalar constraint_row_2_5_term;
   Scalar articulated_force_bias_2_0_term;
   Scalar articulated_force_bias_2_0_term_2;
   Scalar articulated_force_bias_2_0_term_3;
@@ -587,35 +572,32 @@ struct State {
   Scalar articulated_force_bias_2_2_term;
   Scalar articulated_force_bias_2_2_term_2;
   Scalar articulated_force_bias_2_2;
-  Scalar acceleration_energy_bias_2_0_term;
-  Scalar acceleration_energy_bias_2_1_term;
-  Scalar acceleration_energy_bias_2_3_term;
-  Scalar acceleration_energy_bias_2_4_term;
-  Scalar acceleration_energy_bias_2_5_term;
   Scalar articulated_force_tau_ff_2_2;
   Scalar articulated_force_tool_load_2_0_term;
   Scalar articulated_force_tool_load_2_2;
   Scalar inverse_D_1_0;
   Scalar constraint_row_1_0;
   Scalar constraint_row_1_1;
+  Scalar constraint_row_1_2;
   Scalar constraint_row_1_3;
   Scalar constraint_row_1_4;
   Scalar constraint_row_1_5;
   Scalar articulated_force_bias_1_0_term;
   Scalar articulated_force_bias_1_0_term_2;
   Scalar articulated_force_bias_1_0_term_3;
-  Scalar acceleration_energy_bias_1_0_term;
-  Scalar acceleration_energy_bias_1_1_term;
-  Scalar acceleration_energy_bias_1_3_term;
-  Scalar acceleration_energy_bias_1_4_term;
-  Scalar acceleration_energy_bias_1_5_term;
   Scalar articulated_force_tool_load_1_0_term;
   Scalar articulated_force_tool_load_1_2;
-  Scalar base_acceleration_energy_0;
-  Scalar base_acceleration_energy_1;
-  Scalar base_acceleration_energy_3;
-  Scalar base_acceleration_energy_4;
-  Scalar base_acceleration_energy_5;
+  Scalar original_acceleration_2_4;
+  Scalar acceleration_energy_bias_0_0_term;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_1_term;
+  Scalar acceleration_energy_bias_0_2_term;
+  Scalar acceleration_energy_bias_0_3_term;
+  Scalar acceleration_energy_bias_0_4_term;
+  Scalar acceleration_energy_bias_0_5_term;
   Scalar original_nu_0_term;
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
@@ -637,16 +619,6 @@ struct State {
   Scalar original_nu_0_term_19;
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
@@ -654,6 +626,18 @@ struct State {
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -664,8 +648,6 @@ struct State {
   Scalar original_nu_0_term_36;
   Scalar original_nu_0_term_37;
   Scalar original_nu_0_term_38;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
   Scalar original_nu_0_term_39;
   Scalar original_nu_0_term_40;
   Scalar original_nu_0_term_41;
@@ -695,7 +677,6 @@ struct State {
   Scalar original_nu_0_term_65;
   Scalar original_nu_0_term_66;
   Scalar original_nu_0_term_67;
-  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_68;
   Scalar original_nu_0_term_69;
   Scalar original_nu_0_term_70;
@@ -703,6 +684,9 @@ struct State {
   Scalar original_nu_0_term_72;
   Scalar original_nu_0_term_73;
   Scalar original_nu_0_term_74;
+  Scalar original_nu_0_term_75;
+  Scalar original_nu_0_term_76;
+  Scalar original_nu_0_term_77;
   Scalar original_dropped_pivots_0;
   Scalar saturate_tau_cmd_0_term;
   Scalar saturate_tau_cmd_0_term_2;

@@ -3,6 +3,7 @@
 // what the reference solver computes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <random>
@@ -158,6 +159,35 @@ TEST(Emitter, StateMembersAndBannersAreNamedFromTheMath) {
       }
     }
   }
+}
+
+// constraint_rows: auto keeps (I2) or (I6) by operation count, the columns' weighted by 21/20 once
+// they carry more than two directions (they spill: solver_emitter.cpp, rows_cost). The header's
+// line states both counts and the choice; the choice must follow from them, and the Panda's
+// six-direction scene (columns ahead by under 5 %, bench/README.md) must be one where the weight
+// decides.
+TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
+  const model::Chain chain = panda();
+  const std::regex columns_count(R"(columns F\^A_cstr,i inward \(I2\) \((\d+) operations\))");
+  const std::regex rows_count(R"(rows r_i outward \(I6\) \((\d+) operations\))");
+  std::size_t decided_by_weight = 0;
+  for (std::size_t nc : {1u, 2u, 3u, 6u}) {
+    const emit::EmitRequest emit_request{"scene", {"double"}, false, request({{"push", "panda_hand"}}, nc), "test"};
+    const auto choices = emit::emit_solver(chain, emit_request).choices;
+    const auto line = std::find_if(choices.begin(), choices.end(),
+                                   [](const std::string& c) { return c.rfind("Constraint rows", 0) == 0; });
+    ASSERT_NE(line, choices.end()) << "Nc=" << nc;
+    std::smatch c, r;
+    ASSERT_TRUE(std::regex_search(*line, c, columns_count)) << *line;
+    ASSERT_TRUE(std::regex_search(*line, r, rows_count)) << *line;
+    const double columns = std::stod(c[1]), rows = std::stod(r[1]);
+    const double weight = nc > 2 ? 21.0 / 20.0 : 1.0;
+    const bool chose_rows = line->find(": rows r_i outward") != std::string::npos;
+    EXPECT_EQ(chose_rows, rows < columns * weight) << *line;
+    EXPECT_EQ(line->find("weighted by 21/20") != std::string::npos, nc > 2) << *line;
+    if (chose_rows && columns < rows) ++decided_by_weight;
+  }
+  EXPECT_GE(decided_by_weight, 1u);
 }
 
 TEST(Emitter, LiteralsRoundTrip) {
@@ -408,7 +438,9 @@ TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
     const std::string where = c.name + " " + solver::name(policy);
     const auto generated = report::measure_generated<double>(compiled.solve_f64_of.at(policy), "double",
                                                              c.scene.flat_layout(n), problems, untimed);
-    solver::ReferenceSolver<double> reference(c.chain, c.scene.layout, c.scene.solver_options());
+    solver::SolverOptions traced_options = c.scene.solver_options();  // the rows as the generator formed them
+    traced_options.constraint_rows = compiled.constraint_rows;
+    solver::ReferenceSolver<double> reference(c.chain, c.scene.layout, traced_options);
     Worst worst;
     double max_ulps = 0;  // the largest difference in ulps of its vector's scale (its largest entry)
     double max_residual = 0;  // the largest constraint residual / (eps κ)

@@ -175,9 +175,24 @@ std::string factorisation_note(const solver::SolverOptions& options, std::size_t
 
 constexpr std::size_t kFusedOperations = 12000;
 
+// The cost `constraint_rows: auto` compares: a formulation's operations, the columns' (I2) weighted
+// by 21/20 once they carry more than two directions. Each column is a 6-vector live through every
+// body's step; past two (12 values) they no longer fit the 16 vector registers of x86-64 and
+// spill, which an operation count does not see (bench/code_stats.sh: 3 033 spills with columns
+// against 2 599 with rows on panda_nc6). On nine scenes measured both ways (bench/README.md,
+// "Issue #29, fourth session"), rows ran fewer instructions wherever the columns led the count by
+// up to 4.3 % with Nc >= 3, columns ran fewer where they led by 6.7 % (panda_nc3) or carried two
+// directions (planar_nc2, 1.6 %); 5 % separates them.
+double rows_cost(solver::ConstraintRows rows, std::size_t operations, std::size_t directions) {
+  constexpr std::size_t kColumnsInRegisters = 2;
+  constexpr double kSpillingColumnsWeight = 21.0 / 20.0;
+  const bool spilling = rows == solver::ConstraintRows::inward_columns && directions > kColumnsInRegisters;
+  return static_cast<double>(operations) * (spilling ? kSpillingColumnsWeight : 1.0);
+}
+
 // One line on how the rows r_i = S_i^T F^A_cstr,i are formed, with both formulations' counts.
 std::string rows_note(solver::ConstraintRows chosen, const std::map<solver::ConstraintRows, std::size_t>& counted,
-                      bool requested) {
+                      bool requested, bool exposed, std::size_t directions) {
   const auto count = [&](solver::ConstraintRows rows) {
     const auto found = counted.find(rows);
     return found == counted.end() ? std::string() : " (" + std::to_string(found->second) + " operations)";
@@ -185,8 +200,12 @@ std::string rows_note(solver::ConstraintRows chosen, const std::map<solver::Cons
   const std::string columns = "columns F^A_cstr,i inward (I2)" + count(solver::ConstraintRows::inward_columns);
   const std::string rows = "rows r_i outward (I6)" + count(solver::ConstraintRows::outward_rows);
   const bool outward = chosen == solver::ConstraintRows::outward_rows;
-  return "Constraint rows r_i = S_i^T F^A_cstr,i: " + (outward ? rows : columns) +
-         (requested ? " (scene: constraint_rows)" : ", not the " + (outward ? columns : rows) + " (scene: constraint_rows: auto)") + ".";
+  const std::string weighted =
+      rows_cost(solver::ConstraintRows::inward_columns, 1, directions) > 1 ? ", the columns' count weighted by 21/20" : "";
+  const std::string why = requested ? " (scene: constraint_rows)"
+                          : exposed ? " (scene: expose: all lists the columns)"
+                                    : ", not the " + (outward ? columns : rows) + " (scene: constraint_rows: auto" + weighted + ")";
+  return "Constraint rows r_i = S_i^T F^A_cstr,i: " + (outward ? rows : columns) + why + ".";
 }
 
 // Operations of one planned trace on its usual path: every function, every policy.
@@ -266,7 +285,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   for (const std::string& scalar : request.scalars) {
     symbolic::TraceRequest trace_request = request.trace;
     trace_request.epsilon = epsilon_of(scalar);
-    // (I2) or (I6): as the scene asks, else the one with fewer operations (ties: the columns).
+    // (I2) or (I6): as the scene asks, else the one of lower rows_cost (ties: the columns).
     std::vector<solver::ConstraintRows> candidates{solver::ConstraintRows::inward_columns};
     if (request.constraint_rows) candidates = {*request.constraint_rows};
     else if (request.trace.layout.constraints > 0 && !request.expose_all)
@@ -279,7 +298,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       symbolic::Trace candidate = symbolic::trace_solver(chain, trace_request);
       Plan candidate_plan = make_plan(candidate, request.expose_all);
       counted[rows] = planned_operations(candidate, candidate_plan);
-      if (!best_plan || counted[rows] < counted[best_trace->constraint_rows]) {
+      if (!best_plan || rows_cost(rows, counted[rows], nc) <
+                            rows_cost(best_trace->constraint_rows, counted[best_trace->constraint_rows], nc)) {
         best_trace = std::move(candidate);
         best_plan = std::move(candidate_plan);
       }
@@ -287,9 +307,10 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     const symbolic::Trace& trace = *best_trace;
     const Plan& plan = *best_plan;
     trace_request.options.constraint_rows = trace.constraint_rows;  // for the derivatives' trace
+    result.constraint_rows = trace.constraint_rows;
     if (rows_line.empty() && request.trace.layout.constraints > 0)
       rows_line = rows_note(trace.constraint_rows, candidates.size() > 1 ? counted : decltype(counted){},
-                            request.constraint_rows.has_value());
+                            request.constraint_rows.has_value(), request.expose_all, nc);
 
     data variant;
     variant.set("scalar", scalar);

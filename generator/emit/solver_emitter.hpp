@@ -39,6 +39,9 @@ struct EmittedSolver {
   std::vector<EmittedFile> files;  // header, source, CMake snippet
   std::vector<FunctionCost> costs;
   std::vector<std::string> choices;  // how the constraint is evaluated and factored, one line each
+  // How the rows r_i were formed ((I2) or (I6)), what a reference solver needs to run the same
+  // operations (`constraint_rows` of its options).
+  solver::ConstraintRows constraint_rows = solver::ConstraintRows::inward_columns;
 };
 
 // File stem of a namespace: "a::b" -> "a_b".

@@ -67,6 +67,7 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
   // 2. Compile it with the system compiler into a shared library (unless it is up to date).
   CompiledSolver compiled;
   compiled.operations = std::move(operations);
+  compiled.constraint_rows = emitted.constraint_rows;
   const std::string library = (build_dir / ("libsweepgen_report_" + stem + ".so")).string();
   const std::string log = (build_dir / "compile.log").string();
   compiled.command = compile_command(cxx, {(build_dir / (stem + ".cpp")).string(), wrapper}, build_dir.string(),

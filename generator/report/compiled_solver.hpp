@@ -35,6 +35,7 @@ struct CompiledSolver {
   // The generator's operation count of one full solve (outward + decompose + solve), by scalar
   // name ("double", "float") and policy: what the generated header lists.
   std::map<std::pair<std::string, solver::Policy>, std::size_t> operations;
+  solver::ConstraintRows constraint_rows = solver::ConstraintRows::inward_columns;  // the generator's (I2) or (I6)
   FlatSolve<float> solve_f32 = nullptr;                      // policy original (null for a scene without float)
   // derivatives_<policy>_flat in double, each differentiable policy of a scene with derivatives.
   std::map<solver::Policy, FlatSolve<double>> derivatives_f64_of;

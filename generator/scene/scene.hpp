@@ -91,7 +91,8 @@
 //   constraint_rows: auto           # optional: how the rows r_i = S_i^T F^A_cstr,i are formed:
 //                                   #   inward_columns (I2), outward_rows (I6, not with expose:
 //                                   #   all), or auto (default): the generator counts both and
-//                                   #   emits the one with fewer operations (the header says which)
+//                                   #   emits the cheaper, the columns' count weighted by 21/20
+//                                   #   past two directions (they spill; the header says which)
 //   check_inputs: true              # optional: true (default) or false. When true, the generated
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
@@ -136,7 +137,7 @@ struct Scene {
   solver::ConstraintFactorisation constraint_factorisation = solver::ConstraintFactorisation::pivoted_ldlt;
   double pivot_tolerance = 0;  // 0: the default for the emitted scalar
   bool refinement = true;      // (R1)
-  std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (fewer operations)
+  std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (the cheaper)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
   bool derivatives = false;    // emit derivatives_<policy> (D1–D5)
 
