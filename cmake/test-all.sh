@@ -2,15 +2,18 @@
 # Sets up, builds and runs every test: the README's second command, and what .ci/run runs.
 #   1. cmake/install-dependencies.sh (Debian packages; nothing when all are present)
 #   2. release workflow: build/, the whole suite
-#   3. sanitize workflow: build-sanitize/, clang with AddressSanitizer + UndefinedBehaviorSanitizer,
-#      the whole suite and each fuzzer for SWEEPGEN_FUZZ_SECONDS (15) from the committed corpora
+#   3. sanitize-ci workflow: build-sanitize/, clang with AddressSanitizer + UndefinedBehaviorSanitizer:
+#      the instrumented generator on every bundled scene, every bundled scene's solver and test
+#      (300 states), the real-time and fuzz-regression tests, the suite's files that drive the
+#      generator and the readers end to end, and each fuzzer for 10 s from the committed corpora.
+#      The whole suite under the sanitizers: `cmake --workflow --preset sanitize` (README).
 # Stops at the first failing stage; prints each stage's wall time at the end either way.
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 stages=("setup:bash cmake/install-dependencies.sh"
         "release:cmake --workflow --preset release"
-        "sanitize:cmake --workflow --preset sanitize")
+        "sanitize:cmake --workflow --preset sanitize-ci")
 times=()
 status=0
 start_all=$(date +%s)
