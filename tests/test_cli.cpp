@@ -18,6 +18,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 namespace fs = std::filesystem;
 using nlohmann::ordered_json;
@@ -860,5 +861,6 @@ TEST(CliGenerate, QuarterTurnsAreSaidAndCanBeTurnedOff) {
   EXPECT_NE(solve_snapped.out, solve_literal.out);
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

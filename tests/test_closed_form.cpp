@@ -46,6 +46,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using solver::Policy;
 using solver::Quad;
@@ -631,5 +632,6 @@ TEST(ClosedFormFloatingBase, FreeBodyFollowsEulerAndNewton) {
   }
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

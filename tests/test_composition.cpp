@@ -21,6 +21,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using solver::Policy;
 using Solver = solver::ReferenceSolver<double>;
@@ -254,5 +255,6 @@ INSTANTIATE_TEST_SUITE_P(BundledRobots, Composition,
                            return std::get<0>(info.param) + "_Nc" + std::to_string(std::get<1>(info.param));
                          });
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -17,6 +17,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using solver::ConstraintFactorisation;
 using Matrix = solver::ConstraintMatrix<double>;
@@ -337,5 +338,6 @@ TEST(ConstraintFactorisation, GeneratedEquilibrationScaleIsTheSolversLineForLine
   EXPECT_EQ(solver_lines, template_lines);
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

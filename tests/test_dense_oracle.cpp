@@ -21,6 +21,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using test::LongDouble;
 using test::Oracle;
@@ -489,5 +490,6 @@ TEST(DenseOracle, ReferenceSolverMatchesKktOnFloatingBases) {
   report("floating_bases", worst);
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

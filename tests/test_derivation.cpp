@@ -18,6 +18,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 namespace fs = std::filesystem;
 
@@ -125,5 +126,6 @@ TEST(Derivation, NoFileNeedsDocumentsOutsideTheRepository) {
       EXPECT_EQ(text.find(name), std::string::npos) << path << " refers to " << name << ", which a clone does not have";
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -31,6 +31,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 const std::vector<solver::Policy> kAllPolicies = {solver::Policy::original, solver::Policy::prioritize_external,
                                                   solver::Policy::saturate, solver::Policy::saturate_exact};
@@ -532,5 +533,6 @@ TEST(Emitter, OptimisationDoesNotChangeTheNumbers) {
   EXPECT_EQ(differing, 0u) << "of " << 3 * problems.size() << " outputs";
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -20,6 +20,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using solver::Policy;
 
@@ -121,5 +122,6 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
 INSTANTIATE_TEST_SUITE_P(Scenes, GeneratedDerivatives, ::testing::ValuesIn(kScenes),
                          [](const auto& info) { return test_name(info.param); });
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

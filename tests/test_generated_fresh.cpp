@@ -14,6 +14,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 namespace fs = std::filesystem;
 
@@ -52,5 +53,6 @@ TEST(GeneratedFiles, MatchTheGeneratorByteForByte) {
   EXPECT_EQ(committed_files, files) << "generated/ holds files no bundled scene produces; " << kHowToRegenerate;
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -16,6 +16,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using test::LongDouble;
 using test::Oracle;
@@ -228,5 +229,6 @@ TEST(CommandedTorque, ExactSaturationStaysWithinTheLimitsAndRealisesItsAccelerat
   EXPECT_GT(saturated, states / 10);
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -14,6 +14,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 struct Tally {
   int joints = 0, never_locked = 0, exact_zeros = 0;
@@ -102,5 +103,6 @@ TEST(JointInertiaBounds, EveryPandaJointIsProvenAndTheTestStaysWhereItCanFire) {
   for (std::size_t i = 1; i <= 5; ++i) EXPECT_TRUE(floating.joints[i].can_lock) << i;
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

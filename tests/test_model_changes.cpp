@@ -12,6 +12,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 const std::string kInertial =
     R"(<inertial><origin xyz="0 0 0.02"/><mass value="0.1"/><inertia ixx="1e-4" ixy="0" ixz="0" iyy="1e-4" iyz="0" izz="1e-4"/></inertial>)";
@@ -202,5 +203,6 @@ TEST(Normalisations, AnInertiaMadeSymmetricIsListed) {
   expect_contains(note_with(chain, "made exactly symmetric"), "the inertia tensors about their link origins of link 'hand' made");
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

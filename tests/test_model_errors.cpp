@@ -10,6 +10,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 // A valid two-joint arm; tests replace one marked piece of it.
 std::string arm(const std::string& joint2_type = "revolute", const std::string& link2_inertial =
@@ -300,5 +301,6 @@ TEST(ModelErrors, ChainWithoutMovingJoint) {
   expect_contains(load_error(arm(), "l1", "l1"), "no moving joint");
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -13,6 +13,7 @@
 #include "support/random_problem.hpp"
 
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using namespace sweepgen;
 using solver::status_not_finite;
@@ -102,4 +103,5 @@ TEST(NonFiniteInputs, AZeroDirectionIsRankDeficientAndFinite) {
   EXPECT_TRUE(solver.solution().qdd.allFinite());
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace

@@ -52,6 +52,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using oracle::from_kdl;
 using oracle::kdl_joints;
@@ -417,5 +418,6 @@ TEST(OffChain, OracleSeesTheSignOfTheConstraintWrench) {
   }
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -15,6 +15,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using solver::Quad;
 
@@ -99,5 +100,6 @@ TEST(QuadScalar, AgreesWhereEasyAndIsWiderWhereNot) {
   }
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -93,6 +93,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using solver::ConstraintVector;
 using solver::DriverLayout;
@@ -540,5 +541,6 @@ TEST_P(ReferenceVsKdl, MatchesVereshchaginWithRotorInertia) {
 INSTANTIATE_TEST_SUITE_P(kdl, ReferenceVsKdl, testing::Range<std::size_t>(0, test::bundled_robots().size()),
                          robot_name);
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

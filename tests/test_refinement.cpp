@@ -34,6 +34,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 // (a): measured 0.2–0.7 % of the states per scene.
@@ -128,5 +129,6 @@ TEST(Refinement, AtTheBestDoubleSolversLevel) {
   }
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

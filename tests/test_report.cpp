@@ -26,6 +26,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using test::run_command;
 using test::shell_command;
@@ -456,5 +457,6 @@ TEST(Report, StabilityUnknownCaseIsAnInputError) {
   EXPECT_FALSE(std::filesystem::exists(out / "stability.csv"));
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -12,6 +12,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 template <class Scalar>
 Eigen::VectorXd solve_in(const model::Chain& chain, const solver::DriverLayout& layout, const Eigen::VectorXd& q,
@@ -58,5 +59,6 @@ TEST(ScalarTypes, FloatDoubleAndLongDoubleAgreeToTheirPrecision) {
             << worst_double << "\n";
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

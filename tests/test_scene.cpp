@@ -14,6 +14,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using scene::Scene;
 using solver::Policy;
@@ -737,5 +738,6 @@ TEST(SceneErrors, UrdfProblemsPointAtTheSceneEntry) {
   expect_contains(loaded.message, "cannot be opened");
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -25,6 +25,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using solver::Jacobians;
 using solver::Policy;
@@ -272,5 +273,6 @@ TEST(SolveDerivatives, SaturatingPoliciesAreRefused) {
   }
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

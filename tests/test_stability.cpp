@@ -22,6 +22,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using report::Precise;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
@@ -454,5 +455,6 @@ std::string case_name(const testing::TestParamInfo<std::string>& info) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, Stability, testing::ValuesIn(cases()), case_name);
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

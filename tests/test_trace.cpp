@@ -28,6 +28,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 using Key = std::tuple<std::string, std::string, int, int>;
 
@@ -159,11 +160,13 @@ TEST(Trace, CanonicalGraphDoesNotDependOnTheOrderOfConstruction) {
   }
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 // A tree pays for constraint sets only along their paths: with a set on the left hand only,
 // every unit constraint force and constraint energy on the right arm of the dual Panda is the
@@ -230,5 +233,6 @@ TEST(Trace, TangentsAlongOutboardJointsFoldToZero) {
   EXPECT_GT(own_computed, 0);
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

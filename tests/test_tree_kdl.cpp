@@ -25,6 +25,7 @@
 
 namespace sweepgen {
 namespace {
+namespace SWEEPGEN_TEST_FILE {
 
 const Eigen::Vector3d kGravity(0, 0, -9.81);
 
@@ -253,5 +254,6 @@ TEST(TreeKdl, MimicFingersAreJointsOfTheirOwn) {
   }
 }
 
+}  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen
