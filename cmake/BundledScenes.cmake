@@ -28,7 +28,7 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   file(STRINGS ${scene} solver_line REGEX "^solver:")
   string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_FLOAT ${scene} "^scalars:.*float")
-  sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_DERIVATIVES ${scene} "^derivatives:[ ]*true")
+  sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_DERIVATIVES ${scene} "^derivatives:[ ]*(true|\\[)")
   if(SWEEPGEN_BUNDLED_FROM_GENERATED)
     # The committed files are named after the scene's solver namespace; the library's header keeps
     # the name sweepgen_add_solver gives it, <target>.hpp, and forwards to theirs.

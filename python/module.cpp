@@ -25,6 +25,8 @@
 #include <initializer_list>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "sweepgen_module_scene.hpp"
@@ -290,13 +292,16 @@ std::size_t policy_index(const Table& table, const std::string& policy) {
     using Scalar = scene::tag::Scalar;                                                                   \
     using Derivatives = scene::tag::Derivatives;                                                         \
     static constexpr int columns = scene::tag::derivative_columns;                                       \
+    static constexpr bool of_qdd = scene::tag::derivative_of_qdd, of_nu = scene::tag::derivative_of_nu;   \
+    static constexpr bool of_tau_cmd = scene::tag::derivative_of_tau_cmd;                                \
     static constexpr const auto& solves = scene::tag::derivative_solves;                                 \
     static auto drivers_from_flat(const Scalar* drivers) { return scene::tag::drivers_from_flat(drivers); } \
   }
 
 // derivatives(): the values and the Jacobians of one state or K, split by the columns of (D2):
 // d_<y>_dq (rows, dof), d_<y>_dqd (rows, dof), d_<y>_dtau_ff (rows, dof), d_<y>_dbeta (rows,
-// constraints), each (K, rows, columns) when batched.
+// constraints), each (K, rows, columns) when batched; y the outputs the scene asks Jacobians of
+// (derivative_outputs).
 template <class Derived>
 void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_drivers) {
   using Scalar = typename Derived::Scalar;
@@ -304,6 +309,12 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
   for (const auto& entry : Derived::solves) policies.append(entry.policy);
   m.attr("derivative_policies") = py::tuple(policies);
   m.attr("derivative_columns") = Derived::columns;
+  py::list outputs;
+  const std::pair<const char*, bool> returned[] = {
+      {"qdd", Derived::of_qdd}, {"nu", Derived::of_nu && constraints > 0}, {"tau_cmd", Derived::of_tau_cmd}};
+  for (const auto& [name, with] : returned)
+    if (with) outputs.append(name);
+  m.attr("derivative_outputs") = py::tuple(outputs);
   m.def(
       "derivatives",
       [prefix, n_drivers](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
@@ -318,38 +329,42 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
         struct Output {
           const char* name;
           py::ssize_t rows;
+          bool with_jacobian;
           py::array_t<Scalar> values, blocks[4];
         };
         const py::ssize_t widths[4] = {dof, dof, dof, constraints};
         const char* suffixes[4] = {"_dq", "_dqd", "_dtau_ff", "_dbeta"};
         std::vector<Output> outputs;
-        const std::initializer_list<std::pair<const char*, py::ssize_t>> sizes = {{"qdd", dof}, {"nu", constraints}, {"tau_cmd", dof}};
-        for (const auto& [name, rows] : sizes) {
-          Output o{name, rows, array_of<Scalar>(batch, rows), {}};
+        const std::tuple<const char*, py::ssize_t, bool> sizes[] = {
+            {"qdd", dof, Derived::of_qdd}, {"nu", constraints, Derived::of_nu}, {"tau_cmd", dof, Derived::of_tau_cmd}};
+        for (const auto& [name, rows, with_jacobian] : sizes) {
+          Output o{name, rows, with_jacobian, array_of<Scalar>(batch, rows), {}};
           for (int k = 0; k < 4; ++k)
-            o.blocks[k] = batch.batched ? py::array_t<Scalar>({batch.rows, rows, widths[k]}) : py::array_t<Scalar>({rows, widths[k]});
+            if (with_jacobian)
+              o.blocks[k] = batch.batched ? py::array_t<Scalar>({batch.rows, rows, widths[k]}) : py::array_t<Scalar>({rows, widths[k]});
           outputs.push_back(std::move(o));
         }
         py::array_t<std::uint32_t> status(batch.rows);
         std::vector<Scalar*> values_to, blocks_to;
         for (auto& o : outputs) {
           values_to.push_back(o.values.mutable_data());
-          for (auto& block : o.blocks) blocks_to.push_back(block.mutable_data());
+          for (auto& block : o.blocks) blocks_to.push_back(o.with_jacobian ? block.mutable_data() : nullptr);
         }
         std::uint32_t* status_to = status.mutable_data();
         for_each_row(batch, [&](py::ssize_t k) {
           typename Derived::Derivatives r;
           solve(q_rows.row(k), qd_rows.row(k), Derived::drivers_from_flat(d.row(k)), b.row(k), r);
           const Scalar* values[3] = {r.qdd, nullptr, r.tau_cmd};
-          const Scalar* jacobians[3] = {r.d_qdd, nullptr, r.d_tau_cmd};
-          if constexpr (constraints > 0) {
-            values[1] = r.nu;
-            jacobians[1] = r.d_nu;
-          }
+          const Scalar* jacobians[3] = {nullptr, nullptr, nullptr};
+          if constexpr (constraints > 0) values[1] = r.nu;
+          if constexpr (Derived::of_qdd) jacobians[0] = r.d_qdd;
+          if constexpr (constraints > 0 && Derived::of_nu) jacobians[1] = r.d_nu;
+          if constexpr (Derived::of_tau_cmd) jacobians[2] = r.d_tau_cmd;
           for (std::size_t o = 0; o < 3; ++o) {
             const py::ssize_t rows = outputs[o].rows;
             if (rows == 0) continue;
             std::copy_n(values[o], rows, values_to[o] + k * rows);
+            if (!jacobians[o]) continue;
             py::ssize_t first = 0;
             for (int block = 0; block < 4; ++block) {
               Scalar* to = blocks_to[4 * o + block] + k * rows * widths[block];
@@ -363,6 +378,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
         py::dict result;
         for (const auto& o : outputs) {
           result[o.name] = o.values;
+          if (!o.with_jacobian) continue;
           for (int block = 0; block < 4; ++block) result[py::str(std::string("d_") + o.name + suffixes[block])] = o.blocks[block];
         }
         result["status"] = batch.batched ? py::object(status) : py::object(py::int_(status.at(0)));
@@ -372,7 +388,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
       py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),
       py::arg("policy") = Derived::solves[0].policy, py::arg("raise_on_status") = 0u,
       "The generated derivatives_<policy> (scene key derivatives): arguments as solve(). Returns a dict: qdd, nu, "
-      "tau_cmd and, for each y of them, d_y_dq, d_y_dqd, d_y_dtau_ff (rows, dof) and d_y_dbeta (rows, constraints) "
+      "tau_cmd and, for each y of derivative_outputs, d_y_dq, d_y_dqd, d_y_dtau_ff (rows, dof) and d_y_dbeta (rows, constraints) "
       "(K, rows, columns) when batched: a floating base's first six q columns are its rotation vector in its own "
       "frame and its position (docs/derivation.md, D2); status.");
 }

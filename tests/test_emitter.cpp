@@ -191,6 +191,45 @@ TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
   EXPECT_GE(decided_by_weight, 1u);
 }
 
+// derivatives: [..] returns the Jacobians listed and computes nothing for the others: on the Panda
+// with six directions, the derivative function's operations fall with each Jacobian left out
+// (τcmd's needs its own tangent sweep of the constraint wrenches), its Derivatives has no member
+// for what is left out, and the header's flat size is the layout's (DerivativeOutputs).
+TEST(Emitter, DerivativesLeftOutAreNotComputed) {
+  const model::Chain chain = panda();
+  const std::size_t n = chain.dof(), nc = 6;
+  const auto emitted = [&](const solver::DerivativeOutputs& outputs) {
+    emit::EmitRequest r{"scene", {"double"}, false, request({}, nc), "test"};
+    r.trace.policies = {solver::Policy::original};
+    r.derivatives = true;
+    r.derivative_outputs = outputs;
+    const emit::EmittedSolver solver = emit::emit_solver(chain, r);
+    std::size_t operations = 0;
+    for (const auto& cost : solver.costs)
+      if (cost.function == "derivatives_original") operations = cost.ops.total();
+    const auto header = std::find_if(solver.files.begin(), solver.files.end(),
+                                      [](const emit::EmittedFile& f) { return f.name == "scene.hpp"; });
+    return std::pair{operations, header == solver.files.end() ? std::string() : header->text};
+  };
+  const auto [all, all_header] = emitted({true, true, true});
+  const auto [without_tau_cmd, without_tau_cmd_header] = emitted({true, true, false});
+  const auto [qdd_only, qdd_only_header] = emitted({true, false, false});
+  EXPECT_GT(all, 0u);
+  EXPECT_LT(without_tau_cmd, all);
+  EXPECT_LT(qdd_only, without_tau_cmd);
+  EXPECT_NE(all_header.find("Scalar d_tau_cmd["), std::string::npos);
+  EXPECT_EQ(without_tau_cmd_header.find("Scalar d_tau_cmd["), std::string::npos);
+  EXPECT_NE(without_tau_cmd_header.find("Scalar d_nu["), std::string::npos);
+  EXPECT_EQ(qdd_only_header.find("Scalar d_nu["), std::string::npos);
+  const solver::DerivativeColumns columns{n, nc};
+  for (const auto& [outputs, header] : {std::pair{solver::DerivativeOutputs{true, true, true}, all_header},
+                                        {solver::DerivativeOutputs{true, false, false}, qdd_only_header}})
+    EXPECT_NE(header.find("constexpr int derivative_flat_out_size = " + std::to_string(outputs.flat_out_size(columns)) + ";"),
+              std::string::npos);
+  std::cout << "[derivative outputs] operations of derivatives_original, Panda Nc = 6: all " << all
+            << ", qdd and nu " << without_tau_cmd << ", qdd " << qdd_only << std::endl;
+}
+
 TEST(Emitter, LiteralsRoundTrip) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> mantissa(-1, 1);
@@ -510,7 +549,7 @@ TEST(Emitter, OptimisationDoesNotChangeTheNumbers) {
 
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   const std::size_t out_size = s.flat_layout(n).out_size();
-  const std::size_t derivative_out_size = solver::DerivativeColumns{n, nc}.flat_out_size();
+  const std::size_t derivative_out_size = s.derivative_outputs.flat_out_size(solver::DerivativeColumns{n, nc});
   const auto run = [](auto function, const auto& in, std::size_t size) {
     std::vector<std::decay_t<decltype(in[0])>> out(size);
     function(in.data(), out.data());

@@ -3,7 +3,9 @@
 // derivatives_<policy>_flat entry point is compared, value by value and Jacobian entry by entry,
 // with the reference solver's own derivatives (solver/solve_derivatives.hpp, itself checked
 // against binary128 differences in tests/test_solve_derivatives.cpp). Kinds: a chain with six
-// run-time directions under both differentiable policies, six fixed directions, a floating base.
+// run-time directions under both differentiable policies, six fixed directions, a floating base;
+// each with another choice of the Jacobians returned (the scene key's list): all, those of q̈ and
+// ν, those of q̈ and τcmd.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -39,27 +41,34 @@ const test::RoundingBound kBound{100, 100 * std::numeric_limits<double>::epsilon
 // numbers bit for bit as -O2, in seconds instead of a minute or two): a chain with
 // run-time directions under both policies, fixed directions, a floating base. (Trees and
 // constraint sets are covered by the reference's own test; the generated code is the same trace.)
-const char* const kScenes[] = {"panda/panda_nc6.yaml", "iiwa14/iiwa14_lean_nc6_fixed.yaml",
-                               "mobile_panda/mobile_panda_hand.yaml"};
+struct Case {
+  const char* scene;
+  solver::DerivativeOutputs outputs;  // the Jacobians asked for
+};
+const Case kScenes[] = {{"panda/panda_nc6.yaml", {true, true, true}},
+                        {"iiwa14/iiwa14_lean_nc6_fixed.yaml", {true, true, false}},
+                        {"mobile_panda/mobile_panda_hand.yaml", {true, false, true}}};
 
-std::string test_name(const char* relative) {
-  std::string name = relative;
+std::string test_name(const Case& c) {
+  std::string name = c.scene;
   name = name.substr(name.find('/') + 1);
   return name.substr(0, name.find('.'));
 }
 
-class GeneratedDerivatives : public ::testing::TestWithParam<const char*> {};
+class GeneratedDerivatives : public ::testing::TestWithParam<Case> {};
 
 TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
-  const std::string relative = GetParam();
+  const std::string relative = GetParam().scene;
+  const solver::DerivativeOutputs asked = GetParam().outputs;
   test::SceneCase c = test::load_scene_case(relative);
   // Both differentiable policies on the first scene, the original one on the others (each policy is
   // a compile of its own).
   std::vector<Policy> policies{Policy::original};
-  if (relative == kScenes[0]) policies.push_back(Policy::prioritize_external);
+  if (relative == kScenes[0].scene) policies.push_back(Policy::prioritize_external);
   c.scene = report::report_scene(c.scene, policies);
   c.scene.scalars = {"double"};  // the derivatives are compared in double
   c.scene.derivatives = true;
+  c.scene.derivative_outputs = asked;
   test::TempDir dir;
   const report::CompiledSolver compiled = test::compile_scene(c.scene, c.chain, dir.path());
   ASSERT_EQ(compiled.derivatives_f64_of.size(), policies.size());
@@ -77,9 +86,13 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
   test::WorstRatio worst(relative + " generated derivatives against the reference's");
   for (const auto& [policy, derivatives] : compiled.derivatives_f64_of) {
     for (const report::Problem& p : problems) {
-      // out = [qdd, nu, tau_cmd, d_qdd, d_nu, d_tau_cmd, status] (the header's derivative_flat_out).
-      std::vector<double> out(columns.flat_out_size(), 0.0);
+      // out = [qdd, nu, tau_cmd, d_qdd, d_nu, d_tau_cmd, status] (the header's derivative_flat_out),
+      // the Jacobians not asked for left out. One value past the end tells a longer layout.
+      constexpr double kPastTheEnd = -12345.5;
+      std::vector<double> out(asked.flat_out_size(columns) + 1, kPastTheEnd);
       derivatives(p.flat.data(), out.data());
+      ASSERT_EQ(out.back(), kPastTheEnd) << "the flat output is longer than the layout asked for";
+      out.pop_back();
       const solver::SolveDerivatives<double> d = reference.solve(p, policy);
       const std::string where = relative + " " + solver::name(policy);
       ASSERT_EQ(static_cast<unsigned>(out.back()), d.status) << where;
@@ -100,14 +113,19 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
         return Eigen::MatrixXd(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             v.data(), rows(r), rows(m)));
       };
-      const Eigen::MatrixXd d_qdd = jacobian(n), d_nu = jacobian(nc), d_tau_cmd = jacobian(n);
+      // The Jacobians asked for, in the layout's order; the reference computes all three.
+      const Eigen::MatrixXd d_qdd = asked.qdd ? jacobian(n) : Eigen::MatrixXd(),
+                            d_nu = asked.nu ? jacobian(nc) : Eigen::MatrixXd(),
+                            d_tau_cmd = asked.tau_cmd ? jacobian(n) : Eigen::MatrixXd();
+      ASSERT_EQ(at + 1, flat.size()) << where << ": the layout ends with the status";
       const std::pair<Eigen::MatrixXd, Eigen::MatrixXd> pairs[] = {
           {qdd, d.qdd}, {nu, d.nu}, {tau_cmd, d.tau_cmd}, {d_qdd, test::stacked(d.d_qdd)}, {d_nu, test::stacked(d.d_nu)},
           {d_tau_cmd, test::stacked(d.d_tau_cmd)}};
+      const bool returned[] = {true, true, true, asked.qdd, asked.nu, asked.tau_cmd};
       const char* names[] = {"qdd", "nu", "tau_cmd", "d_qdd", "d_nu", "d_tau_cmd"};
       for (int k = 0; k < 6; ++k) {
         const auto& [generated, theirs] = pairs[k];
-        if (theirs.size() == 0) continue;
+        if (theirs.size() == 0 || !returned[k]) continue;
         const double scale = std::max(1.0, theirs.cwiseAbs().maxCoeff());
         Eigen::Index r = 0, j = 0;
         const double error = (generated - theirs).cwiseAbs().maxCoeff(&r, &j) / scale;

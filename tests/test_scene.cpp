@@ -197,6 +197,32 @@ TEST(Scene, DerivativesNeedATorqueDriverAndADifferentiablePolicy) {
   expect_error(with_urdf(saturating), at_value(saturating), "derivatives", "need a differentiable policy");
 }
 
+// derivatives: a list names the outputs whose Jacobians are returned; true returns all three.
+TEST(Scene, DerivativesListTheOutputsWhoseJacobiansAreReturned) {
+  test::TempDir dir;
+  const Scene all = scene::load_scene(dir.write("all.yaml", with_urdf(kFullScene + "derivatives: true\n")));
+  EXPECT_TRUE(all.derivative_outputs.qdd && all.derivative_outputs.nu && all.derivative_outputs.tau_cmd);
+  const Scene listed = scene::load_scene(dir.write("listed.yaml", with_urdf(kFullScene + "derivatives: [nu, qdd]\n")));
+  EXPECT_TRUE(listed.derivatives);
+  EXPECT_TRUE(listed.derivative_outputs.qdd);
+  EXPECT_TRUE(listed.derivative_outputs.nu);
+  EXPECT_FALSE(listed.derivative_outputs.tau_cmd);
+  const Scene torque = scene::load_scene(dir.write("torque.yaml", with_urdf(kFullScene + "derivatives: [tau_cmd]\n")));
+  EXPECT_FALSE(torque.derivative_outputs.qdd || torque.derivative_outputs.nu);
+  EXPECT_TRUE(torque.derivative_outputs.tau_cmd);
+
+  const int line = static_cast<int>(std::count(kFullScene.begin(), kFullScene.end(), '\n')) + 1;
+  const std::string unknown = kFullScene + "derivatives: [qdd, tau]\n";
+  expect_error(with_urdf(unknown), position(unknown, line, "tau"), "derivatives[1]", "unknown derivatives output 'tau'");
+  const std::string twice = kFullScene + "derivatives: [qdd, nu, qdd]\n";
+  expect_error(with_urdf(twice), position(twice, line, "qdd", 2), "derivatives[2]", "duplicate output 'qdd'");
+  const std::string empty = kFullScene + "derivatives: []\n";
+  expect_error(with_urdf(empty), position(empty, line, "["), "derivatives", "at least one of qdd, nu, tau_cmd");
+  const std::string unconstrained = replace(kFullScene, "  constraints: 6\n", "") + "derivatives: [qdd, nu]\n";
+  expect_error(with_urdf(unconstrained), position(unconstrained, line - 1, "nu"), "derivatives[1]",
+               "nu has no entries: the scene has no constraint directions");
+}
+
 TEST(Scene, RelativeUrdfPathIsResolvedAgainstTheSceneDirectory) {
   test::TempDir dir;
   std::filesystem::create_directories(dir.path() / "scenes");

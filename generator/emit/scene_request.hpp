@@ -16,6 +16,7 @@ inline EmitRequest emit_request(const scene::Scene& s, const std::string& proven
   request.expose_all = s.expose_all;
   request.check_inputs = s.check_inputs;
   request.derivatives = s.derivatives;
+  request.derivative_outputs = s.derivative_outputs;
   request.trace.layout = s.layout;
   request.trace.policies = s.policies;
   request.trace.options = s.solver_options();

@@ -226,35 +226,37 @@ const char* policy_doc(const std::string& group) {
 
 // ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D5) ----
 
-// The arrays of a derivative function's Derivatives, in the order of its flat output.
-std::vector<std::pair<std::string, std::size_t>> derivative_arrays(std::size_t n, std::size_t nc) {
+// The arrays of a derivative function's Derivatives, in the order of its flat output: the values,
+// then the Jacobians the scene asks for (scene key derivatives).
+std::vector<std::pair<std::string, std::size_t>> derivative_arrays(std::size_t n, std::size_t nc,
+                                                                   const solver::DerivativeOutputs& outputs) {
   const std::size_t columns = solver::DerivativeColumns{n, nc}.count();
-  std::vector<std::pair<std::string, std::size_t>> arrays = {{"qdd", n}, {"nu", nc}, {"tau_cmd", n},
-                                                             {"d_qdd", n * columns}, {"d_nu", nc * columns},
-                                                             {"d_tau_cmd", n * columns}};
+  std::vector<std::pair<std::string, std::size_t>> arrays = {
+      {"qdd", n}, {"nu", nc}, {"tau_cmd", n}, {"d_qdd", outputs.qdd ? n * columns : 0},
+      {"d_nu", outputs.nu ? nc * columns : 0}, {"d_tau_cmd", outputs.tau_cmd ? n * columns : 0}};
   arrays.erase(std::remove_if(arrays.begin(), arrays.end(), [](const auto& a) { return a.second == 0; }), arrays.end());
   return arrays;
 }
 
-std::string derivative_flat_out(std::size_t n, std::size_t nc) {
+std::string derivative_flat_out(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
   std::string text;
-  for (const auto& [name, size] : derivative_arrays(n, nc))
+  for (const auto& [name, size] : derivative_arrays(n, nc, outputs))
     text += name + " (" + (name.rfind("d_", 0) == 0 ? std::string(name == "d_nu" ? "constraints" : "dof") + " x derivative_columns"
                                                      : std::string(name == "nu" ? "constraints" : "dof")) + "), ";
   return text + "status";
 }
 
-std::string pack_derivatives(std::size_t n, std::size_t nc) {
+std::string pack_derivatives(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
   std::string text = "  Scalar* cursor_out = out;\n";
-  for (const auto& [name, size] : derivative_arrays(n, nc))
+  for (const auto& [name, size] : derivative_arrays(n, nc, outputs))
     text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) *cursor_out++ = derivatives." + name + "[i];\n";
   return text + "  *cursor_out = static_cast<Scalar>(derivatives.status);";
 }
 
 // NaN/Inf among the results (scene: check_inputs): one in an input the results depend on reaches them.
-std::string check_derivatives(std::size_t n, std::size_t nc) {
+std::string check_derivatives(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
   std::string text = "  Scalar residue = 0;  // NaN/Inf among the results (scene: check_inputs; see outward())\n";
-  for (const auto& [name, size] : derivative_arrays(n, nc)) text += "  for (Scalar x : out." + name + ") residue += x - x;\n";
+  for (const auto& [name, size] : derivative_arrays(n, nc, outputs)) text += "  for (Scalar x : out." + name + ") residue += x - x;\n";
   return text + "  status |= residue == Scalar(0) ? status_ok : status_not_finite;";
 }
 
@@ -361,7 +363,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     for (const std::string& line : worst_lines) op_lines.push_back(data("line", line));
     variant.set("solves", solves);
     if (request.derivatives) {
-      const symbolic::Trace derivative_trace = symbolic::trace_derivatives(chain, trace_request);
+      const symbolic::Trace derivative_trace = symbolic::trace_derivatives(chain, trace_request, request.derivative_outputs);
       const Plan derivative_plan = make_single_pass_plan(derivative_trace, "derivatives_");
       variant.set("derivatives_members",
                   array_members(derivative_trace, derivative_plan.functions.front().fields, n + 1, true));
@@ -375,8 +377,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
         function.set("policy", f.group);
         function.set("doc", policy_doc(f.group));
         function.set("body", text.body);
-        function.set("check", check_derivatives(n, nc));
-        function.set("pack", pack_derivatives(n, nc));
+        function.set("check", check_derivatives(n, nc, request.derivative_outputs));
+        function.set("pack", pack_derivatives(n, nc, request.derivative_outputs));
         functions.push_back(function);
       }
       variant.set("derivative_functions", functions);
@@ -479,8 +481,12 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
                                          "                                               // constraint directions were not enforced");
   values.set("has_derivatives", request.derivatives);
   values.set("derivative_columns", std::to_string(solver::DerivativeColumns{n, nc}.count()));
-  values.set("derivative_flat_out", derivative_flat_out(n, nc));
-  values.set("derivative_flat_out_size", std::to_string(solver::DerivativeColumns{n, nc}.flat_out_size()));
+  values.set("derivative_flat_out", derivative_flat_out(n, nc, request.derivative_outputs));
+  values.set("derivative_flat_out_size",
+             std::to_string(request.derivative_outputs.flat_out_size(solver::DerivativeColumns{n, nc})));
+  values.set("derivative_of_qdd", request.derivative_outputs.qdd ? "true" : "false");
+  values.set("derivative_of_nu", request.derivative_outputs.nu ? "true" : "false");
+  values.set("derivative_of_tau_cmd", request.derivative_outputs.tau_cmd ? "true" : "false");
   values.set("check_inputs", request.check_inputs);
   values.set("check_inputs_value", request.check_inputs ? "true" : "false");
   values.set("op_counts", op_lines);

@@ -7,6 +7,7 @@
 
 #include "emit/op_count.hpp"
 #include "model/chain.hpp"
+#include "solver/derivative_seeds.hpp"
 #include "symbolic/trace.hpp"
 
 namespace sweepgen::emit {
@@ -22,6 +23,7 @@ struct EmitRequest {
   // (expose_all: the columns, which it lists).
   std::optional<solver::ConstraintRows> constraint_rows = std::nullopt;
   bool derivatives = false;           // emit derivatives_<policy> per differentiable policy (D1–D5)
+  solver::DerivativeOutputs derivative_outputs{};  // the Jacobians they return (scene key derivatives)
 };
 
 struct EmittedFile {

@@ -595,7 +595,25 @@ Scene load_scene(const std::string& path) {
       scene.constraint_rows = rows == "outward_rows" ? solver::ConstraintRows::outward_rows : solver::ConstraintRows::inward_columns;
   }
   if (const auto item = get("derivatives")) {
-    scene.derivatives = reader.choice(*item, {"true", "false"}, "derivatives value") == "true";
+    if (item->node.IsSequence()) {  // the outputs whose Jacobians are returned
+      const auto entries = reader.sequence(*item);
+      if (entries.empty()) reader.fail(*item, "at least one of qdd, nu, tau_cmd is needed (or derivatives: false)");
+      scene.derivative_outputs = {false, false, false};
+      std::map<std::string, Item> seen;
+      for (const Item& entry : entries) {
+        const std::string name = reader.choice(entry, {"qdd", "nu", "tau_cmd"}, "derivatives output");
+        if (const auto previous = seen.find(name); previous != seen.end())
+          reader.fail(entry, "duplicate output " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
+        if (name == "nu" && scene.layout.constraints == 0)
+          reader.fail(entry, "nu has no entries: the scene has no constraint directions");
+        seen.emplace(name, entry);
+        (name == "qdd" ? scene.derivative_outputs.qdd : name == "nu" ? scene.derivative_outputs.nu
+                                                                    : scene.derivative_outputs.tau_cmd) = true;
+      }
+      scene.derivatives = true;
+    } else {
+      scene.derivatives = reader.choice(*item, {"true", "false"}, "derivatives value") == "true";
+    }
     if (scene.derivatives && scene.layout.torques.empty())
       reader.fail(*item, "derivatives need a torque driver (drivers: torques), the columns of d/d tau_ff");
     if (scene.derivatives && std::none_of(scene.policies.begin(), scene.policies.end(), solver::differentiable))

@@ -97,12 +97,15 @@
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
 //                                   #   checks out (bench/README.md gives their cost)
-//   derivatives: false              # optional: false (default) or true. When true, the generated
-//                                   #   code gains per differentiable policy (original,
-//                                   #   prioritize_external; at least one listed) a function
-//                                   #   derivatives_<policy> returning q̈, ν, τcmd and their
-//                                   #   Jacobians w.r.t. q, qd, tau_ff, beta (docs/derivation.md,
-//                                   #   (D1)–(D3)); needs a torque driver (the tau_ff columns)
+//   derivatives: false              # optional: false (default), true, or a list of the outputs
+//                                   #   whose Jacobians are wanted, e.g. [qdd, nu]. Otherwise than
+//                                   #   false, the generated code gains per differentiable policy
+//                                   #   (original, prioritize_external; at least one listed) a
+//                                   #   function derivatives_<policy> returning q̈, ν, τcmd and the
+//                                   #   Jacobians of qdd, nu and tau_cmd (true) or of those listed,
+//                                   #   w.r.t. q, qd, tau_ff, beta (docs/derivation.md, (D1)–(D3));
+//                                   #   what is not listed is not computed. Needs a torque driver
+//                                   #   (the tau_ff columns); nu only with constraint directions
 //
 // Driver instance names (torques and external forces) share one namespace: identifiers,
 // unique, not C++ keywords, not 'bias' and not 'alpha'.
@@ -115,6 +118,7 @@
 
 #include "model/chain.hpp"
 #include "model/urdf_loader.hpp"
+#include "solver/derivative_seeds.hpp"
 #include "solver/drivers.hpp"
 #include "solver/flat_layout.hpp"
 #include "solver/policy.hpp"
@@ -140,6 +144,7 @@ struct Scene {
   std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (the cheaper)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
   bool derivatives = false;    // emit derivatives_<policy> (D1–D5)
+  solver::DerivativeOutputs derivative_outputs{};  // their Jacobians (a list: those named; true: all)
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
   // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",

@@ -20,9 +20,19 @@ struct DerivativeColumns {
   std::size_t qd(std::size_t i) const { return dof + i; }
   std::size_t tau_ff(std::size_t i) const { return 2 * dof + i; }
   std::size_t beta(std::size_t k) const { return 3 * dof + k; }
-  // Values in a derivatives_<policy>_flat output: q̈ (dof), ν (Nc), τcmd (dof), each followed by
-  // its Jacobian over count() columns, and the status.
-  std::size_t flat_out_size() const { return (2 * dof + constraints) * (1 + count()) + 1; }
+};
+
+// The outputs of the solve whose Jacobians a derivatives_<policy> function returns (scene key
+// derivatives: true for all three, or a list of them). The values q̈, ν, τcmd are returned always.
+struct DerivativeOutputs {
+  bool qdd = true, nu = true, tau_cmd = true;
+
+  // Values in a derivatives_<policy>_flat output: q̈ (dof), ν (Nc), τcmd (dof), then the Jacobians
+  // returned (rows of count() columns) in the same order, then the status.
+  std::size_t flat_out_size(const DerivativeColumns& columns) const {
+    const std::size_t rows = (qdd ? columns.dof : 0) + (nu ? columns.constraints : 0) + (tau_cmd ? columns.dof : 0);
+    return 2 * columns.dof + columns.constraints + rows * columns.count() + 1;
+  }
 };
 
 // `value` with tangent e_column (of `columns.count()` entries).

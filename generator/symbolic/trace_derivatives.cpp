@@ -12,13 +12,14 @@ namespace {
 
 using D = solver::Dual<Symbol>;
 
-// One output y of a solve: its values (`name`) and its Jacobian (`d_<name>`, component
-// r · columns + j: row r, column j of (D2)).
+// One output y of a solve: its values (`name`) and, if `with_jacobian`, its Jacobian (`d_<name>`,
+// component r · columns + j: row r, column j of (D2)). What is not recorded is not computed.
 template <class Vector>
 void record_output(Trace& trace, const std::string& group, const std::string& name, const Vector& y,
-                   const solver::DerivativeColumns& columns) {
+                   const solver::DerivativeColumns& columns, bool with_jacobian) {
   for (Eigen::Index r = 0; r < y.size(); ++r)
     trace.fields.push_back({group, name, solver::kBodyless, static_cast<int>(r), y[r].value().id(), true});
+  if (!with_jacobian) return;
   for (Eigen::Index r = 0; r < y.size(); ++r)
     for (std::size_t j = 0; j < columns.count(); ++j)
       trace.fields.push_back({group, "d_" + name, solver::kBodyless, static_cast<int>(r * columns.count() + j),
@@ -27,7 +28,7 @@ void record_output(Trace& trace, const std::string& group, const std::string& na
 
 }  // namespace
 
-Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request) {
+Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, const solver::DerivativeOutputs& outputs) {
   Trace trace;
   TraceScope scope(trace.graph);
   const solver::DriverLayout& layout = request.layout;
@@ -95,9 +96,9 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request) 
       solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
     }
     const std::string group = solver::name(policy);
-    record_output(trace, group, "qdd", solution.qdd, columns);
-    record_output(trace, group, "nu", solution.nu, columns);
-    record_output(trace, group, "tau_cmd", solution.tau_cmd, columns);
+    record_output(trace, group, "qdd", solution.qdd, columns, outputs.qdd);
+    record_output(trace, group, "nu", solution.nu, columns, outputs.nu);
+    record_output(trace, group, "tau_cmd", solution.tau_cmd, columns, outputs.tau_cmd);
     trace.fields.push_back({group, "dropped_pivots", solver::kBodyless, 0, solution.dropped_pivots.value().id(), true});
     trace.fields.push_back({group, "locked_joints", solver::kBodyless, 0, solution.locked_joints.value().id(), true});
   }
