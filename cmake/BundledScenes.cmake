@@ -36,12 +36,9 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
     set(forward_dir ${CMAKE_CURRENT_BINARY_DIR}/sweepgen/${stem}_solver)
     file(CONFIGURE OUTPUT ${forward_dir}/${stem}_solver.hpp
          CONTENT "// Forwards to the committed generated/${committed_stem}.hpp (SWEEPGEN_BUNDLED_FROM_GENERATED).\n#pragma once\n#include \"${committed_stem}.hpp\"\n")
-    add_library(${stem}_solver STATIC ${PROJECT_SOURCE_DIR}/generated/${committed_stem}.cpp)
-    target_include_directories(${stem}_solver PUBLIC ${forward_dir} ${PROJECT_SOURCE_DIR}/generated)
-    target_compile_features(${stem}_solver PUBLIC cxx_std_17)
-    if(SWEEPGEN_SOLVER_ARCH)
-      target_compile_options(${stem}_solver PRIVATE -march=${SWEEPGEN_SOLVER_ARCH})
-    endif()
+    sweepgen_solver_library(${stem}_solver ARCH "${SWEEPGEN_SOLVER_ARCH}"
+                            SOURCES ${PROJECT_SOURCE_DIR}/generated/${committed_stem}.cpp
+                            INCLUDE_DIRS ${forward_dir} ${PROJECT_SOURCE_DIR}/generated)
   else()
     sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}")
   endif()

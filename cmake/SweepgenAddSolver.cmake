@@ -33,15 +33,24 @@ function(sweepgen_add_solver target)
     DEPFILE "${out}/${target}.d"
     COMMENT "sweepgen: generating ${target} from ${arg_SCENE}"
     VERBATIM)
-  add_library(${target} STATIC "${out}/${target}.cpp" "${out}/${target}.hpp")
-  target_include_directories(${target} PUBLIC "${out}")
+  sweepgen_solver_library(${target} ARCH "${arg_ARCH}" SOURCES "${out}/${target}.cpp" "${out}/${target}.hpp"
+                          INCLUDE_DIRS "${out}")
+endfunction()
+
+# The static library of a generated solver: its sources, public include directories, C++17 and,
+# with ARCH, -march=ARCH once the compiler is known to take it. sweepgen_add_solver's, and the
+# bundled scenes' when they are built from the committed generated/ files (cmake/BundledScenes.cmake).
+function(sweepgen_solver_library target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "ARCH" "SOURCES;INCLUDE_DIRS")
+  add_library(${target} STATIC ${arg_SOURCES})
+  target_include_directories(${target} PUBLIC ${arg_INCLUDE_DIRS})
   target_compile_features(${target} PUBLIC cxx_std_17)
   if(arg_ARCH)
     include(CheckCXXCompilerFlag)
     string(MAKE_C_IDENTIFIER "SWEEPGEN_MARCH_${arg_ARCH}" flag_ok)
     check_cxx_compiler_flag("-march=${arg_ARCH}" ${flag_ok})
     if(NOT ${flag_ok})
-      message(FATAL_ERROR "sweepgen_add_solver(${target}): ARCH ${arg_ARCH}: the C++ compiler does not take -march=${arg_ARCH}")
+      message(FATAL_ERROR "sweepgen solver ${target}: ARCH ${arg_ARCH}: the C++ compiler does not take -march=${arg_ARCH}")
     endif()
     target_compile_options(${target} PRIVATE -march=${arg_ARCH})
   endif()
