@@ -5,9 +5,10 @@
 # instructions go").
 #
 #   bash bench/instructions_by_quantity.sh <scene> [policy]     (policy default: original)
+#   bash bench/instructions_by_quantity.sh <scene> derivatives_<policy>   (scene key derivatives)
 #
 # Builds a small driver with the scene's source (CXX, default c++; FLAGS, default -O3; -g is
-# added) that calls solve_<policy>_flat on 64 inputs drawn uniformly from [-1, 1] (joint
+# added) that calls solve_<policy>_flat (or derivatives_<policy>_flat) on 64 inputs drawn uniformly from [-1, 1] (joint
 # positions in radians; run-time directions are then not unit vectors, which changes no
 # instruction count: the code is branch-free except where the compiler turns a select into a
 # branch), runs it under callgrind with CALLS (default 1000) calls and with none, and prints
@@ -18,6 +19,8 @@ set -euo pipefail
 
 scene=${1:?usage: instructions_by_quantity.sh <scene> [policy]}
 policy=${2:-original}
+entry=solve_${policy}_flat out_size=flat_out_size
+if [[ $policy == derivatives_* ]]; then entry=${policy}_flat out_size=derivative_flat_out_size; fi
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$here")
 cxx=${CXX:-c++}
@@ -36,7 +39,7 @@ cat >"$tmp/driver.cpp" <<EOF
 #include <random>
 namespace solver = $scene::f64;
 static double in[64][solver::flat_in_size];
-static double out[solver::flat_out_size];
+static double out[solver::${out_size}];
 int main(int argc, char** argv) {
   const int calls = std::atoi(argv[1]);
   std::mt19937_64 random(1);
@@ -45,7 +48,7 @@ int main(int argc, char** argv) {
     for (double& x : problem) x = uniform(random);
   double checksum = 0;
   for (int c = 0; c < calls; ++c) {
-    solver::solve_${policy}_flat(in[c % 64], out);
+    solver::${entry}(in[c % 64], out);
     checksum += out[0];
   }
   std::printf("%g\n", checksum);

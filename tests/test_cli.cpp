@@ -787,6 +787,12 @@ TEST(CliInfo, ListsTheJointsAndOperationCounts) {
   EXPECT_EQ(scene.exit_code, 0) << describe(scene);
   expect_contains(scene.out, "3 moving joints");
   expect_contains(scene.out, "solver planar_nc2");
+  // A derivative scene names the Jacobians it returns and those it leaves out.
+  const CommandResult derivatives =
+      sweepgen({"info", "--scene", kSource + "/robots/panda/panda_lean_nc6_fixed_derivatives.yaml"});
+  EXPECT_EQ(derivatives.exit_code, 0) << describe(derivatives);
+  expect_contains(derivatives.out, "Derivatives: derivatives_<policy> return the Jacobians of qdd, nu (scene: "
+                                   "derivatives); not computed: tau_cmd");
   const CommandResult missing = sweepgen({"info", "--urdf", "/nonexistent/robot.urdf"});
   EXPECT_EQ(missing.exit_code, 1) << describe(missing);
   expect_contains(missing.err, "/nonexistent/robot.urdf");

@@ -176,6 +176,10 @@ TEST(SolveDerivatives, ConstraintSetsMatchBinary128Differences) {
 TEST(SolveDerivatives, TreeMatchesBinary128Differences) {
   compare_with_differences("dual_panda/dual_panda_box.yaml", difference_states(), 0.5);
 }
+// A prismatic joint between two revolute ones: (D6)'s ∂X/∂q = −(S×) X with S = [0; a].
+TEST(SolveDerivatives, PrismaticJointMatchesBinary128Differences) {
+  compare_with_differences("planar/planar_nc2.yaml", difference_states());
+}
 TEST(SolveDerivatives, FloatingBaseMatchesBinary128Differences) {
   compare_with_differences("mobile_panda/mobile_panda_hand.yaml", difference_states());
 }

@@ -224,7 +224,7 @@ const char* policy_doc(const std::string& group) {
   return "Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.";
 }
 
-// ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D5) ----
+// ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D6) ----
 
 // The arrays of a derivative function's Derivatives, in the order of its flat output: the values,
 // then the Jacobians the scene asks for (scene key derivatives).
@@ -251,6 +251,20 @@ std::string pack_derivatives(std::size_t n, std::size_t nc, const solver::Deriva
   for (const auto& [name, size] : derivative_arrays(n, nc, outputs))
     text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) *cursor_out++ = derivatives." + name + "[i];\n";
   return text + "  *cursor_out = static_cast<Scalar>(derivatives.status);";
+}
+
+// The Jacobians the derivative functions return and those left out (scene key derivatives), one
+// line for `sweepgen info`.
+std::string derivatives_line(const solver::DerivativeOutputs& outputs, std::size_t nc) {
+  const std::pair<const char*, bool> jacobians[] = {{"qdd", outputs.qdd}, {"nu", outputs.nu}, {"tau_cmd", outputs.tau_cmd}};
+  std::string returned, left_out;
+  for (const auto& [name, with] : jacobians) {
+    if (std::string(name) == "nu" && nc == 0) continue;
+    std::string& list = with ? returned : left_out;
+    list += (list.empty() ? "" : ", ") + std::string(name);
+  }
+  return "Derivatives: derivatives_<policy> return the Jacobians of " + returned +
+         (left_out.empty() ? std::string(" (scene: derivatives)") : " (scene: derivatives); not computed: " + left_out);
 }
 
 // NaN/Inf among the results (scene: check_inputs): one in an input the results depend on reaches them.
@@ -474,6 +488,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     for (std::size_t at; (at = factorisation.find("\n// ")) != std::string::npos;) factorisation.replace(at, 4, " ");
     result.choices.push_back(factorisation);
   }
+  if (request.derivatives) result.choices.push_back(derivatives_line(request.derivative_outputs, nc));
   values.set("rank_deficient_doc", request.trace.options.constraint_factorisation == solver::ConstraintFactorisation::damped
                                        ? "a damped pivot of E^A_cstr,0 was <= 2 tol: the damping\n"
                                          "                                               // changed some multipliers by ~2x or more"

@@ -8,6 +8,7 @@
 #include "model/chain.hpp"
 #include "model/joint_inertia_bounds.hpp"
 #include "solver/drivers.hpp"
+#include "solver/joint_transform_tangent.hpp"
 #include "solver/scalar_ops.hpp"
 #include "spatial/spatial.hpp"
 
@@ -92,7 +93,7 @@ struct JointModel {
     } else {
       joint.r = axis * q;
     }
-    return joint * tree_transform;
+    return with_joint_tangent(joint * tree_transform, S, q);  // (D6) where Scalar carries tangents
   }
 };
 

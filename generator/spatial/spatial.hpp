@@ -95,6 +95,31 @@ Force<Scalar> cross_force(const Motion<Scalar>& v, const Force<Scalar>& f) {
   return {v.angular.cross(f.moment) + v.linear.cross(f.force), v.angular.cross(f.force)};
 }
 
+// The four maps of a transform {E, r} (B_X_A, below), written once for Transform and for its
+// specialisation that differentiates a joint's transform (solver/joint_transform_tangent.hpp).
+// B_X_A v
+template <class Scalar>
+Motion<Scalar> motion_to_b(const Mat3<Scalar>& E, const Vec3<Scalar>& r, const Motion<Scalar>& v) {
+  return {E * v.angular, E * (v.linear - r.cross(v.angular))};
+}
+// (B_X_A)^-1 v : motion from B back to A.
+template <class Scalar>
+Motion<Scalar> motion_to_a(const Mat3<Scalar>& E, const Vec3<Scalar>& r, const Motion<Scalar>& v) {
+  const Vec3<Scalar> angular = E.transpose() * v.angular;
+  return {angular, E.transpose() * v.linear + r.cross(angular)};
+}
+// (B_X_A)^T f : force from B back to A.
+template <class Scalar>
+Force<Scalar> force_to_a(const Mat3<Scalar>& E, const Vec3<Scalar>& r, const Force<Scalar>& f) {
+  const Vec3<Scalar> force = E.transpose() * f.force;
+  return {E.transpose() * f.moment + r.cross(force), force};
+}
+// B_X_A^-T f = B_X*_A f : force from A to B.
+template <class Scalar>
+Force<Scalar> force_to_b(const Mat3<Scalar>& E, const Vec3<Scalar>& r, const Force<Scalar>& f) {
+  return {E * (f.moment - r.cross(f.force)), E * f.force};
+}
+
 template <class Scalar>
 struct Transform {
   Mat3<Scalar> E = Mat3<Scalar>::Identity();
@@ -107,24 +132,10 @@ struct Transform {
     return {E.template cast<Other>(), r.template cast<Other>()};
   }
 
-  // B_X_A v
-  Motion<Scalar> apply(const Motion<Scalar>& v) const {
-    return {E * v.angular, E * (v.linear - r.cross(v.angular))};
-  }
-  // (B_X_A)^-1 v : motion from B back to A.
-  Motion<Scalar> apply_inverse(const Motion<Scalar>& v) const {
-    const Vec3<Scalar> angular = E.transpose() * v.angular;
-    return {angular, E.transpose() * v.linear + r.cross(angular)};
-  }
-  // (B_X_A)^T f : force from B back to A.
-  Force<Scalar> apply_transpose(const Force<Scalar>& f) const {
-    const Vec3<Scalar> force = E.transpose() * f.force;
-    return {E.transpose() * f.moment + r.cross(force), force};
-  }
-  // B_X_A^-T f = B_X*_A f : force from A to B.
-  Force<Scalar> apply_force(const Force<Scalar>& f) const {
-    return {E * (f.moment - r.cross(f.force)), E * f.force};
-  }
+  Motion<Scalar> apply(const Motion<Scalar>& v) const { return motion_to_b(E, r, v); }
+  Motion<Scalar> apply_inverse(const Motion<Scalar>& v) const { return motion_to_a(E, r, v); }
+  Force<Scalar> apply_transpose(const Force<Scalar>& f) const { return force_to_a(E, r, f); }
+  Force<Scalar> apply_force(const Force<Scalar>& f) const { return force_to_b(E, r, f); }
 };
 
 // Composition  C_X_A = C_X_B * B_X_A (docs/derivation.md, (F1)).
