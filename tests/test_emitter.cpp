@@ -529,6 +529,50 @@ TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
 INSTANTIATE_TEST_SUITE_P(Scenes, EmittedSolver, ::testing::Range<std::size_t>(0, emitter_cases().size()),
                          [](const auto& info) { return emitter_cases().at(info.param).name; });
 
+// (C4)'s if/else as emitted: with the same direction given twice, E^A_cstr,0 is singular on every
+// state, so the rule sends every state to the pivoted path, which drops one of the two
+// (status_constraint_rank_deficient) and enforces the other. The natural-order factors would
+// divide by a pivot of rounding size instead: an if/else emitted the wrong way round, or a
+// pivoted path never taken, shows as a status or a ν the reference does not have. (Random states
+// of the other scenes take the natural path, where both paths agree to rounding.)
+TEST(Emitter, ASingularConstraintTakesThePivotedPath) {
+  const model::Chain chain = panda();
+  solver::DriverLayout layout = drivers({"tau_ff"}, {}, 2);
+  const spatial::Force<double> up{{0, 0, 0}, {0, 0, 1}};
+  layout.sets = {solver::ConstraintSet{"panda_hand", 2, {up, up}}};
+  layout.compose_all();
+  const scene::Scene s = case_scene("panda_twice_up", chain, std::move(layout), {solver::Policy::original});
+  test::TempDir dir;
+  const report::CompiledSolver compiled = test::compile_scene(s, chain, dir.path());
+  const auto problems = report::random_problems(s, chain, test::state_count(50), 41);
+  report::TimingOptions untimed;
+  untimed.repetitions = 0;
+  const auto generated = report::measure_generated<double>(compiled.solve_f64_of.at(solver::Policy::original), "double",
+                                                           s.flat_layout(chain.dof()), problems, untimed);
+  solver::SolverOptions options = s.solver_options();
+  options.constraint_rows = compiled.constraint_rows;
+  solver::ReferenceSolver<double> reference(chain, s.layout, options);
+  for (std::size_t k = 0; k < problems.size(); ++k) {
+    const auto& solution = reference.run(problems[k], solver::Policy::original);
+    const report::Outcome& outcome = generated.outcomes[k];
+    ASSERT_TRUE(reference.status() & solver::status_constraint_rank_deficient) << "state " << k;
+    EXPECT_EQ(outcome.status, reference.status()) << "state " << k;
+    // One multiplier carries the force along z, the other is 0: their sum is the reference's, and
+    // so is q̈. The two run the same operations but for the trace's folding (EmittedSolver above);
+    // its ceiling, kEmittedErrorFactor ε at the largest κ it judges (kIllConditioned), relative,
+    // bounds them here too: ~9e-9, where a pivot of rounding size would make ν ~1e16 times larger.
+    const double bound = kEmittedErrorFactor * std::numeric_limits<double>::epsilon() * kIllConditioned;
+    const double sum = static_cast<double>(outcome.nu[0] + outcome.nu[1]);
+    const double expected = solution.nu[0] + solution.nu[1];
+    EXPECT_LE(std::abs(sum - expected), bound * std::max(1.0, std::abs(expected)))
+        << "state " << k << ": " << sum << " vs " << expected;
+    for (std::size_t i = 0; i < chain.dof(); ++i)
+      EXPECT_LE(std::abs(static_cast<double>(outcome.qdd[i]) - solution.qdd[static_cast<Eigen::Index>(i)]),
+                bound * std::max(1.0, solution.qdd.cwiseAbs().maxCoeff()))
+          << "state " << k << " joint " << i;
+  }
+}
+
 // The tests and the stability study compile generated code at -O0 (report::Optimisation::checked)
 // on the claim that on the x86-64 baseline its numbers do not depend on -O: every operation is one
 // SSE2 instruction rounding to its type, no fused multiply-add exists and -std=c++17 forbids

@@ -3,6 +3,7 @@
 #include <functional>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <vector>
 #include <sstream>
 
@@ -253,6 +254,11 @@ class Writer {
     }
     if (declared_.count(id)) return local_.at(id);
     if (n.op == Op::input || plan_.stage[id] < f_.stage) return leaf(id);
+    // Only a node used once is written where it is used; any other is declared before its users
+    // (write_node). Reaching one undeclared is a planning error: say so rather than write it out
+    // as a tree, which grows exponentially with the graph's sharing.
+    if (local_.count(id) || uses_[id] != 1)
+      throw std::logic_error("emit: " + f_.name + " reads node " + std::to_string(id) + " before it is computed");
     const int own = precedence(n.op);
     const std::string text = expression(id, own);
     return own < context ? "(" + text + ")" : text;

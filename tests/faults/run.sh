@@ -29,9 +29,14 @@ while IFS='|' read -r name file expression filter; do
   if ! cmake --build "$work/build" --target sweepgen_tests > "$work/$name.build.log" 2>&1; then
     echo "FAULT $name: caught at build time ($work/$name.build.log)"
   else
-    "$work/build/tests/sweepgen_tests" --gtest_filter="$filter" > "$work/$name.log" 2>&1
+    # A fault can make a test run away (a generator printing a graph as a tree): 15 minutes, then
+    # the suite is stopped and the fault counted caught by its time-out (a generator that never
+    # finishes fails the build or the test that runs it).
+    timeout 900 "$work/build/tests/sweepgen_tests" --gtest_filter="$filter" > "$work/$name.log" 2>&1
+    timed_out=$?
     failed=$(grep -E '^\[  FAILED  \] [A-Za-z]' "$work/$name.log" | grep -v ' tests\?, listed below' |
              sed -E 's/^\[  FAILED  \] ([^.]*\.[^/ ,(]*).*/\1/' | sort -u | tr '\n' ' ')
+    if [ "$timed_out" -eq 124 ]; then failed+="(stopped after 900 s in $(grep '^\[ RUN' "$work/$name.log" | tail -1 | cut -c14-))"; fi
     if [ -n "$failed" ]; then
       echo "FAULT $name: caught by $failed"
     else
