@@ -180,6 +180,10 @@ TEST(SolveDerivatives, TreeMatchesBinary128Differences) {
 TEST(SolveDerivatives, PrismaticJointMatchesBinary128Differences) {
   compare_with_differences("planar/planar_nc2.yaml", difference_states());
 }
+// A floating tree whose two prismatic fingers each carry a constraint set.
+TEST(SolveDerivatives, FloatingTreeWithPrismaticFingersMatchesBinary128Differences) {
+  compare_with_differences("mobile_panda_gripper/mobile_panda_grasp.yaml", difference_states());
+}
 TEST(SolveDerivatives, FloatingBaseMatchesBinary128Differences) {
   compare_with_differences("mobile_panda/mobile_panda_hand.yaml", difference_states());
 }
