@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "solver/dual_scalar.hpp"
+#include "solver/joint_transform_tangent.hpp"  // Transform<Dual<T>> (D6), seen before any use
 #include "spatial/spatial.hpp"
 
 namespace sweepgen::solver {
