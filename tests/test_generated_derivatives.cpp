@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,9 @@ struct Case {
 const Case kScenes[] = {{"panda/panda_nc6.yaml", {true, true, true}},
                         {"iiwa14/iiwa14_lean_nc6_fixed.yaml", {true, true, false}},
                         {"mobile_panda/mobile_panda_hand.yaml", {true, false, true}}};
+
+// What ctest lists beside the test's name (GetParam() = ...): the scene, not the struct's bytes.
+void PrintTo(const Case& c, std::ostream* out) { *out << c.scene; }
 
 std::string test_name(const Case& c) {
   std::string name = c.scene;
