@@ -309,12 +309,13 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
   for (const auto& entry : Derived::solves) policies.append(entry.policy);
   m.attr("derivative_policies") = py::tuple(policies);
   m.attr("derivative_columns") = Derived::columns;
-  py::list outputs;
-  const std::pair<const char*, bool> returned[] = {
-      {"qdd", Derived::of_qdd}, {"nu", Derived::of_nu && constraints > 0}, {"tau_cmd", Derived::of_tau_cmd}};
-  for (const auto& [name, with] : returned)
-    if (with) outputs.append(name);
-  m.attr("derivative_outputs") = py::tuple(outputs);
+  // Per output y: its name, its rows and whether its Jacobian is returned (the header's derivative_of_*).
+  static constexpr std::tuple<const char*, py::ssize_t, bool> kOutputs[] = {
+      {"qdd", dof, Derived::of_qdd}, {"nu", constraints, Derived::of_nu}, {"tau_cmd", dof, Derived::of_tau_cmd}};
+  py::list returned;
+  for (const auto& [name, rows, with_jacobian] : kOutputs)
+    if (with_jacobian && rows > 0) returned.append(name);
+  m.attr("derivative_outputs") = py::tuple(returned);
   m.def(
       "derivatives",
       [prefix, n_drivers](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
@@ -335,9 +336,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
         const py::ssize_t widths[4] = {dof, dof, dof, constraints};
         const char* suffixes[4] = {"_dq", "_dqd", "_dtau_ff", "_dbeta"};
         std::vector<Output> outputs;
-        const std::tuple<const char*, py::ssize_t, bool> sizes[] = {
-            {"qdd", dof, Derived::of_qdd}, {"nu", constraints, Derived::of_nu}, {"tau_cmd", dof, Derived::of_tau_cmd}};
-        for (const auto& [name, rows, with_jacobian] : sizes) {
+        for (const auto& [name, rows, with_jacobian] : kOutputs) {
           Output o{name, rows, with_jacobian, array_of<Scalar>(batch, rows), {}};
           for (int k = 0; k < 4; ++k)
             if (with_jacobian)
