@@ -169,26 +169,39 @@ TEST(Emitter, StateMembersAndBannersAreNamedFromTheMath) {
 // decides.
 TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
   const model::Chain chain = panda();
-  const std::regex columns_count(R"(columns F\^A_cstr,i inward \(I2\) \((\d+) operations\))");
+  const std::regex columns_count(R"(columns F\^A_cstr,i inward \(I2\) \((\d+) operations(, (\d+) counting two lanes as one)?\))");
   const std::regex rows_count(R"(rows r_i outward \(I6\) \((\d+) operations\))");
-  std::size_t decided_by_weight = 0;
-  for (std::size_t nc : {1u, 2u, 3u, 6u}) {
-    const emit::EmitRequest emit_request{"scene", {"double"}, false, request({{"push", "panda_hand"}}, nc), "test"};
-    const auto choices = emit::emit_solver(chain, emit_request).choices;
-    const auto line = std::find_if(choices.begin(), choices.end(),
-                                   [](const std::string& c) { return c.rfind("Constraint rows", 0) == 0; });
-    ASSERT_NE(line, choices.end()) << "Nc=" << nc;
-    std::smatch c, r;
-    ASSERT_TRUE(std::regex_search(*line, c, columns_count)) << *line;
-    ASSERT_TRUE(std::regex_search(*line, r, rows_count)) << *line;
-    const double columns = std::stod(c[1]), rows = std::stod(r[1]);
-    const double weight = nc > 2 ? 21.0 / 20.0 : 1.0;
-    const bool chose_rows = line->find(": rows r_i outward") != std::string::npos;
-    EXPECT_EQ(chose_rows, rows < columns * weight) << *line;
-    EXPECT_EQ(line->find("weighted by 21/20") != std::string::npos, nc > 2) << *line;
-    if (chose_rows && columns < rows) ++decided_by_weight;
-  }
+  std::size_t decided_by_weight = 0, in_lanes = 0;
+  for (const bool fixed : {false, true})
+    for (std::size_t nc : {1u, 2u, 3u, 6u}) {
+      symbolic::TraceRequest r = request({{"push", "panda_hand"}}, nc);
+      if (fixed) {  // unit directions along the axes of panda_hand: folded, no lanes
+        std::vector<spatial::Force<double>> axes(nc);
+        for (std::size_t k = 0; k < nc; ++k) (k < 3 ? axes[k].moment : axes[k].force)[k % 3] = 1;
+        r.layout.sets = {solver::ConstraintSet{"", nc, axes}};
+      }
+      const emit::EmitRequest emit_request{"scene", {"double"}, false, r, "test"};
+      const auto choices = emit::emit_solver(chain, emit_request).choices;
+      const auto line = std::find_if(choices.begin(), choices.end(),
+                                     [](const std::string& c) { return c.rfind("Constraint rows", 0) == 0; });
+      ASSERT_NE(line, choices.end()) << "Nc=" << nc;
+      std::smatch c, rows_match;
+      ASSERT_TRUE(std::regex_search(*line, c, columns_count)) << *line;
+      ASSERT_TRUE(std::regex_search(*line, rows_match, rows_count)) << *line;
+      const double rows = std::stod(rows_match[1]);
+      // Run-time directions (two or more) are computed in lanes: the columns cost what the line
+      // states counting two lanes as one, unweighted; else their count, weighted past two.
+      const bool lanes = c[3].matched;
+      EXPECT_EQ(lanes, !fixed && nc >= 2) << *line;
+      const double columns = lanes ? std::stod(c[3]) : std::stod(c[1]) * (nc > 2 ? 21.0 / 20.0 : 1.0);
+      const bool chose_rows = line->find(": rows r_i outward") != std::string::npos;
+      EXPECT_EQ(chose_rows, rows < columns) << *line;
+      EXPECT_EQ(line->find("weighted by 21/20") != std::string::npos, !lanes && nc > 2) << *line;
+      if (chose_rows && std::stod(c[1]) < rows) ++decided_by_weight;
+      in_lanes += lanes && !chose_rows ? 1 : 0;
+    }
   EXPECT_GE(decided_by_weight, 1u);
+  EXPECT_GE(in_lanes, 1u);
 }
 
 // derivatives: [..] returns the Jacobians listed and computes nothing for the others: on the Panda

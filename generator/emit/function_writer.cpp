@@ -1,5 +1,6 @@
 #include "emit/function_writer.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <set>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "emit/equations.hpp"
+#include "emit/lane_groups.hpp"
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
 
@@ -32,6 +34,7 @@ class Writer {
     find_hoisted();
     name_leaves();
     collect_stores();
+    lanes_ = find_lane_groups(trace_, f_);
     for (std::size_t i = 0; i < f_.computed.size();) {
       std::size_t end = i + 1;
       if (f_.path_block[i] == 0) {
@@ -46,7 +49,7 @@ class Writer {
     OpCount worst = ops_;
     worst += worst_extra_;
     ops_ += taken_extra_;
-    return {text_.str(), ops_, worst};
+    return {text_.str(), ops_, worst, uses_lanes_, vector_expressions_};
   }
 
  private:
@@ -168,7 +171,71 @@ class Writer {
 
   void write_node(NodeId id, OpCount& ops) {
     ops.count(graph_.node(id).op);
+    if (const auto lane = lanes_.lane_of.find(id); lane != lanes_.lane_of.end()) {
+      vector_locals(lane->second.first);  // at the group's first member: every lane's operands are ready
+      return;
+    }
     if (local_.count(id) || uses_[id] != 1 || hoisted_.count(id)) declare(id);
+  }
+
+  // The locals holding group g's lanes (lane_groups.hpp), one per chunk (an empty string for a
+  // chunk without members), declared on first use: a seed gathers the directions' components
+  // from their loads, any other group is one vector expression per chunk of its first member's
+  // shape, the operands shared by every lane broadcast.
+  const std::vector<std::string>& vector_locals(std::size_t g) {
+    if (const auto found = group_locals_.find(g); found != group_locals_.end()) return found->second;
+    const LaneGroup& group = lanes_.groups[g];
+    const NodeId first = *std::find_if(group.members.begin(), group.members.end(), [](NodeId m) { return m != kNoLane; });
+    if (!group.seed) {
+      ++vector_expressions_;
+      banner_for(first);
+    }
+    std::vector<std::string> names;
+    const std::vector<LaneGroups::Chunk> chunks = LaneGroups::chunks(group.members.size());
+    for (std::size_t c = 0; c < chunks.size(); ++c) {
+      const LaneGroups::Chunk& chunk = chunks[c];
+      const auto begin = group.members.begin() + chunk.first, end = begin + chunk.count;
+      const auto present = std::find_if(begin, end, [](NodeId m) { return m != kNoLane; });
+      if (present == end) {
+        names.emplace_back();
+        continue;
+      }
+      std::string value;
+      if (group.seed) {
+        for (std::size_t l = 0; l < LaneGroups::kWidth; ++l)
+          value += (l ? ", " : "{") + leaf(*(l < chunk.count ? begin + l : begin));
+        value += "}";
+      } else {
+        const Node& n = graph_.node(first);
+        const auto lane_operand = [&](int k) {
+          return group.lane_operand[k] ? vector_locals(lanes_.lane_of.at(n.args[k]).first).at(c)
+                                       : operand(n.args[k], kAtom);
+        };
+        const std::string a = lane_operand(0);
+        value = n.op == Op::neg ? "-" + a : a + vector_operator(n.op) + lane_operand(1);
+      }
+      flush_loads();
+      const std::string name = "lanes" + std::to_string(next_vector_++);
+      text_ << indent_ << "const Lanes" << LaneGroups::kWidth << " " << name << " = " << value << ";\n";
+      uses_lanes_ = true;
+      for (auto m = begin; m != end; ++m) {
+        if (*m == kNoLane) continue;
+        local_[*m] = name + "[" + std::to_string(m - begin) + "]";
+        declared_[*m] = true;
+        if (!group.seed) store(*m);
+      }
+      names.push_back(name);
+    }
+    return group_locals_[g] = names;
+  }
+
+  static const char* vector_operator(Op op) {
+    switch (op) {
+      case Op::add: return " + ";
+      case Op::sub: return " - ";
+      case Op::mul: return " * ";
+      default: return " / ";
+    }
   }
 
   // computed[begin, end): one if/else on a path condition (Plan::guard). The select_path results
@@ -385,6 +452,11 @@ class Writer {
   OpCount taken_extra_, worst_extra_;  // inside them: the taken branches, the costlier ones
   std::string indent_ = "  ";
   std::set<NodeId> hoisted_;  // find_hoisted
+  LaneGroups lanes_;
+  std::map<std::size_t, std::vector<std::string>> group_locals_;
+  int next_vector_ = 0;
+  bool uses_lanes_ = false;
+  std::size_t vector_expressions_ = 0;
   int next_expression_ = 0;
   int block_body_ = -2;
   std::string block_sweep_, block_array_;

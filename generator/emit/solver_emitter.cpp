@@ -11,6 +11,7 @@
 
 #include "emit/equations.hpp"
 #include "emit/function_plan.hpp"
+#include "emit/lane_groups.hpp"
 #include "emit/function_writer.hpp"
 #include "emit/joint_inertia_note.hpp"
 #include "emit/literal.hpp"
@@ -173,48 +174,99 @@ std::string factorisation_note(const solver::SolverOptions& options, std::size_t
                    tolerance + " (scene: constraint_factorisation).";
 }
 
+// The vector type of the groups of lanes (lane_groups.hpp), one lane per constraint direction:
+// GCC's and clang's vector extension (an SSE2 register, or half an AVX one; the same rounding per
+// lane as the scalar code), else (or with SWEEPGEN_SCALAR_LANES defined) an array with the same
+// operators.
+std::string lane_type() {
+  const std::string name = "Lanes" + std::to_string(LaneGroups::kWidth), n = std::to_string(LaneGroups::kWidth);
+  const std::string loop = "for (int l = 0; l < " + n + "; ++l) ";
+  std::string text =
+      "\n// Two lanes, two constraint directions of a set (their expressions are alike: computed\n"
+      "// together, as in sweepgen's emit/lane_groups.hpp); a set of odd count repeats a lane.\n"
+      "#if defined(__GNUC__) && !defined(SWEEPGEN_SCALAR_LANES)\ntypedef Scalar " + name + " __attribute__((vector_size(" + n +
+      " * sizeof(Scalar))));\n#else\nstruct " + name + " {\n  Scalar lane[" + n + "];\n" +
+      "  Scalar operator[](int l) const { return lane[l]; }\n" + "  friend " + name + " operator-(" + name + " a) { " + loop +
+      "a.lane[l] = -a.lane[l]; return a; }\n";
+  for (const char* op : {"+", "-", "*", "/"}) {
+    const std::string o = op;
+    text += "  friend " + name + " operator" + o + "(" + name + " a, " + name + " b) { " + loop + "a.lane[l] = a.lane[l] " + o +
+            " b.lane[l]; return a; }\n" + "  friend " + name + " operator" + o + "(Scalar s, " + name + " b) { " + loop +
+            "b.lane[l] = s " + o + " b.lane[l]; return b; }\n" + "  friend " + name + " operator" + o + "(" + name +
+            " a, Scalar s) { " + loop + "a.lane[l] = a.lane[l] " + o + " s; return a; }\n";
+  }
+  return text + "};\n#endif\n";
+}
+
+// One line on the lanes the code computes in (run-time directions of a set, columns).
+std::string lanes_note(std::size_t vector_expressions) {
+  return "Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; " +
+         std::to_string(vector_expressions) + " vector expressions per scalar type).";
+}
+
 constexpr std::size_t kFusedOperations = 12000;
 
-// The cost `constraint_rows: auto` compares: a formulation's operations, the columns' (I2) weighted
-// by 21/20 once they carry more than two directions. Each column is a 6-vector live through every
-// body's step; past two (12 values) they no longer fit the 16 vector registers of x86-64 and
-// spill, which an operation count does not see (bench/code_stats.sh: 3 033 spills with columns
-// against 2 599 with rows on panda_nc6). On nine scenes measured both ways (bench/README.md,
-// "Issue #29, fourth session"), rows ran fewer instructions wherever the columns led the count by
-// up to 4.3 % with Nc >= 3, columns ran fewer where they led by 6.7 % (panda_nc3) or carried two
-// directions (planar_nc2, 1.6 %); 5 % separates them.
-double rows_cost(solver::ConstraintRows rows, std::size_t operations, std::size_t directions) {
+// A formulation's operations on the usual path, every function and policy, and how many of them
+// its groups of lanes save (lane_groups.hpp).
+struct PlannedCost {
+  std::size_t operations = 0;
+  std::size_t saved_by_lanes = 0;
+};
+
+// The cost `constraint_rows: auto` compares: a formulation's operations less what its lanes
+// save, the columns' (I2) weighted by 21/20 where they are computed in scalars and carry more
+// than two directions. Each such column is a 6-vector live through every body's step; past two
+// (12 values) they no longer fit the 16 vector registers of x86-64 and spill, which an operation
+// count does not see (bench/code_stats.sh: 3 033 spills with columns against 2 599 with rows on
+// panda_nc6). On nine scenes measured both ways (bench/README.md, "Issue #29, fourth session"),
+// rows ran fewer instructions wherever the columns led the count by up to 4.3 % with Nc >= 3,
+// columns ran fewer where they led by 6.7 % (panda_nc3) or carried two directions (planar_nc2,
+// 1.6 %); 5 % separates them. Run-time directions put the columns in lanes, two per register on
+// the baseline, and the weight does not apply (bench/README.md, "Issue #29, fifth session").
+double rows_cost(solver::ConstraintRows rows, const PlannedCost& cost, std::size_t directions) {
   constexpr std::size_t kColumnsInRegisters = 2;
   constexpr double kSpillingColumnsWeight = 21.0 / 20.0;
-  const bool spilling = rows == solver::ConstraintRows::inward_columns && directions > kColumnsInRegisters;
-  return static_cast<double>(operations) * (spilling ? kSpillingColumnsWeight : 1.0);
+  const bool spilling = rows == solver::ConstraintRows::inward_columns && directions > kColumnsInRegisters &&
+                        cost.saved_by_lanes == 0;
+  return static_cast<double>(cost.operations - cost.saved_by_lanes) * (spilling ? kSpillingColumnsWeight : 1.0);
 }
 
 // One line on how the rows r_i = S_i^T F^A_cstr,i are formed, with both formulations' counts.
-std::string rows_note(solver::ConstraintRows chosen, const std::map<solver::ConstraintRows, std::size_t>& counted,
+std::string rows_note(solver::ConstraintRows chosen, const std::map<solver::ConstraintRows, PlannedCost>& counted,
                       bool requested, bool exposed, std::size_t directions) {
   const auto count = [&](solver::ConstraintRows rows) {
     const auto found = counted.find(rows);
-    return found == counted.end() ? std::string() : " (" + std::to_string(found->second) + " operations)";
+    if (found == counted.end()) return std::string();
+    const PlannedCost& c = found->second;
+    return " (" + std::to_string(c.operations) + " operations" +
+           (c.saved_by_lanes ? ", " + std::to_string(c.operations - c.saved_by_lanes) + " counting two lanes as one" : "") +
+           ")";
   };
   const std::string columns = "columns F^A_cstr,i inward (I2)" + count(solver::ConstraintRows::inward_columns);
   const std::string rows = "rows r_i outward (I6)" + count(solver::ConstraintRows::outward_rows);
   const bool outward = chosen == solver::ConstraintRows::outward_rows;
-  const std::string weighted =
-      rows_cost(solver::ConstraintRows::inward_columns, 1, directions) > 1 ? ", the columns' count weighted by 21/20" : "";
+  const auto columns_cost = counted.find(solver::ConstraintRows::inward_columns);
+  const bool weighted = columns_cost != counted.end() &&
+                        rows_cost(solver::ConstraintRows::inward_columns, columns_cost->second, directions) >
+                            static_cast<double>(columns_cost->second.operations);
   const std::string why = requested ? " (scene: constraint_rows)"
                           : exposed ? " (scene: expose: all lists the columns)"
-                                    : ", not the " + (outward ? columns : rows) + " (scene: constraint_rows: auto" + weighted + ")";
+                                    : ", not the " + (outward ? columns : rows) + " (scene: constraint_rows: auto" +
+                                          (weighted ? ", the columns' count weighted by 21/20" : "") + ")";
   return "Constraint rows r_i = S_i^T F^A_cstr,i: " + (outward ? rows : columns) + why + ".";
 }
 
-// Operations of one planned trace on its usual path: every function, every policy.
-std::size_t planned_operations(const symbolic::Trace& trace, const Plan& plan) {
+// Operations of one planned trace on its usual path, and what its lanes save.
+PlannedCost planned_cost(const symbolic::Trace& trace, const Plan& plan) {
   OpCount ops;
-  for (const auto& f : plan.functions)
+  PlannedCost cost;
+  for (const auto& f : plan.functions) {
     for (NodeId id : f.computed)
       if (plan.guard[id] == kAlways || plan.guard[id] % 2 == 0) ops.count(trace.graph.node(id).op);
-  return ops.total();
+    cost.saved_by_lanes += find_lane_groups(trace, f).operations_saved();
+  }
+  cost.operations = ops.total();
+  return cost;
 }
 
 const char* policy_doc(const std::string& group) {
@@ -297,7 +349,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
 
   data op_lines{data::type::list};
   data variants{data::type::list};
-  std::string rows_line;
+  std::string rows_line, lanes_line;
   for (const std::string& scalar : request.scalars) {
     symbolic::TraceRequest trace_request = request.trace;
     trace_request.epsilon = epsilon_of(scalar);
@@ -308,12 +360,12 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       candidates.push_back(solver::ConstraintRows::outward_rows);
     std::optional<symbolic::Trace> best_trace;
     std::optional<Plan> best_plan;
-    std::map<solver::ConstraintRows, std::size_t> counted;
+    std::map<solver::ConstraintRows, PlannedCost> counted;
     for (const solver::ConstraintRows rows : candidates) {
       trace_request.options.constraint_rows = rows;
       symbolic::Trace candidate = symbolic::trace_solver(chain, trace_request);
       Plan candidate_plan = make_plan(candidate, request.expose_all);
-      counted[rows] = planned_operations(candidate, candidate_plan);
+      counted[rows] = planned_cost(candidate, candidate_plan);
       if (!best_plan || rows_cost(rows, counted[rows], nc) <
                             rows_cost(best_trace->constraint_rows, counted[best_trace->constraint_rows], nc)) {
         best_trace = std::move(candidate);
@@ -346,10 +398,14 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variant.set("solution_members", array_members(trace, solution_fields, n + 1, true));
 
     OpCount shared, shared_worst;
+    bool lanes = false;
+    std::size_t vector_expressions = 0;
     std::vector<std::string> worst_lines;  // where a path condition (C4) makes the worst case differ
     data solves{data::type::list};
     for (const auto& f : plan.functions) {
       const FunctionText text = write_function(trace, plan, f, chain, scalar);
+      lanes = lanes || text.lanes;
+      vector_expressions += text.vector_expressions;
       result.costs.push_back({scalar, f.name, text.ops});
       op_lines.push_back(data("line", tag_of(scalar) + "::" + f.name + ": " + text.ops.summary()));
       if (f.stage < symbolic::stage_solve) {
@@ -384,6 +440,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       data functions{data::type::list};
       for (const auto& f : derivative_plan.functions) {
         const FunctionText text = write_function(derivative_trace, derivative_plan, f, chain, scalar);
+        lanes = lanes || text.lanes;
         result.costs.push_back({scalar, f.name, text.ops});
         op_lines.push_back(data("line", tag_of(scalar) + "::" + f.name + ": " + text.ops.summary()));
         data function;
@@ -397,6 +454,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       }
       variant.set("derivative_functions", functions);
     }
+    variant.set("lane_types", lanes ? lane_type() : "");
+    if (lanes_line.empty() && lanes) lanes_line = lanes_note(vector_expressions);
     variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
     variant.set("flat_out", flat_out(sets));
     const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base);
@@ -473,6 +532,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("factorisation_note", factorisation_note(request.trace.options, nc));
   values.set("rows_note", rows_line.empty() ? "" : "\n// " + rows_line);
   if (!rows_line.empty()) result.choices.push_back(rows_line);
+  values.set("lanes_note", lanes_line.empty() ? "" : "\n// " + lanes_line);
+  if (!lanes_line.empty()) result.choices.push_back(lanes_line);
   std::vector<double> epsilons;
   for (const std::string& scalar : request.scalars) epsilons.push_back(epsilon_of(scalar));
   const std::string joint_line =
