@@ -266,6 +266,24 @@ TEST(SolveDerivatives, DroppedDirectionIsDifferentiatedAsReturned) {
   EXPECT_GT(d.d_qdd.beta.col(3 - dropped).cwiseAbs().maxCoeff(), 0.0);  // the kept one is enforced
 }
 
+// (D7): the τff and β columns of q̈ are read from one symmetric matrix, ∂q̈/∂τff's upper triangle
+// and ν's τff columns, so the returned Jacobians are exactly (bit for bit) symmetric and
+// transposed; that these entries are the right derivatives is what the binary128 differences and
+// the identities above check, entry by entry.
+TEST(SolveDerivatives, TorqueAndSetpointColumnsAreOneSymmetricMatrix) {
+  for (const char* relative : {"panda/panda_nc6.yaml", "panda/panda_nc0.yaml", "mobile_panda_gripper/mobile_panda_grasp.yaml"}) {
+    const SceneCase c = load(relative);
+    solver::DerivativeSolver<double> derivatives(c.chain, c.scene.layout, c.scene.solver_options());
+    for (const report::Problem& p : report::random_problems(c.scene, c.chain, 5, 23))
+      for (const Policy policy : {Policy::original, Policy::prioritize_external}) {
+        const solver::SolveDerivatives<double> d = derivatives.solve(p, policy);
+        EXPECT_EQ(Matrix(d.d_qdd.tau_ff), Matrix(d.d_qdd.tau_ff.transpose())) << relative;
+        EXPECT_EQ(Matrix(d.d_qdd.beta), Matrix(-d.d_nu.tau_ff.transpose())) << relative;
+        EXPECT_GT(d.d_qdd.tau_ff.cwiseAbs().maxCoeff(), 0.0) << relative;  // not vacuous
+      }
+  }
+}
+
 // (d) The saturating policies have no derivative where they clamp: refused, by name.
 TEST(SolveDerivatives, SaturatingPoliciesAreRefused) {
   const SceneCase c = load("panda/panda_nc6.yaml");

@@ -8,6 +8,7 @@
 
 #include "solver/dual_scalar.hpp"
 #include "solver/joint_transform_tangent.hpp"  // Transform<Dual<T>> (D6), seen before any use
+#include "solver/state.hpp"
 #include "spatial/spatial.hpp"
 
 namespace sweepgen::solver {
@@ -35,6 +36,26 @@ struct DerivativeOutputs {
     return 2 * columns.dof + columns.constraints + rows * columns.count() + 1;
   }
 };
+
+// (D7): the constrained solve's Jacobians along τff and β come from one symmetric matrix,
+//   [∂q̈/∂τff  ∂q̈/∂β]   [ M⁻¹ − M⁻¹Jᵀ E⁻¹ J M⁻¹   M⁻¹Jᵀ E⁻¹ ]
+//   [∂ν/∂τff  ∂ν/∂β ] = [ −E⁻¹ J M⁻¹               E⁻¹       ]  (E = J M⁻¹ Jᵀ; docs/derivation.md),
+// so ∂q̈/∂τff is symmetric and ∂q̈/∂β = −(∂ν/∂τff)ᵀ. q̈'s entries below the diagonal of its τff
+// block are taken from above it (row i, column τff(j < i): q̈_j's derivative along τff(i)), and
+// its β columns from ν's τff columns: no tangent of an acceleration past body j along τff(j), nor
+// any along β, is then read, and what is not read is not computed (the trace keeps what its
+// outputs need). Applied to the solver sweep's q̈ and ν, before (D5) reads them.
+template <class T>
+void mirror_symmetric_columns(JointVector<Dual<T>>& qdd, const ConstraintVector<Dual<T>>& nu,
+                              const DerivativeColumns& columns) {
+  for (std::size_t i = 0; i < columns.dof; ++i) {
+    typename Dual<T>::Tangent tangent(columns.count(), T(0));
+    for (std::size_t c = 0; c < columns.count(); ++c) tangent[c] = qdd[i].derivative(c);
+    for (std::size_t j = 0; j < i; ++j) tangent[columns.tau_ff(j)] = qdd[j].derivative(columns.tau_ff(i));
+    for (std::size_t k = 0; k < columns.constraints; ++k) tangent[columns.beta(k)] = -nu[k].derivative(columns.tau_ff(i));
+    qdd[i] = Dual<T>(qdd[i].value(), std::move(tangent));
+  }
+}
 
 // `value` with tangent e_column (of `columns.count()` entries).
 template <class T>

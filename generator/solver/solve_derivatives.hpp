@@ -94,6 +94,7 @@ class DerivativeSolver {
     ConstraintVector<D> beta(nc);
     for (std::size_t k = 0; k < nc; ++k) beta[k] = seeded(in.beta[k], columns.beta(k), columns);
     Solution<D> s = solver_.solve(policy, beta);
+    mirror_symmetric_columns(s.qdd, s.nu, columns);  // (D7)
     if (by_residuals) {
       auto kin = KinematicsState<D>::sized(n);
       outward_sweep_base_to_tip(model, q, qd, kin, rotation);

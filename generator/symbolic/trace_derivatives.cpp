@@ -91,9 +91,11 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
     auto solution = solver::Solution<D>::sized(n, nc, layout.listed_sets());
     if (solver::differentiates_by_residuals(model, policy)) {
       solver::solver_sweep_base_to_tip(model, kin_values, decomposed(kin_values), drivers, beta, policy, solution);
+      solver::mirror_symmetric_columns(solution.qdd, solution.nu, columns);  // (D7)
       solver::complete_by_residuals(model, kin, drivers, beta, solution);
     } else {
       solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
+      solver::mirror_symmetric_columns(solution.qdd, solution.nu, columns);  // (D7)
     }
     const std::string group = solver::name(policy);
     record_output(trace, group, "qdd", solution.qdd, columns, outputs.qdd);
