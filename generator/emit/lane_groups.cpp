@@ -12,7 +12,6 @@ using symbolic::Op;
 using symbolic::Quantity;
 
 constexpr std::size_t kNone = ~std::size_t(0);
-constexpr NodeId kNoNode = kNoLane;
 
 bool groupable(Op op) { return op == Op::add || op == Op::sub || op == Op::mul || op == Op::div || op == Op::neg; }
 bool commutative(Op op) { return op == Op::add || op == Op::mul; }
@@ -78,7 +77,7 @@ class Finder {
   void add(LaneGroup group) {
     const std::size_t g = result_.groups.size();
     for (std::size_t l = 0; l < group.members.size(); ++l)
-      if (group.members[l] != kNoNode) result_.lane_of[group.members[l]] = {g, l};
+      if (group.members[l] != kNoLane) result_.lane_of[group.members[l]] = {g, l};
     result_.groups.push_back(std::move(group));
   }
 
@@ -127,7 +126,6 @@ class Finder {
   bool pass(bool partial) {
     struct Candidate {
       std::vector<NodeId> members;
-      std::vector<std::size_t> positions;
       std::size_t filled = 0;
       bool closed = false;  // a complete group of this shape formed in this pass
     };
@@ -138,15 +136,12 @@ class Finder {
       LaneGroup group;
       group.members = c.members;
       std::size_t present = 0;
-      group.first_position = ~std::size_t(0);
       for (std::size_t l = 0; l < c.members.size(); ++l) {
-        if (c.members[l] != kNoNode && result_.lane_of.count(c.members[l])) group.members[l] = kNoNode;
-        if (group.members[l] == kNoNode) continue;
-        ++present;
-        group.first_position = std::min(group.first_position, c.positions[l]);
+        if (c.members[l] != kNoLane && result_.lane_of.count(c.members[l])) group.members[l] = kNoLane;
+        present += group.members[l] != kNoLane ? 1 : 0;
       }
       if (complete ? present < group.members.size() : present <= LaneGroups::baseline_instructions(group)) return;
-      const std::size_t lane = std::find_if(group.members.begin(), group.members.end(), [](NodeId m) { return m != kNoNode; }) -
+      const std::size_t lane = std::find_if(group.members.begin(), group.members.end(), [](NodeId m) { return m != kNoLane; }) -
                                group.members.begin();
       const Node& n = graph_.node(group.members[lane]);
       for (int k = 0; k < symbolic::arity(n.op); ++k) {
@@ -168,12 +163,10 @@ class Finder {
         Candidate& c = found->second;
         if (opened) {
           order.push_back(key);
-          c.members.assign(lanes, kNoNode);
-          c.positions.assign(lanes, 0);
+          c.members.assign(lanes, kNoLane);
         }
-        if (c.closed || c.members[lane] != kNoNode) continue;
+        if (c.closed || c.members[lane] != kNoLane) continue;
         c.members[lane] = id;
-        c.positions[lane] = i;
         if (++c.filled == c.members.size()) {
           form(key, c, true);
           c.closed = true;
@@ -207,7 +200,7 @@ std::size_t LaneGroups::baseline_instructions(const LaneGroup& group) {
   std::size_t instructions = 0;
   for (const Chunk& c : chunks(group.members.size()))
     if (std::any_of(group.members.begin() + c.first, group.members.begin() + c.first + c.count,
-                    [](NodeId m) { return m != kNoNode; }))
+                    [](NodeId m) { return m != kNoLane; }))
       ++instructions;
   return instructions;
 }
@@ -217,7 +210,7 @@ std::size_t LaneGroups::operations_saved() const {
   for (const LaneGroup& group : groups) {
     if (group.seed) continue;
     const auto present =
-        static_cast<std::size_t>(std::count_if(group.members.begin(), group.members.end(), [](NodeId m) { return m != kNoNode; }));
+        static_cast<std::size_t>(std::count_if(group.members.begin(), group.members.end(), [](NodeId m) { return m != kNoLane; }));
     saved += present - baseline_instructions(group);
   }
   return saved;

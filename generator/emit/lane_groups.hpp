@@ -15,6 +15,9 @@
 // only by realigning the frame at run time, and measured slower there: bench/README.md, "Issue
 // #29, fifth session"). A set of odd count pads its last chunk with a copy of that chunk's first
 // lane: it computes what that lane computes, so it raises no floating-point exception it does not.
+// The writer computes a group where its first member (in FunctionPlan::computed) stands: every
+// operand of every member is ready there, a shared one being that member's operand too, a lane
+// read being a member of a group with a member earlier still, so written earlier.
 #pragma once
 
 #include <array>
@@ -34,7 +37,6 @@ struct LaneGroup {
   // Per operand of the members: read lane by lane (from the operand's group) or, if not, the
   // same node in every lane (a shared value, or one lane of a group, broadcast).
   std::array<bool, 2> lane_operand{};
-  std::size_t first_position = 0;  // the earliest member's place in FunctionPlan::computed (not seeds)
 };
 
 struct LaneGroups {
