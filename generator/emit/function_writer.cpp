@@ -49,7 +49,7 @@ class Writer {
     OpCount worst = ops_;
     worst += worst_extra_;
     ops_ += taken_extra_;
-    return {text_.str(), ops_, worst, uses_lanes_, vector_expressions_};
+    return {text_.str(), ops_, worst, vector_expressions_};
   }
 
  private:
@@ -217,7 +217,6 @@ class Writer {
       flush_loads();
       const std::string name = "lanes" + std::to_string(next_vector_++);
       text_ << indent_ << "const Lanes" << LaneGroups::kWidth << " " << name << " = " << value << ";\n";
-      uses_lanes_ = true;
       for (auto m = begin; m != end; ++m) {
         if (*m == kNoLane) continue;
         local_[*m] = name + "[" + std::to_string(m - begin) + "]";
@@ -455,7 +454,6 @@ class Writer {
   LaneGroups lanes_;
   std::map<std::size_t, std::vector<std::string>> group_locals_;
   int next_vector_ = 0;
-  bool uses_lanes_ = false;
   std::size_t vector_expressions_ = 0;
   int next_expression_ = 0;
   int block_body_ = -2;

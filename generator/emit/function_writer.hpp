@@ -19,8 +19,9 @@ struct FunctionText {
   std::string body;  // statements, indented by two spaces
   OpCount ops;       // on the usual path: the taken branch of every if/else of a path condition (C4)
   OpCount worst;     // the costlier branch of each (equal to `ops` without path conditions)
-  bool lanes = false;  // whether it computes in lanes (lane_groups.hpp)
-  std::size_t vector_expressions = 0;  // statements computing a group of lanes (seeds not counted)
+  // Statements computing a group of lanes (lane_groups.hpp; the seeds' gathers not counted): the
+  // function computes in lanes where it has one.
+  std::size_t vector_expressions = 0;
 };
 
 FunctionText write_function(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function,

@@ -3,9 +3,10 @@
 // them together, one lane per direction, in one vector expression.
 //
 // A set's directions are treated alike by every equation that carries them: the unit forces
-// F^A_cstr,i (I2) are X^T P^T applied to each α_k, the rows (I6) are α_k^T applied to the same
-// carried S_i, so the trace holds, per direction, isomorphic expressions that share every operand
-// except the direction's own. Grouping is bottom-up (as a compiler's SLP vectoriser, on the traced
+// F^A_cstr,i (I2) are X^T P^T applied to each α_k, so the trace holds, per direction, isomorphic
+// expressions that share every operand except the direction's own. Only the columns (I2) get
+// lanes: the rows (I6) take α_k at their end, where each lane would be read out at once for
+// E^A_cstr's entries (measured slower: bench/README.md, "Issue #29, fifth session"). Grouping is bottom-up (as a compiler's SLP vectoriser, on the traced
 // graph): the seeds are the components of the set's α_k (group j holds α_k,j for every k of the
 // set, lane k); a node joins lane l of a new group when, for every lane, a node of the same
 // operation exists whose operands are either the same node in every lane (a shared value,

@@ -398,13 +398,11 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variant.set("solution_members", array_members(trace, solution_fields, n + 1, true));
 
     OpCount shared, shared_worst;
-    bool lanes = false;
     std::size_t vector_expressions = 0;
     std::vector<std::string> worst_lines;  // where a path condition (C4) makes the worst case differ
     data solves{data::type::list};
     for (const auto& f : plan.functions) {
       const FunctionText text = write_function(trace, plan, f, chain, scalar);
-      lanes = lanes || text.lanes;
       vector_expressions += text.vector_expressions;
       result.costs.push_back({scalar, f.name, text.ops});
       op_lines.push_back(data("line", tag_of(scalar) + "::" + f.name + ": " + text.ops.summary()));
@@ -440,7 +438,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       data functions{data::type::list};
       for (const auto& f : derivative_plan.functions) {
         const FunctionText text = write_function(derivative_trace, derivative_plan, f, chain, scalar);
-        lanes = lanes || text.lanes;
+        vector_expressions += text.vector_expressions;
         result.costs.push_back({scalar, f.name, text.ops});
         op_lines.push_back(data("line", tag_of(scalar) + "::" + f.name + ": " + text.ops.summary()));
         data function;
@@ -454,8 +452,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       }
       variant.set("derivative_functions", functions);
     }
-    variant.set("lane_types", lanes ? lane_type() : "");
-    if (lanes_line.empty() && lanes) lanes_line = lanes_note(vector_expressions);
+    variant.set("lane_types", vector_expressions > 0 ? lane_type() : "");
+    if (lanes_line.empty() && vector_expressions > 0) lanes_line = lanes_note(vector_expressions);
     variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
     variant.set("flat_out", flat_out(sets));
     const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base);

@@ -89,14 +89,13 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
   solver::visit_fields(art, layout, record("articulated"));
   for (solver::Policy policy : trace.policies) {
     auto solution = solver::Solution<D>::sized(n, nc, layout.listed_sets());
-    if (solver::differentiates_by_residuals(model, policy)) {
+    const bool by_residuals = solver::differentiates_by_residuals(model, policy);
+    if (by_residuals)
       solver::solver_sweep_base_to_tip(model, kin_values, decomposed(kin_values), drivers, beta, policy, solution);
-      solver::mirror_symmetric_columns(solution.qdd, solution.nu, columns);  // (D7)
-      solver::complete_by_residuals(model, kin, drivers, beta, solution);
-    } else {
+    else
       solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
-      solver::mirror_symmetric_columns(solution.qdd, solution.nu, columns);  // (D7)
-    }
+    solver::mirror_symmetric_columns(solution.qdd, solution.nu, columns);  // (D7)
+    if (by_residuals) solver::complete_by_residuals(model, kin, drivers, beta, solution);
     const std::string group = solver::name(policy);
     record_output(trace, group, "qdd", solution.qdd, columns, outputs.qdd);
     record_output(trace, group, "nu", solution.nu, columns, outputs.nu);
