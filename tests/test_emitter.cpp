@@ -25,6 +25,7 @@
 #include "support/compiled_scene.hpp"
 #include "support/oracle_problem.hpp"
 #include "support/random_chain.hpp"
+#include "support/same_bits.hpp"
 #include "support/state_count.hpp"
 #include "support/temp_dir.hpp"
 #include "symbolic/trace.hpp"
@@ -607,24 +608,18 @@ TEST(Emitter, OptimisationDoesNotChangeTheNumbers) {
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   const std::size_t out_size = s.flat_layout(n).out_size();
   const std::size_t derivative_out_size = s.derivative_outputs.flat_out_size(solver::DerivativeColumns{n, nc});
-  const auto run = [](auto function, const auto& in, std::size_t size) {
-    std::vector<std::decay_t<decltype(in[0])>> out(size);
-    function(in.data(), out.data());
-    return out;
-  };
-  const auto same_bits = [](const auto& a, const auto& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
-  };
+  using test::flat_output;
+  using test::same_bits;
   std::size_t differing = 0;
   const auto problems = report::random_problems(s, chain, 200, 31);
   for (const report::Problem& p : problems) {
     const std::vector<float> in_f32(p.flat.begin(), p.flat.end());
     const solver::Policy original = solver::Policy::original;
-    differing += !same_bits(run(deployed.solve_f64_of.at(original), p.flat, out_size),
-                            run(checked.solve_f64_of.at(original), p.flat, out_size));
-    differing += !same_bits(run(deployed.solve_f32, in_f32, out_size), run(checked.solve_f32, in_f32, out_size));
-    differing += !same_bits(run(deployed.derivatives_f64_of.at(original), p.flat, derivative_out_size),
-                            run(checked.derivatives_f64_of.at(original), p.flat, derivative_out_size));
+    differing += !same_bits(flat_output(deployed.solve_f64_of.at(original), p.flat, out_size),
+                            flat_output(checked.solve_f64_of.at(original), p.flat, out_size));
+    differing += !same_bits(flat_output(deployed.solve_f32, in_f32, out_size), flat_output(checked.solve_f32, in_f32, out_size));
+    differing += !same_bits(flat_output(deployed.derivatives_f64_of.at(original), p.flat, derivative_out_size),
+                            flat_output(checked.derivatives_f64_of.at(original), p.flat, derivative_out_size));
   }
   EXPECT_EQ(differing, 0u) << "of " << 3 * problems.size() << " outputs";
 }

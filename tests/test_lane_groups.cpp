@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <fstream>
 #include <regex>
 
@@ -15,6 +14,7 @@
 #include "support/bundled_robots.hpp"
 #include "support/compiled_scene.hpp"
 #include "support/random_chain.hpp"
+#include "support/same_bits.hpp"
 #include "support/temp_dir.hpp"
 #include "symbolic/trace.hpp"
 
@@ -190,21 +190,15 @@ TEST(LaneGroups, ScalarFallbackAgreesBitForBit) {
   ASSERT_NE(vectors.command, scalars.command);
 
   const std::size_t out_size = s.flat_layout(chain.dof()).out_size();
-  const auto run = [&](auto function, const auto& in) {
-    std::vector<std::decay_t<decltype(in[0])>> out(out_size);
-    function(in.data(), out.data());
-    return out;
-  };
-  const auto same_bits = [](const auto& a, const auto& b) {
-    return std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
-  };
+  using test::flat_output;
+  using test::same_bits;
   std::size_t differing = 0;
   const auto problems = report::random_problems(s, chain, 200, 37);
   for (const report::Problem& p : problems) {
     const std::vector<float> in_f32(p.flat.begin(), p.flat.end());
-    differing += !same_bits(run(vectors.solve_f64_of.at(solver::Policy::original), p.flat),
-                            run(scalars.solve_f64_of.at(solver::Policy::original), p.flat));
-    differing += !same_bits(run(vectors.solve_f32, in_f32), run(scalars.solve_f32, in_f32));
+    differing += !same_bits(flat_output(vectors.solve_f64_of.at(solver::Policy::original), p.flat, out_size),
+                            flat_output(scalars.solve_f64_of.at(solver::Policy::original), p.flat, out_size));
+    differing += !same_bits(flat_output(vectors.solve_f32, in_f32, out_size), flat_output(scalars.solve_f32, in_f32, out_size));
   }
   EXPECT_EQ(differing, 0u) << "of " << 2 * problems.size() << " outputs";
 }
