@@ -276,7 +276,7 @@ const char* policy_doc(const std::string& group) {
   return "Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.";
 }
 
-// ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D7) ----
+// ---- Derivatives (scene key derivatives; docs/derivation.md, D1–D8) ----
 
 // The arrays of a derivative function's Derivatives, in the order of its flat output: the values,
 // then the Jacobians the scene asks for (scene key derivatives).

@@ -22,7 +22,7 @@ struct EmitRequest {
   // (I2) or (I6) (scene key constraint_rows); empty: the one with fewer operations, counted
   // (expose_all: the columns, which it lists).
   std::optional<solver::ConstraintRows> constraint_rows = std::nullopt;
-  bool derivatives = false;           // emit derivatives_<policy> per differentiable policy (D1–D7)
+  bool derivatives = false;           // emit derivatives_<policy> per differentiable policy (D1–D8)
   solver::DerivativeOutputs derivative_outputs{};  // the Jacobians they return (scene key derivatives)
 };
 

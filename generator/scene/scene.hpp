@@ -143,7 +143,7 @@ struct Scene {
   bool refinement = true;      // (R1)
   std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (the cheaper)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
-  bool derivatives = false;    // emit derivatives_<policy> (D1–D7)
+  bool derivatives = false;    // emit derivatives_<policy> (D1–D8)
   solver::DerivativeOutputs derivative_outputs{};  // their Jacobians (a list: those named; true: all)
 
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),

@@ -6,12 +6,12 @@
 //   r_k = E_cstr,k − α_kᵀ Ẍ_link(k)                              ((R1)'s residual: the constraints)
 // and y = q̈ or ν: ∂y/∂x = ∂y/∂τff ∂ρ/∂x + ∂y/∂β ∂r/∂x for x = q, q̇.                    (D5)
 // The τff and β columns come from the factored sweeps without any tangent of the kinematics;
-// ρ and r need only the rigid-body sweeps' tangents (no articulated inertia, no factorisation).
+// ∂ρ/∂x and ∂r/∂x come in closed form (residual_jacobians.hpp, (D8)): no tangent at all.
 #pragma once
 
 #include "solver/commanded_torque.hpp"
 #include "solver/derivative_seeds.hpp"
-#include "solver/solver_sweep.hpp"
+#include "solver/residual_jacobians.hpp"
 
 namespace sweepgen::solver {
 
@@ -37,41 +37,41 @@ Matrix values_of(const Matrix& x) {
 
 // y's tangent with its q and q̇ columns from (D5): ∂y/∂τff ∂ρ/∂x + ∂y/∂β ∂r/∂x.
 template <class T>
-Dual<T> through_residuals(const Dual<T>& y, const JointVector<Dual<T>>& rho, const ConstraintVector<Dual<T>>& r,
-                          const DerivativeColumns& columns) {
+Dual<T> through_residuals(const Dual<T>& y, const ResidualJacobians<Dual<T>>& residuals, const DerivativeColumns& columns) {
   typename Dual<T>::Tangent tangent(columns.count(), T(0));
   for (std::size_t c = 0; c < columns.count(); ++c) tangent[c] = y.derivative(c);
-  for (std::size_t x = 0; x < 2 * columns.dof; ++x) {  // columns q(0..), then q̇(0..)
-    const std::size_t c = x < columns.dof ? columns.q(x) : columns.qd(x - columns.dof);
-    T sum(0);
-    for (std::size_t j = 0; j < columns.dof; ++j) sum = sum + y.derivative(columns.tau_ff(j)) * rho[j].derivative(c);
-    for (std::size_t k = 0; k < columns.constraints; ++k) sum = sum + y.derivative(columns.beta(k)) * r[k].derivative(c);
-    tangent[c] = sum;
-  }
+  const auto index = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
+  for (std::size_t x = 0; x < columns.dof; ++x)
+    for (const bool velocity : {false, true}) {
+      const auto& rho = velocity ? residuals.rho_qd : residuals.rho_q;
+      const auto& r = velocity ? residuals.r_qd : residuals.r_q;
+      T sum(0);
+      for (std::size_t j = 0; j < columns.dof; ++j)
+        sum = sum + y.derivative(columns.tau_ff(j)) * rho(index(j), index(x)).value();
+      for (std::size_t k = 0; k < columns.constraints; ++k)
+        sum = sum + y.derivative(columns.beta(k)) * r(index(k), index(x)).value();
+      tangent[velocity ? columns.qd(x) : columns.q(x)] = sum;
+    }
   return Dual<T>(y.value(), std::move(tangent));
 }
 
-// (D5): `sol` solved with tangents along τff and β only (the sweeps read q, q̇ without tangent);
-// `kin` the outward sweep of q, q̇ seeded along (D2)'s columns. Completes the q and q̇ columns of
-// q̈ and ν, then τcmd (T1) from them with every column.
+// (D5): `sol` solved with tangents along τff and β only, from `kin_values` (the outward sweep of
+// q, q̇ without tangent; `qd_values` its q̇). Completes the q and q̇ columns of q̈ and ν with the
+// residuals' Jacobians (D8), then τcmd (T1) from them with every column, which reads `kin`, the
+// outward sweep seeded along (D2)'s columns. Returns (D8)'s quantities (values, no tangent).
 template <class T>
-void complete_by_residuals(const SolverModel<Dual<T>>& model, const KinematicsState<Dual<T>>& kin,
-                           const DriverInputs<Dual<T>>& inputs, const ConstraintVector<Dual<T>>& setpoints,
-                           Solution<Dual<T>>& sol) {
-  using D = Dual<T>;
+ResidualJacobians<Dual<T>> complete_by_residuals(const SolverModel<Dual<T>>& model, const KinematicsState<Dual<T>>& kin_values,
+                           const JointVector<Dual<T>>& qd_values, const KinematicsState<Dual<T>>& kin,
+                           const DriverInputs<Dual<T>>& inputs, Solution<Dual<T>>& sol) {
   const DerivativeColumns columns{model.dof(), model.constraints()};
-  Solution<D> held = sol;  // (q̈, ν) held fixed: values only
+  Solution<Dual<T>> held = sol;  // (q̈, ν) held fixed: values only
   held.qdd = values_of<T>(sol.qdd);
   held.nu = values_of<T>(sol.nu);
-  accelerations_of_motion(model, kin, held);
-  const ConstraintVector<D> r = constraint_residuals(model, inputs, setpoints, held);
-  inverse_dynamics_torque_tip_to_base(model, kin, inputs, held);
-  const JointVector<D> needed = held.tau_cmd;
-  constraint_torque_tip_to_base(model, kin, inputs, held);
-  const JointVector<D> rho = held.tau_cmd - needed;
-  for (Eigen::Index i = 0; i < sol.qdd.size(); ++i) sol.qdd[i] = through_residuals(sol.qdd[i], rho, r, columns);
-  for (Eigen::Index k = 0; k < sol.nu.size(); ++k) sol.nu[k] = through_residuals(sol.nu[k], rho, r, columns);
+  const ResidualJacobians<Dual<T>> residuals = residual_jacobians(model, kin_values, qd_values, inputs, held);
+  for (Eigen::Index i = 0; i < sol.qdd.size(); ++i) sol.qdd[i] = through_residuals(sol.qdd[i], residuals, columns);
+  for (Eigen::Index k = 0; k < sol.nu.size(); ++k) sol.nu[k] = through_residuals(sol.nu[k], residuals, columns);
   constraint_torque_tip_to_base(model, kin, inputs, sol);
+  return residuals;
 }
 
 }  // namespace sweepgen::solver

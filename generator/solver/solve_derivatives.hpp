@@ -98,7 +98,7 @@ class DerivativeSolver {
     if (by_residuals) {
       auto kin = KinematicsState<D>::sized(n);
       outward_sweep_base_to_tip(model, q, qd, kin, rotation);
-      complete_by_residuals(model, kin, drivers, beta, s);
+      complete_by_residuals(model, solver_.kinematics(), values_of<Scalar>(qd), kin, drivers, s);
     }
 
     SolveDerivatives<Scalar> out;

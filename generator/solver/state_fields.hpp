@@ -8,6 +8,7 @@
 #include <string>
 
 #include "solver/policy.hpp"
+#include "solver/residual_jacobians.hpp"
 #include "solver/state.hpp"
 
 namespace sweepgen::solver {
@@ -97,6 +98,47 @@ void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
   if (policy == Policy::saturate_exact)
     for (int i = 1; i < static_cast<int>(s.correction_force.size()); ++i)
       visit_force(visit, "correction_force", i, s.correction_force[i]);
+}
+
+// The residuals' Jacobians (D8): per body 1..N base to tip, in the coordinates of (D8), then the
+// matrices, row j (a joint's ρ, a direction's r) at [j * 2N]: the N q columns, then the N q̇ ones.
+template <class Scalar, class Visit>
+void visit_fields(const ResidualJacobians<Scalar>& J, Visit&& visit) {
+  const int n = static_cast<int>(J.axis.size()) - 1;
+  for (int i = 1; i <= n; ++i) {
+    visit_matrix(visit, "frame_E", i, J.to_body[i].E);
+    visit_matrix(visit, "frame_r", i, J.to_body[i].r);
+    visit_motion(visit, "frame_axis", i, J.axis[i]);
+    visit_motion(visit, "frame_velocity", i, J.velocity[i]);
+    visit_motion(visit, "frame_axis_rate", i, J.axis_rate[i]);
+    visit_motion(visit, "frame_acceleration", i, J.acceleration[i]);
+  }
+  for (int i = n; i >= 1; --i) {
+    visit_matrix(visit, "composite_inertia", i, J.composite_inertia[i].A, 0);
+    visit_matrix(visit, "composite_inertia", i, J.composite_inertia[i].B, 9);
+    visit_matrix(visit, "composite_inertia", i, J.composite_inertia[i].C, 18);
+    visit_matrix(visit, "composite_coriolis", i, J.composite_coriolis[i].T, 0);
+    visit_matrix(visit, "composite_coriolis", i, J.composite_coriolis[i].s, 9);
+    visit_force(visit, "composite_momentum", i, J.composite_momentum[i]);
+    visit_force(visit, "composite_force", i, J.composite_force[i]);
+  }
+  for (int i = 1; i <= n; ++i) {
+    visit_motion(visit, "acceleration_along_q", i, J.acceleration_along_q[i]);
+    visit_motion(visit, "acceleration_along_qd", i, J.acceleration_along_qd[i]);
+    visit_force(visit, "inertia_on_axis", i, J.inertia_on_axis[i]);
+    visit_force(visit, "coriolis_on_axis", i, J.coriolis_on_axis[i]);
+    visit_force(visit, "force_along_q", i, J.force_along_q[i]);
+    visit_force(visit, "force_along_qd", i, J.force_along_qd[i]);
+  }
+  const auto rows = [&](const std::string& array, const auto& along_q, const auto& along_qd) {
+    for (Eigen::Index r = 0; r < along_q.rows(); ++r)
+      for (Eigen::Index x = 0; x < along_q.cols(); ++x) {
+        visit(array, kBodyless, static_cast<int>(2 * r * n + x), along_q(r, x));
+        visit(array, kBodyless, static_cast<int>((2 * r + 1) * n + x), along_qd(r, x));
+      }
+  };
+  rows("d_rho", J.rho_q, J.rho_qd);
+  rows("d_r", J.r_q, J.r_qd);
 }
 
 // The arrays of a Solution that are outputs of every solve (the rest are intermediates).

@@ -185,6 +185,20 @@ struct Inertia {
     return I;
   }
 
+  // The same for a rigid-body inertia (B = h×, C = m 1), in its ten parameters: with
+  // h' = Eᵀ h + (m/2) r,  A'' = Eᵀ A E − (r h'ᵀ + h' rᵀ) + 2 (h'·r) 1,  h'' = Eᵀ h + m r,  m'' = m
+  // (the block form above with B' = (Eᵀ h)×, C' = m 1 and r× s× + s× r× = r sᵀ + s rᵀ − 2 (r·s) 1).
+  Inertia rigid_transformed_to_parent(const Transform<Scalar>& X) const {
+    const Scalar& m = C(0, 0);
+    const Vec3<Scalar> h_rotated = X.E.transpose() * Vec3<Scalar>(B(2, 1), B(0, 2), B(1, 0));
+    const Vec3<Scalar> h_half = h_rotated + X.r * (m * Scalar(0.5));
+    Mat3<Scalar> A1 = X.E.transpose() * A * X.E;
+    A1 -= X.r * h_half.transpose() + h_half * X.r.transpose();
+    A1.diagonal().array() += Scalar(2) * h_half.dot(X.r);
+    symmetrize_from_upper(A1);
+    return rigid(m, Vec3<Scalar>(h_rotated + X.r * m), A1);
+  }
+
   // (B_X_A)^T I (B_X_A): an inertia given in frame B expressed in frame A (F1; Featherstone eq. 2.66), in the
   // block form  A'' = A' − B' r× + r× B'^T − r× C' r×,  B'' = B' + r× C',  C'' = C'
   // with A' = E^T A E, B' = E^T B E, C' = E^T C E.

@@ -54,7 +54,8 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
   solver::outward_sweep_base_to_tip(model, q, qd, kin, base_rotation);
   // (D5): the sweeps of the τff and β columns read q, q̇ without tangent.
   auto kin_values = solver::KinematicsState<D>::sized(n);
-  solver::outward_sweep_base_to_tip(model, solver::values_of<Symbol>(q), solver::values_of<Symbol>(qd), kin_values,
+  const solver::JointVector<D> qd_values = solver::values_of<Symbol>(qd);
+  solver::outward_sweep_base_to_tip(model, solver::values_of<Symbol>(q), qd_values, kin_values,
                                     solver::values_of<Symbol>(base_rotation));
 
   const solver::DriverInputs<Symbol> symbols = traced_driver_inputs(trace, layout, n);
@@ -95,7 +96,9 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
     else
       solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
     solver::mirror_symmetric_columns(solution.qdd, solution.nu, columns);  // (D7)
-    if (by_residuals) solver::complete_by_residuals(model, kin, drivers, beta, solution);
+    if (by_residuals)
+      solver::visit_fields(solver::complete_by_residuals(model, kin_values, qd_values, kin, drivers, solution),
+                           record(solver::name(policy)));
     const std::string group = solver::name(policy);
     record_output(trace, group, "qdd", solution.qdd, columns, outputs.qdd);
     record_output(trace, group, "nu", solution.nu, columns, outputs.nu);

@@ -1,0 +1,188 @@
+// (D8)'s closed-form Jacobians of the solve's residuals (docs/derivation.md; solver/residual_jacobians.hpp)
+// against what (D1) computes for the same residuals: the forward-mode tangents of
+//   ρ = τcmd(T1) − τcmd(T2),  r = E_cstr − αᵀ Ẍ_link (R1)
+// through the rigid-body sweeps (O1–O4, S5, T1, T2) with q and q̇ seeded along (D2)'s columns and
+// the solution (q̈, ν) held, both in binary128, where the two agree to far below double's rounding:
+// the formulas, not their rounding, are under test here (the derivatives' rounding end to end is
+// tests/test_solve_derivatives.cpp's). On every kind of bundled scene: a chain with
+// external forces and run-time directions, constraint sets, a tree, prismatic joints, floating
+// bases (where the q columns are the base's rotation vector's, (D2)).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "solver/outward_sweep.hpp"
+#include "solver/quad_scalar.hpp"
+#include "solver/residual_jacobians.hpp"
+#include "solver/solver_sweep.hpp"
+#include "support/derivative_case.hpp"
+
+namespace sweepgen {
+namespace {
+namespace SWEEPGEN_TEST_FILE {
+
+using solver::Dual;
+using solver::Quad;
+
+// ∂ρ/∂(q, q̇) over ∂r/∂(q, q̇): rows the N joints then the Nc directions, columns q then q̇.
+template <class T>
+using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+
+template <class T>
+Matrix<T> stacked(const Matrix<T>& rho_q, const Matrix<T>& rho_qd, const Matrix<T>& r_q, const Matrix<T>& r_qd) {
+  Matrix<T> m(rho_q.rows() + r_q.rows(), 2 * rho_q.cols());
+  m << rho_q, rho_qd, r_q, r_qd;
+  return m;
+}
+
+// (D8) at the solution `original` returns for `in`.
+Matrix<Quad> closed_form(const test::SceneCase& c, const solver::SolveInputs<Quad>& in) {
+  solver::ReferenceSolver<Quad> s(c.chain, c.scene.layout, c.scene.solver_options());
+  s.run(in, solver::Policy::original);
+  const auto J = solver::residual_jacobians(s.model(), s.kinematics(), in.qd, s.drivers(), s.solution());
+  return stacked<Quad>(J.rho_q, J.rho_qd, J.r_q, J.r_qd);
+}
+
+// (D1) in binary128: the residuals' tangents with q̈ and ν those of `held` (the closed form's).
+Matrix<Quad> forward_mode(const test::SceneCase& c, const solver::SolveInputs<Quad>& in) {
+  using D = Dual<Quad>;
+  solver::ReferenceSolver<Quad> values(c.chain, c.scene.layout, c.scene.solver_options());
+  const solver::Solution<Quad>& solved = values.run(in, solver::Policy::original);
+  const solver::SolverModel<D> model(c.chain, c.scene.layout, c.scene.solver_options(), 1e-16);
+  const std::size_t n = model.dof(), nc = model.constraints(), base = model.base_coordinates();
+  const solver::DerivativeColumns columns{n, nc};
+  solver::JointVector<D> q(n), qd(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    q[i] = i < base ? D(in.q[i]) : solver::seeded(in.q[i], columns.q(i), columns);
+    qd[i] = solver::seeded(in.qd[i], columns.qd(i), columns);
+  }
+  const spatial::Mat3<D> rotation = base > 0 ? solver::seeded_base_rotation(in.base_rotation, columns)
+                                             : spatial::Mat3<D>(in.base_rotation.template cast<D>());
+  auto kin = solver::KinematicsState<D>::sized(n);
+  solver::outward_sweep_base_to_tip(model, q, qd, kin, rotation);
+  auto drivers = solver::DriverInputs<D>::sized(c.scene.layout, n);
+  for (std::size_t t = 0; t < in.torques.size(); ++t) drivers.torques[t] = in.torques[t].template cast<D>();
+  const auto force = [](const spatial::Force<Quad>& f) {
+    return spatial::Force<D>{f.moment.template cast<D>(), f.force.template cast<D>()};
+  };
+  for (std::size_t e = 0; e < in.wrenches.size(); ++e) drivers.external_forces[e] = force(in.wrenches[e]);
+  for (std::size_t k = 0; k < in.alpha.size(); ++k) drivers.constraint_directions[k] = force(in.alpha[k]);
+  auto held = solver::Solution<D>::sized(n, nc, c.scene.layout.listed_sets());
+  held.qdd = solved.qdd.template cast<D>();
+  held.nu = solved.nu.template cast<D>();
+  solver::accelerations_of_motion(model, kin, held);
+  const solver::ConstraintVector<D> r =
+      solver::constraint_residuals(model, drivers, solver::ConstraintVector<D>(in.beta.template cast<D>()), held);
+  solver::inverse_dynamics_torque_tip_to_base(model, kin, drivers, held);
+  const solver::JointVector<D> needed = held.tau_cmd;
+  solver::constraint_torque_tip_to_base(model, kin, drivers, held);
+  const solver::JointVector<D> rho = held.tau_cmd - needed;
+  Matrix<Quad> m(n + nc, 2 * n);
+  const auto e = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
+  for (std::size_t x = 0; x < n; ++x) {
+    for (std::size_t j = 0; j < n; ++j) {
+      m(e(j), e(x)) = rho[e(j)].derivative(columns.q(x));
+      m(e(j), e(n + x)) = rho[e(j)].derivative(columns.qd(x));
+    }
+    for (std::size_t k = 0; k < nc; ++k) {
+      m(e(n + k), e(x)) = r[e(k)].derivative(columns.q(x));
+      m(e(n + k), e(n + x)) = r[e(k)].derivative(columns.qd(x));
+    }
+  }
+  return m;
+}
+
+// The largest magnitude of row r: the scale each entry of the row is judged against (a joint's ρ
+// and a direction's r have units and sizes of their own).
+double row_scale(const Matrix<Quad>& m, Eigen::Index r) {
+  double scale = 0;
+  for (Eigen::Index x = 0; x < m.cols(); ++x) scale = std::max(scale, std::abs(static_cast<double>(m(r, x))));
+  return std::max(1.0, scale);
+}
+
+// How far the model's rotations are from orthogonal: the largest entry of E_Tᵀ E_T − 1 over the
+// joints' tree transforms and the frames of the links (external forces, constraint sets). A
+// rotation that is not a quarter turn is a double-rounded matrix (F2), orthogonal to ~1e-16 only.
+double rotation_defect(const model::Chain& chain) {
+  double defect = 0;
+  const auto add = [&](const model::Mat3& E) {  // in binary128: double's own product would round the defect away
+    const spatial::Mat3<Quad> e = E.cast<Quad>();
+    const spatial::Mat3<Quad> defects = e.transpose() * e - spatial::Mat3<Quad>(spatial::Mat3<Quad>::Identity());
+    for (Eigen::Index k = 0; k < 9; ++k) defect = std::max(defect, std::abs(static_cast<double>(defects.data()[k])));
+  };
+  for (std::size_t i = 1; i < chain.joints.size(); ++i) add(chain.joints[i].tree_transform.E);
+  for (const auto& [link, frame] : chain.frames) add(frame.X.E);
+  return defect;
+}
+
+// How far the bodies' inertias are from rigid ones, relatively: B = h× and C = m 1 hold only to the
+// rounding of the links lumped into a body (F4: Xᵀ M X in double), and (D8) reads h from B's lower
+// entries and m from C's first.
+double inertia_defect(const model::Chain& chain) {
+  double defect = 0;
+  for (std::size_t i = 1; i < chain.bodies.size(); ++i) {
+    const spatial::Inertia<double>& M = chain.bodies[i].inertia;
+    const double m = M.C(0, 0);
+    if (m <= 0) continue;
+    const double h = std::max(M.B.cwiseAbs().maxCoeff(), m);
+    defect = std::max({defect, (M.B + M.B.transpose()).cwiseAbs().maxCoeff() / h,
+                       (M.C - model::Mat3::Identity() * m).cwiseAbs().maxCoeff() / m});
+  }
+  return defect;
+}
+
+// The tolerance, per entry, times max(1, the row's largest magnitude) (a joint's ρ and a
+// direction's r have units and sizes of their own). Both are exact derivatives of the same
+// residuals in binary128, apart from three things:
+//  - rounding, ε_q = 2⁻¹¹² ≈ 1.9e-34 per operation over at most a few thousand operations (N ≤ 15
+//    bodies, 6-vector products) and cancellations of at most the ratio of the subtree's force to
+//    the row's entries (≤ 1e4 on these robots): ≤ 1e3 · 1e4 · 1.9e-34 ≈ 2e-27; floor 1e-26;
+//  - the model's rotations, orthogonal only to δ_R = rotation_defect: X⁻¹ applied as [Eᵀ ...] is
+//    then the inverse of X to δ_R only, which (D1) differentiates as the sweeps compute it and
+//    (D8), which takes every transform for an isometry, does not. Each of the ≤ 2N transforms on a
+//    path changes a product by ≤ 3 δ_R (a row of E), in each of ≤ 6 terms of an entry: ≤ 36 N δ_R;
+//  - the inertias, rigid only to δ_I = inertia_defect: ≤ 6 terms of an entry, each off by δ_I of
+//    its size: ≤ 6 δ_I.
+// Bound: 1e-26 + 64 N (δ_R + δ_I). A wrong term is of the order of the entry itself (1 of the
+// scale, against a ceiling of 1e-26 + 64 · 15 · 2 · 2.2e-16 ≈ 4e-13).
+double tolerance(const model::Chain& chain) {
+  return 1e-26 + 64.0 * static_cast<double>(chain.dof()) * (rotation_defect(chain) + inertia_defect(chain));
+}
+
+void check_scene(const std::string& relative, std::size_t states) {
+  const test::SceneCase c = test::load_scene_case(relative);
+  const double bound = tolerance(c.chain);
+  double worst = 0;
+  for (const report::Problem& p : report::random_problems(c.scene, c.chain, states, 41)) {
+    const solver::SolveInputs<Quad> in = p.cast<Quad>();
+    const Matrix<Quad> closed = closed_form(c, in);
+    const Matrix<Quad> forward = forward_mode(c, in);
+    ASSERT_EQ(closed.rows(), forward.rows());
+    ASSERT_EQ(closed.cols(), forward.cols());
+    for (Eigen::Index r = 0; r < closed.rows(); ++r) {
+      const double scale = row_scale(forward, r);
+      for (Eigen::Index x = 0; x < closed.cols(); ++x) {
+        const double error = std::abs(static_cast<double>(closed(r, x) - forward(r, x))) / scale;
+        worst = std::max(worst, error);
+        EXPECT_LE(error, bound) << relative << " row " << r << " column " << x;
+      }
+    }
+  }
+  std::printf("[rounding] %s (D8) against (D1) in binary128: worst %.3g of the row's scale, bound %.3g "
+              "(rotations orthogonal to %.3g, inertias rigid to %.3g)\n",
+              relative.c_str(), worst, bound, rotation_defect(c.chain), inertia_defect(c.chain));
+}
+
+TEST(ResidualJacobians, ChainWithExternalForcesAndRunTimeDirections) { check_scene("panda/panda_nc6.yaml", 20); }
+TEST(ResidualJacobians, ConstraintSetsOnSeveralLinks) { check_scene("panda/panda_sets.yaml", 20); }
+TEST(ResidualJacobians, TreeWithSetsOnBothArms) { check_scene("dual_panda/dual_panda_box.yaml", 10); }
+TEST(ResidualJacobians, PrismaticJoint) { check_scene("planar/planar_nc2.yaml", 20); }
+TEST(ResidualJacobians, FloatingBase) { check_scene("mobile_panda/mobile_panda_hand.yaml", 10); }
+TEST(ResidualJacobians, FloatingTreeWithPrismaticFingers) { check_scene("mobile_panda_gripper/mobile_panda_grasp.yaml", 10); }
+TEST(ResidualJacobians, QuadrupedStance) { check_scene("quadruped/quadruped_stance.yaml", 10); }
+
+}  // namespace SWEEPGEN_TEST_FILE
+}  // namespace
+}  // namespace sweepgen
