@@ -6,7 +6,8 @@
 // the formulas, not their rounding, are under test here (the derivatives' rounding end to end is
 // tests/test_solve_derivatives.cpp's). On every kind of bundled scene: a chain with
 // external forces and run-time directions, constraint sets, a tree, prismatic joints, floating
-// bases (where the q columns are the base's rotation vector's, (D2)).
+// bases (where the q columns are the base's rotation vector's, (D2)); and random chains, trees and
+// floating trees with joints about random axes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +19,8 @@
 #include "solver/residual_jacobians.hpp"
 #include "solver/solver_sweep.hpp"
 #include "support/derivative_case.hpp"
+#include "support/oracle_problem.hpp"
+#include "support/random_chain.hpp"
 
 namespace sweepgen {
 namespace {
@@ -37,20 +40,27 @@ Matrix<T> stacked(const Matrix<T>& rho_q, const Matrix<T>& rho_qd, const Matrix<
   return m;
 }
 
+// A robot and its drivers: a bundled scene's, or a random one's.
+struct Case {
+  model::Chain chain;
+  solver::DriverLayout layout;
+  solver::SolverOptions options;
+};
+
 // (D8) at the solution `original` returns for `in`.
-Matrix<Quad> closed_form(const test::SceneCase& c, const solver::SolveInputs<Quad>& in) {
-  solver::ReferenceSolver<Quad> s(c.chain, c.scene.layout, c.scene.solver_options());
+Matrix<Quad> closed_form(const Case& c, const solver::SolveInputs<Quad>& in) {
+  solver::ReferenceSolver<Quad> s(c.chain, c.layout, c.options);
   s.run(in, solver::Policy::original);
   const auto J = solver::residual_jacobians(s.model(), s.kinematics(), in.qd, s.drivers(), s.solution());
   return stacked<Quad>(J.rho_q, J.rho_qd, J.r_q, J.r_qd);
 }
 
 // (D1) in binary128: the residuals' tangents with q̈ and ν those of `held` (the closed form's).
-Matrix<Quad> forward_mode(const test::SceneCase& c, const solver::SolveInputs<Quad>& in) {
+Matrix<Quad> forward_mode(const Case& c, const solver::SolveInputs<Quad>& in) {
   using D = Dual<Quad>;
-  solver::ReferenceSolver<Quad> values(c.chain, c.scene.layout, c.scene.solver_options());
+  solver::ReferenceSolver<Quad> values(c.chain, c.layout, c.options);
   const solver::Solution<Quad>& solved = values.run(in, solver::Policy::original);
-  const solver::SolverModel<D> model(c.chain, c.scene.layout, c.scene.solver_options(), 1e-16);
+  const solver::SolverModel<D> model(c.chain, c.layout, c.options, 1e-16);
   const std::size_t n = model.dof(), nc = model.constraints(), base = model.base_coordinates();
   const solver::DerivativeColumns columns{n, nc};
   solver::JointVector<D> q(n), qd(n);
@@ -62,14 +72,14 @@ Matrix<Quad> forward_mode(const test::SceneCase& c, const solver::SolveInputs<Qu
                                              : spatial::Mat3<D>(in.base_rotation.template cast<D>());
   auto kin = solver::KinematicsState<D>::sized(n);
   solver::outward_sweep_base_to_tip(model, q, qd, kin, rotation);
-  auto drivers = solver::DriverInputs<D>::sized(c.scene.layout, n);
+  auto drivers = solver::DriverInputs<D>::sized(c.layout, n);
   for (std::size_t t = 0; t < in.torques.size(); ++t) drivers.torques[t] = in.torques[t].template cast<D>();
   const auto force = [](const spatial::Force<Quad>& f) {
     return spatial::Force<D>{f.moment.template cast<D>(), f.force.template cast<D>()};
   };
   for (std::size_t e = 0; e < in.wrenches.size(); ++e) drivers.external_forces[e] = force(in.wrenches[e]);
   for (std::size_t k = 0; k < in.alpha.size(); ++k) drivers.constraint_directions[k] = force(in.alpha[k]);
-  auto held = solver::Solution<D>::sized(n, nc, c.scene.layout.listed_sets());
+  auto held = solver::Solution<D>::sized(n, nc, c.layout.listed_sets());
   held.qdd = solved.qdd.template cast<D>();
   held.nu = solved.nu.template cast<D>();
   solver::accelerations_of_motion(model, kin, held);
@@ -146,17 +156,17 @@ double inertia_defect(const model::Chain& chain) {
 //  - the inertias, rigid only to δ_I = inertia_defect: ≤ 6 terms of an entry, each off by δ_I of
 //    its size: ≤ 6 δ_I.
 // Bound: 1e-26 + 64 N (δ_R + δ_I). A wrong term is of the order of the entry itself (1 of the
-// scale, against a ceiling of 1e-26 + 64 · 15 · 2 · 2.2e-16 ≈ 4e-13).
+// scale), against a ceiling of 1e-26 + 64 · 15 · 1.3e-15 ≈ 1.3e-12 (δ ≤ 1.3e-15 here: the random
+// robots' rotations are products of double-rounded ones; the bundled ones' at most 4e-17).
 double tolerance(const model::Chain& chain) {
   return 1e-26 + 64.0 * static_cast<double>(chain.dof()) * (rotation_defect(chain) + inertia_defect(chain));
 }
 
-void check_scene(const std::string& relative, std::size_t states) {
-  const test::SceneCase c = test::load_scene_case(relative);
+// Every entry of every state's Jacobians; prints the worst against the bound.
+void check(const Case& c, const std::string& name, const std::vector<solver::SolveInputs<Quad>>& states) {
   const double bound = tolerance(c.chain);
   double worst = 0;
-  for (const report::Problem& p : report::random_problems(c.scene, c.chain, states, 41)) {
-    const solver::SolveInputs<Quad> in = p.cast<Quad>();
+  for (const solver::SolveInputs<Quad>& in : states) {
     const Matrix<Quad> closed = closed_form(c, in);
     const Matrix<Quad> forward = forward_mode(c, in);
     ASSERT_EQ(closed.rows(), forward.rows());
@@ -166,13 +176,41 @@ void check_scene(const std::string& relative, std::size_t states) {
       for (Eigen::Index x = 0; x < closed.cols(); ++x) {
         const double error = std::abs(static_cast<double>(closed(r, x) - forward(r, x))) / scale;
         worst = std::max(worst, error);
-        EXPECT_LE(error, bound) << relative << " row " << r << " column " << x;
+        EXPECT_LE(error, bound) << name << " row " << r << " column " << x;
       }
     }
   }
   std::printf("[rounding] %s (D8) against (D1) in binary128: worst %.3g of the row's scale, bound %.3g "
               "(rotations orthogonal to %.3g, inertias rigid to %.3g)\n",
-              relative.c_str(), worst, bound, rotation_defect(c.chain), inertia_defect(c.chain));
+              name.c_str(), worst, bound, rotation_defect(c.chain), inertia_defect(c.chain));
+}
+
+void check_scene(const std::string& relative, std::size_t states) {
+  const test::SceneCase scene = test::load_scene_case(relative);
+  std::vector<solver::SolveInputs<Quad>> inputs;
+  for (const report::Problem& p : report::random_problems(scene.scene, scene.chain, states, 41)) inputs.push_back(p.cast<Quad>());
+  check({scene.chain, scene.scene.layout, scene.scene.solver_options()}, relative, inputs);
+}
+
+// Random robots (tests/support/random_chain.hpp): joints about random axes, prismatic ones, random
+// tree transforms and inertias, rotor inertia, lumped frames; one or two external forces on random
+// links and, where the robot has the joints for them, two directions at the tip.
+void check_random(bool tree, bool floating_tree) {
+  test::RandomChainGenerator generator(tree ? 7 : floating_tree ? 11 : 5);
+  test::RandomProblem random(13);
+  for (int robot = 0; robot < 12; ++robot) {
+    const test::OracleCase c = test::random_case(generator, tree, floating_tree);
+    const std::size_t nc = std::min<std::size_t>(2, c.chain.dof() - c.chain.base_coordinates());
+    const Case robot_case{c.chain, test::oracle_layout(c, nc), {}};
+    std::vector<solver::SolveInputs<Quad>> inputs;
+    for (int state = 0; state < 3; ++state) {
+      const test::OracleProblem p = test::draw_problem(random, c, nc);
+      solver::SolveInputs<double> in{p.q, p.qd, {p.tau_ff}, p.wrenches, {}, p.beta, p.base_rotation};
+      for (std::size_t k = 0; k < nc; ++k) in.alpha.push_back(p.alpha_columns[k]);
+      inputs.push_back(in.cast<Quad>());
+    }
+    check(robot_case, c.name, inputs);
+  }
 }
 
 TEST(ResidualJacobians, ChainWithExternalForcesAndRunTimeDirections) { check_scene("panda/panda_nc6.yaml", 20); }
@@ -182,6 +220,9 @@ TEST(ResidualJacobians, PrismaticJoint) { check_scene("planar/planar_nc2.yaml", 
 TEST(ResidualJacobians, FloatingBase) { check_scene("mobile_panda/mobile_panda_hand.yaml", 10); }
 TEST(ResidualJacobians, FloatingTreeWithPrismaticFingers) { check_scene("mobile_panda_gripper/mobile_panda_grasp.yaml", 10); }
 TEST(ResidualJacobians, QuadrupedStance) { check_scene("quadruped/quadruped_stance.yaml", 10); }
+TEST(ResidualJacobians, RandomChains) { check_random(false, false); }
+TEST(ResidualJacobians, RandomTrees) { check_random(true, false); }
+TEST(ResidualJacobians, RandomFloatingTrees) { check_random(false, true); }
 
 }  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
