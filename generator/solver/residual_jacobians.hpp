@@ -97,8 +97,11 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
   J.to_body.assign(n + 1, Transform<Scalar>::identity());
   J.composite_inertia.assign(n + 1, Inertia<Scalar>{});
   J.composite_coriolis.assign(n + 1, CoriolisComposite<Scalar>{});
-  auto &X = J.to_body, &S = J.axis, &S_dot = J.axis_rate, &v = J.velocity, &a = J.acceleration;
-  auto &Y = J.composite_inertia, &Q = J.composite_coriolis, &H = J.composite_momentum, &F = J.composite_force;
+  auto& X = J.to_body;
+  auto &S = J.axis, &S_dot = J.axis_rate, &v = J.velocity, &a = J.acceleration;
+  auto& Y = J.composite_inertia;
+  auto& Q = J.composite_coriolis;
+  auto &H = J.composite_momentum, &F = J.composite_force;
 
   // Base to tip: ^iX_c, S_i, Ẋ_i, Ṡ_i, Ẍ_i, and the body's own M_i, Q_i, h_i = M_i Ẋ_i and
   // f_i = M_i Ẍ_i + Ẋ_i ×* h_i − (the external and constraint wrenches on it).
