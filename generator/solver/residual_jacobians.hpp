@@ -3,8 +3,9 @@
 //   ρ_j = τff_j − d_j q̈_j − S_jᵀ F_j,   F_j = Σ_{i in j's subtree} f_i,
 //   f_i = M_i Ẍ_i + Ẋ_i ×* M_i Ẋ_i − (the external and constraint wrenches on body i)   (T1 − T2)
 //   r_k = E_cstr,k − α_kᵀ Ẍ_link(k)                                                      (R1)
-// Everything is taken to frame 0 (the base's, fixed: the derivatives of a frame's own motion do not
-// appear), where moving q_m turns the subtree it carries about S_m. That turn cancels in every
+// Everything is taken to coordinates c that no column moves (frame 0, the base's, or body 1's
+// frame where body 1 carries every body: the derivatives of a frame's own motion do not appear),
+// where moving q_m turns the subtree it carries about S_m. That turn cancels in every
 // power pairing inside the subtree, so what is left is, per joint, a few 6-vectors built from the
 // subtree's composite inertia Y, Coriolis composite Q and momentum H, and per pair of joints a
 // dot product or two: no tangent of the kinematics is propagated.
@@ -20,7 +21,7 @@
 
 namespace sweepgen::solver {
 
-// Σ_{i in the subtree} (M_i [Ẋ_i×] + [Ẋ_i×]ᵀ M_i) in frame 0, the symmetric part of what the
+// Σ_{i in the subtree} (M_i [Ẋ_i×] + [Ẋ_i×]ᵀ M_i) in the coordinates c, the symmetric part of what the
 // bodies' velocity products add along a change of velocity (D8): [T  s×; (s×)ᵀ  0], per body
 // T = Ī [ω×] − [ω×] Ī + u hᵀ + h uᵀ − 2 (h·u) 1 and s = h × ω − m u for Ẋ = [ω; u].
 template <class Scalar>
