@@ -63,15 +63,9 @@ Matrix<Quad> forward_mode(const Case& c, const solver::SolveInputs<Quad>& in) {
   const solver::SolverModel<D> model(c.chain, c.layout, c.options, 1e-16);
   const std::size_t n = model.dof(), nc = model.constraints(), base = model.base_coordinates();
   const solver::DerivativeColumns columns{n, nc};
-  solver::JointVector<D> q(n), qd(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    q[i] = i < base ? D(in.q[i]) : solver::seeded(in.q[i], columns.q(i), columns);
-    qd[i] = solver::seeded(in.qd[i], columns.qd(i), columns);
-  }
-  const spatial::Mat3<D> rotation = base > 0 ? solver::seeded_base_rotation(in.base_rotation, columns)
-                                             : spatial::Mat3<D>(in.base_rotation.template cast<D>());
+  const solver::SeededKinematics<Quad> seeds = solver::seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
   auto kin = solver::KinematicsState<D>::sized(n);
-  solver::outward_sweep_base_to_tip(model, q, qd, kin, rotation);
+  solver::outward_sweep_base_to_tip(model, seeds.q, seeds.qd, kin, seeds.base_rotation);
   auto drivers = solver::DriverInputs<D>::sized(c.layout, n);
   for (std::size_t t = 0; t < in.torques.size(); ++t) drivers.torques[t] = in.torques[t].template cast<D>();
   const auto force = [](const spatial::Force<Quad>& f) {

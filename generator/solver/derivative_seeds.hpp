@@ -84,4 +84,27 @@ spatial::Mat3<Dual<T>> seeded_base_rotation(const spatial::Mat3<T>& R, const Der
   return seeded_R;
 }
 
+// The outward sweep's inputs seeded along (D2)'s columns: q (a floating base's six not seeded:
+// its q columns are world_R_base's rotation vector and its position), q̇, and world_R_base (seeded
+// for a floating base, `base` = 6; read as a constant otherwise).
+template <class T>
+struct SeededKinematics {
+  JointVector<Dual<T>> q, qd;
+  spatial::Mat3<Dual<T>> base_rotation;
+};
+template <class T>
+SeededKinematics<T> seeded_kinematics(const JointVector<T>& q, const JointVector<T>& qd, const spatial::Mat3<T>& base_rotation,
+                                      std::size_t base, const DerivativeColumns& columns) {
+  using D = Dual<T>;
+  SeededKinematics<T> out{JointVector<D>(q.size()), JointVector<D>(qd.size()),
+                          base > 0 ? seeded_base_rotation(base_rotation, columns)
+                                   : spatial::Mat3<D>(base_rotation.template cast<D>())};
+  for (std::size_t i = 0; i < columns.dof; ++i) {
+    const auto e = static_cast<Eigen::Index>(i);
+    out.q[e] = i < base ? D(q[e]) : seeded(q[e], columns.q(i), columns);
+    out.qd[e] = seeded(qd[e], columns.qd(i), columns);
+  }
+  return out;
+}
+
 }  // namespace sweepgen::solver

@@ -69,13 +69,10 @@ class DerivativeSolver {
     const DerivativeColumns columns{n, nc};
     const SolverModel<D>& model = solver_.model();
     const std::size_t base = model.base_coordinates();
-    JointVector<D> q(n), qd(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      q[i] = i < base ? D(in.q[i]) : seeded(in.q[i], columns.q(i), columns);
-      qd[i] = seeded(in.qd[i], columns.qd(i), columns);
-    }
-    const Mat3<D> rotation =
-        base > 0 ? seeded_base_rotation(in.base_rotation, columns) : Mat3<D>(in.base_rotation.template cast<D>());
+    const SeededKinematics<Scalar> seeds = seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
+    const JointVector<D>& q = seeds.q;
+    const JointVector<D>& qd = seeds.qd;
+    const Mat3<D>& rotation = seeds.base_rotation;
     // (D5): the sweeps read q, q̇ without tangent; the q and q̇ columns come from the residuals.
     const bool by_residuals = differentiates_by_residuals(model, policy);
     if (by_residuals)

@@ -43,13 +43,10 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
 
   // The generated code's inputs, seeded along (D2)'s columns.
   const TracedKinematicsInputs in = traced_kinematics_inputs(trace, n, base);
-  solver::JointVector<D> q(n), qd(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    q[i] = i < base ? D(in.q[i]) : solver::seeded(in.q[i], columns.q(i), columns);
-    qd[i] = solver::seeded(in.qd[i], columns.qd(i), columns);
-  }
-  const spatial::Mat3<D> base_rotation =
-      base > 0 ? solver::seeded_base_rotation(in.base_rotation, columns) : spatial::Mat3<D>(in.base_rotation.cast<D>());
+  const solver::SeededKinematics<Symbol> seeds = solver::seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
+  const solver::JointVector<D>& q = seeds.q;
+  const solver::JointVector<D>& qd = seeds.qd;
+  const spatial::Mat3<D>& base_rotation = seeds.base_rotation;
   auto kin = solver::KinematicsState<D>::sized(n);
   solver::outward_sweep_base_to_tip(model, q, qd, kin, base_rotation);
   // (D5): the sweeps of the τff and β columns read q, q̇ without tangent.
