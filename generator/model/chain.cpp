@@ -17,10 +17,12 @@ bool Chain::is_chain() const {
   return true;
 }
 
-bool Chain::supports(std::size_t ancestor, std::size_t body) const {
+bool supports(const std::vector<std::size_t>& parent, std::size_t ancestor, std::size_t body) {
   while (body > ancestor) body = parent[body];
   return body == ancestor;
 }
+
+bool Chain::supports(std::size_t ancestor, std::size_t body) const { return model::supports(parent, ancestor, body); }
 
 const std::vector<std::string>& floating_base_joint_names() {
   static const std::vector<std::string> names = {"floating_base_rx", "floating_base_ry", "floating_base_rz",

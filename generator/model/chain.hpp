@@ -106,6 +106,9 @@ struct Frame {
   Transform X;
 };
 
+// Whether body `ancestor` is `body` or lies on its path to the base, `parent` a tree's λ (λ(i) < i).
+bool supports(const std::vector<std::size_t>& parent, std::size_t ancestor, std::size_t body);
+
 struct Chain {
   std::string source;      // file the chain was read from, for messages
   std::string root_link;

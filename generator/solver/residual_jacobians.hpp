@@ -78,10 +78,7 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
   // the root link (body `base`, F5); every other joint is its own, on its parent.
   const auto group_parent = [&](std::size_t m) { return m <= base ? std::size_t(0) : model.parent[m]; };
   const auto group_body = [&](std::size_t m) { return m <= base ? base : m; };
-  const auto carries = [&](std::size_t a, std::size_t c) {  // body a is c or one of c's ancestors
-    while (c > a) c = model.parent[c];
-    return c == a;
-  };
+  const auto carries = [&](std::size_t a, std::size_t c) { return model::supports(model.parent, a, c); };
   // The coordinates c: body 1's frame where body 1 carries every other body (M_1 and S_1 are
   // constants there, and a joint about the gravity's axis costs nothing), else frame 0. Any frame
   // that no column moves would do; body 1's moves with q_1 only, and q_1's column is taken at the
