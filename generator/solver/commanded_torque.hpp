@@ -48,8 +48,7 @@ void inverse_dynamics_torque_tip_to_base(const SolverModel<Scalar>& model, const
   for (std::size_t i = n; i >= 1; --i) {
     spatial::Force<Scalar>& f = sol.transmitted_force[i];
     f += model.inertia[i] * sol.acceleration[i] + kin.body[i].bias_force;
-    for (std::size_t k = 0; k < model.external_force_body.size(); ++k)
-      if (model.external_force_body[k] == i) f -= model.external_force_frame[k].apply_transpose(inputs.external_forces[k]);
+    for (std::size_t k = 0; k < model.external_force_body.size(); ++k) f -= external_own_force(model, inputs, k, i);
     sol.tau_cmd[i - 1] = spatial::dot(f, model.joints[i].S) + model.joints[i].rotor_inertia * sol.qdd[i - 1];
     if (model.parent[i] > 0)
       sol.transmitted_force[model.parent[i]] = sol.transmitted_force[model.parent[i]] + kin.body[i].X.apply_transpose(f);

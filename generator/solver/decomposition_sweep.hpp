@@ -38,15 +38,21 @@ Scalar track_torque(const Track& track, const DriverInputs<Scalar>& inputs, std:
   return tau;
 }
 
+// External force instance k where its link rides on body i, in body i's frame (0 elsewhere).
+template <class Scalar>
+spatial::Force<Scalar> external_own_force(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
+                                          std::size_t k, std::size_t i) {
+  return model.external_force_body[k] == i ? model.external_force_frame[k].apply_transpose(inputs.external_forces[k])
+                                           : spatial::Force<Scalar>{};
+}
+
 // own_t,i: the forces that enter track t at body i.
 template <class Scalar>
 spatial::Force<Scalar> track_own_force(const SolverModel<Scalar>& model, const Track& track,
                                        const KinematicsState<Scalar>& kin, const DriverInputs<Scalar>& inputs,
                                        std::size_t i) {
   spatial::Force<Scalar> own = track.bias ? kin.body[i].bias_force : spatial::Force<Scalar>{};
-  for (std::size_t k : track.external_forces)
-    if (model.external_force_body[k] == i)
-      own -= model.external_force_frame[k].apply_transpose(inputs.external_forces[k]);
+  for (std::size_t k : track.external_forces) own -= external_own_force(model, inputs, k, i);
   return own;
 }
 

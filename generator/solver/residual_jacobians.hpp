@@ -116,8 +116,7 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
     Q[i] = CoriolisComposite<Scalar>::of(Y[i], v[i]);
     F[i] = Y[i] * a[i] + cross_force(v[i], H[i]);
     Force<Scalar> applied;  // in body i's frame
-    for (std::size_t e = 0; e < model.external_force_body.size(); ++e)
-      if (model.external_force_body[e] == i) applied += model.external_force_frame[e].apply_transpose(inputs.external_forces[e]);
+    for (std::size_t e = 0; e < model.external_force_body.size(); ++e) applied += external_own_force(model, inputs, e, i);
     for (std::size_t k = 0; k < nc; ++k) applied += constraint_own_force(model, inputs, k, i) * held.nu[k];
     F[i] -= X[i].apply_transpose(applied);
   }
@@ -150,6 +149,10 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
     V[m] = Y[G] * psi[m] - QS + S_H;
   }
 
+  // Each constraint set's link frame from the coordinates c, ^link X_c, where its α_k are given.
+  std::vector<Transform<Scalar>> to_link;
+  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) to_link.push_back(set.frame * X[set.body]);
+
   J.rho_q.setZero(n, n);
   J.rho_qd.setZero(n, n);
   J.r_q.setZero(nc, n);
@@ -174,16 +177,15 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
       J.rho_qd(index(j - 1), index(m - 1)) = -d_qd;
     }
     // r_k = E_cstr,k − α_kᵀ Ẍ_link: Ẍ_b moves past q_m by its turn, which α_k's cancels, and by
-    // Ṡ_m × Ẋ_b + a_m; along q̇_m by S_m × Ẋ_b + ψ_m: taken once per set to its link's frame,
-    // where α_k is given.
-    for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) {
+    // Ṡ_m × Ẋ_b + a_m; along q̇_m by S_m × Ẋ_b + ψ_m: taken to the set's link frame.
+    for (std::size_t c = 0; c < model.constraint_sets.size(); ++c) {
+      const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
       if (!carries(group_body(m), set.body)) continue;
-      const Transform<Scalar> to_link = set.frame * X[set.body];
-      const Motion<Scalar> along_q = to_link.apply(dAdq[m] + cross_motion(S_dot[m], v[set.body]));
-      const Motion<Scalar> along_qd = to_link.apply(cross_motion(S[m], v[set.body]) + psi[m]);
-      for (std::size_t c = set.first; c < set.first + set.count; ++c) {
-        if (q_column) J.r_q(index(c), index(m - 1)) = -dot(inputs.constraint_directions[c], along_q);
-        J.r_qd(index(c), index(m - 1)) = -dot(inputs.constraint_directions[c], along_qd);
+      const Motion<Scalar> along_q = to_link[c].apply(dAdq[m] + cross_motion(S_dot[m], v[set.body]));
+      const Motion<Scalar> along_qd = to_link[c].apply(cross_motion(S[m], v[set.body]) + psi[m]);
+      for (std::size_t k = set.first; k < set.first + set.count; ++k) {
+        if (q_column) J.r_q(index(k), index(m - 1)) = -dot(inputs.constraint_directions[k], along_q);
+        J.r_qd(index(k), index(m - 1)) = -dot(inputs.constraint_directions[k], along_qd);
       }
     }
   }
