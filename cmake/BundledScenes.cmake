@@ -23,6 +23,13 @@ function(sweepgen_scene_has_line out scene regex)
   endif()
 endfunction()
 file(GLOB SWEEPGEN_BUNDLED_SCENES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.yaml)
+# Each scene's CUDA library <stem>_solver_cuda too where the CUDA language is enabled (the top-level
+# CMakeLists.txt enables it when CMake finds a CUDA compiler: bench/gpu/run.sh).
+get_property(sweepgen_languages GLOBAL PROPERTY ENABLED_LANGUAGES)
+set(sweepgen_cuda)
+if("CUDA" IN_LIST sweepgen_languages)
+  set(sweepgen_cuda CUDA)
+endif()
 foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   get_filename_component(stem ${scene} NAME_WE)
   file(STRINGS ${scene} solver_line REGEX "^solver:")
@@ -39,8 +46,12 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
     sweepgen_solver_library(${stem}_solver ARCH "${SWEEPGEN_SOLVER_ARCH}"
                             SOURCES ${PROJECT_SOURCE_DIR}/generated/${committed_stem}.cpp
                             INCLUDE_DIRS ${forward_dir} ${PROJECT_SOURCE_DIR}/generated)
+    if(sweepgen_cuda)
+      sweepgen_cuda_library(${stem}_solver_cuda SOURCE ${PROJECT_SOURCE_DIR}/generated/${committed_stem}.cu
+                            INCLUDE_DIRS ${forward_dir} ${PROJECT_SOURCE_DIR}/generated)
+    endif()
   else()
-    sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}")
+    sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}" ${sweepgen_cuda})
   endif()
   target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror -fno-exceptions -fno-rtti)
 endforeach()

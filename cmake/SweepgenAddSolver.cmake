@@ -1,4 +1,4 @@
-# sweepgen_add_solver(<target> SCENE <scene.yaml> [OUTPUT_DIR <dir>] [EXPOSE all|outputs] [ARCH <isa>])
+# sweepgen_add_solver(<target> SCENE <scene.yaml> [OUTPUT_DIR <dir>] [EXPOSE all|outputs] [ARCH <isa>] [CUDA])
 #
 # Generates the solver a scene file describes, at build time, and wraps it in a static
 # library <target> whose headers are on its include path:
@@ -8,8 +8,12 @@
 # -march=<isa>, e.g. x86-64-v3 (AVX2, FMA: fewer instructions, FMA contraction changes the last
 # bits) or native; the default is the compiler's baseline, which runs on every CPU of the
 # architecture. The generated code uses plain arrays, so its ABI does not change with ARCH.
+# CUDA also builds <target>_cuda from the generated <target>.cu: the kernels and their launchers
+# (<solve>_cuda, <solve>_cuda_host) beside every host function, so a program links it instead of
+# <target>. It needs the CUDA language enabled first (project(... LANGUAGES CXX CUDA) or
+# enable_language(CUDA)); without it configure says so and builds the rest.
 function(sweepgen_add_solver target)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SCENE;OUTPUT_DIR;EXPOSE;ARCH" "")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "CUDA" "SCENE;OUTPUT_DIR;EXPOSE;ARCH" "")
   if(NOT arg_SCENE)
     message(FATAL_ERROR "sweepgen_add_solver(${target}): SCENE is required")
   endif()
@@ -26,7 +30,7 @@ function(sweepgen_add_solver target)
     list(APPEND extra --expose ${arg_EXPOSE})
   endif()
   add_custom_command(
-    OUTPUT "${out}/${target}.hpp" "${out}/${target}.cpp"
+    OUTPUT "${out}/${target}.hpp" "${out}/${target}.cpp" "${out}/${target}.cu"
     COMMAND sweepgen::sweepgen generate --scene "${scene}" --out "${out}" --file-stem ${target}
             --depfile "${out}/${target}.d" ${extra}
     DEPENDS "${scene}" sweepgen::sweepgen
@@ -35,6 +39,30 @@ function(sweepgen_add_solver target)
     VERBATIM)
   sweepgen_solver_library(${target} ARCH "${arg_ARCH}" SOURCES "${out}/${target}.cpp" "${out}/${target}.hpp"
                           INCLUDE_DIRS "${out}")
+  if(arg_CUDA)
+    sweepgen_cuda_library(${target}_cuda SOURCE "${out}/${target}.cu" INCLUDE_DIRS "${out}")
+  endif()
+endfunction()
+
+# The CUDA library of a generated solver (its .cu: kernels, launchers and the host functions),
+# where the CUDA language is enabled; else a configure message, and nothing.
+function(sweepgen_cuda_library target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SOURCE" "INCLUDE_DIRS")
+  get_property(languages GLOBAL PROPERTY ENABLED_LANGUAGES)
+  if(NOT "CUDA" IN_LIST languages)
+    include(CheckLanguage)
+    check_language(CUDA)
+    if(CMAKE_CUDA_COMPILER)
+      message(STATUS "sweepgen: ${target} not built: a CUDA compiler is installed (${CMAKE_CUDA_COMPILER}), but the "
+                     "CUDA language is not enabled; call enable_language(CUDA) before sweepgen_add_solver")
+    else()
+      message(STATUS "sweepgen: ${target} not built: no CUDA compiler found (the host library is built)")
+    endif()
+    return()
+  endif()
+  add_library(${target} STATIC ${arg_SOURCE})
+  target_include_directories(${target} PUBLIC ${arg_INCLUDE_DIRS})
+  target_compile_features(${target} PUBLIC cxx_std_17 cuda_std_17)
 endfunction()
 
 # The static library of a generated solver: its sources, public include directories, C++17 and,

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <type_traits>
 #include <initializer_list>
+#include <limits>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -257,6 +258,28 @@ void raise_on_status(unsigned mask, const Batch& batch, StatusOf&& status_of, co
   throw py::error_already_set();
 }
 
+// `rows` states through a generated batch entry point (n states in rows of n values, value k of
+// state s at [k * n + s]): each state's flat input gathered by `in_row(s, values)` (in_size values),
+// its flat output handed to `out_row(s, values)` (out_size values). The batch solves the states
+// several at a time in vector lanes (the generated header, "Many states at once").
+template <class Scalar, class InRow, class OutRow>
+void solve_in_batch(void (*batch)(int, const Scalar*, Scalar*) noexcept, py::ssize_t rows, int in_size, int out_size,
+                    InRow&& in_row, OutRow&& out_row) {
+  if (rows > std::numeric_limits<int>::max()) throw py::value_error("more states than a batch call takes (2^31 - 1)");
+  const auto n = static_cast<std::size_t>(rows);
+  std::vector<Scalar> in(n * static_cast<std::size_t>(in_size)), out(n * static_cast<std::size_t>(out_size)), row;
+  row.resize(static_cast<std::size_t>(std::max(in_size, out_size)));
+  for (std::size_t s = 0; s < n; ++s) {
+    in_row(s, row.data());
+    for (int k = 0; k < in_size; ++k) in[k * n + s] = row[k];
+  }
+  batch(static_cast<int>(rows), in.data(), out.data());
+  for (std::size_t s = 0; s < n; ++s) {
+    for (int k = 0; k < out_size; ++k) row[k] = out[k * n + s];
+    out_row(s, row.data());
+  }
+}
+
 // Index of `policy` in a generated table ({policy, function} entries); ValueError listing them.
 template <class Table>
 std::size_t policy_index(const Table& table, const std::string& policy) {
@@ -279,6 +302,7 @@ std::size_t policy_index(const Table& table, const std::string& policy) {
     static constexpr int flat_out_size = scene::tag::flat_out_size;                                      \
     static constexpr const auto& solves = scene::tag::solves;                                            \
     static constexpr const auto& flat_solves = scene::tag::flat_solves;                                  \
+    static constexpr const auto& batch_solves = scene::tag::batch_solves;                                \
     static void outward(const Scalar* q, const Scalar* qd, State& s) { scene::tag::outward(q, qd, s); } \
     static void decompose(const Scalar* drivers, State& s) {                                             \
       scene::tag::decompose(scene::tag::drivers_from_flat(drivers), s);                                  \
@@ -295,6 +319,9 @@ std::size_t policy_index(const Table& table, const std::string& policy) {
     static constexpr bool of_qdd = scene::tag::derivative_of_qdd, of_nu = scene::tag::derivative_of_nu;   \
     static constexpr bool of_tau_cmd = scene::tag::derivative_of_tau_cmd;                                \
     static constexpr const auto& solves = scene::tag::derivative_solves;                                 \
+    static constexpr const auto& batch_solves = scene::tag::derivative_batch_solves;                     \
+    static constexpr int flat_in_size = scene::tag::flat_in_size;                                        \
+    static constexpr int flat_out_size = scene::tag::derivative_flat_out_size;                           \
     static auto drivers_from_flat(const Scalar* drivers) { return scene::tag::drivers_from_flat(drivers); } \
   }
 
@@ -323,7 +350,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
         const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
                            d = rows_of<Scalar>(drivers, "drivers", n_drivers),
                            b = rows_of<Scalar>(beta, "beta", constraints);
-        const auto solve = Derived::solves[policy_index(Derived::solves, policy)].solve;
+        const std::size_t index = policy_index(Derived::solves, policy);
         const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows, &d, &b});
         constexpr py::ssize_t columns = Derived::columns;
         // Per output y (rows r): its values and its four column blocks, (D2)'s order.
@@ -350,15 +377,9 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
           for (auto& block : o.blocks) blocks_to.push_back(o.with_jacobian ? block.mutable_data() : nullptr);
         }
         std::uint32_t* status_to = status.mutable_data();
-        for_each_row(batch, [&](py::ssize_t k) {
-          typename Derived::Derivatives r;
-          solve(q_rows.row(k), qd_rows.row(k), Derived::drivers_from_flat(d.row(k)), b.row(k), r);
-          const Scalar* values[3] = {r.qdd, nullptr, r.tau_cmd};
-          const Scalar* jacobians[3] = {nullptr, nullptr, nullptr};
-          if constexpr (constraints > 0) values[1] = r.nu;
-          if constexpr (Derived::of_qdd) jacobians[0] = r.d_qdd;
-          if constexpr (constraints > 0 && Derived::of_nu) jacobians[1] = r.d_nu;
-          if constexpr (Derived::of_tau_cmd) jacobians[2] = r.d_tau_cmd;
+        // Row k's values (qdd, nu, tau_cmd), the Jacobians returned and its status, into the outputs.
+        const auto store = [&](py::ssize_t k, const Scalar* const values[3], const Scalar* const jacobians[3],
+                               std::uint32_t row_status) {
           for (std::size_t o = 0; o < 3; ++o) {
             const py::ssize_t rows = outputs[o].rows;
             if (rows == 0) continue;
@@ -372,8 +393,42 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
               first += widths[block];
             }
           }
-          status_to[k] = r.status;
-        });
+          status_to[k] = row_status;
+        };
+        if (batch.batched) {  // the batch entry point, without the GIL: flat rows in and out
+          py::gil_scoped_release release;
+          solve_in_batch<Scalar>(
+              Derived::batch_solves[index].solve, batch.rows, Derived::flat_in_size, Derived::flat_out_size,
+              [&](std::size_t s, Scalar* to) {
+                const auto k = static_cast<py::ssize_t>(s);
+                to = std::copy_n(q_rows.row(k), nq, to);
+                to = std::copy_n(qd_rows.row(k), dof, to);
+                to = std::copy_n(d.row(k), n_drivers, to);
+                std::copy_n(b.row(k), constraints, to);
+              },
+              [&](std::size_t s, const Scalar* from) {
+                // The derivative flat output: qdd, nu, tau_cmd, then the Jacobians returned, status.
+                const Scalar* values[3] = {from, constraints > 0 ? from + dof : nullptr, from + dof + constraints};
+                const Scalar* jacobians[3] = {nullptr, nullptr, nullptr};
+                from += 2 * dof + constraints;
+                for (std::size_t o = 0; o < 3; ++o)
+                  if (std::get<2>(kOutputs[o]) && std::get<1>(kOutputs[o]) > 0) {
+                    jacobians[o] = from;
+                    from += std::get<1>(kOutputs[o]) * columns;
+                  }
+                store(static_cast<py::ssize_t>(s), values, jacobians, static_cast<std::uint32_t>(*from));
+              });
+        } else {
+          typename Derived::Derivatives r;
+          Derived::solves[index].solve(q_rows.row(0), qd_rows.row(0), Derived::drivers_from_flat(d.row(0)), b.row(0), r);
+          const Scalar* values[3] = {r.qdd, nullptr, r.tau_cmd};
+          const Scalar* jacobians[3] = {nullptr, nullptr, nullptr};
+          if constexpr (constraints > 0) values[1] = r.nu;
+          if constexpr (Derived::of_qdd) jacobians[0] = r.d_qdd;
+          if constexpr (constraints > 0 && Derived::of_nu) jacobians[1] = r.d_nu;
+          if constexpr (Derived::of_tau_cmd) jacobians[2] = r.d_tau_cmd;
+          store(0, values, jacobians, r.status);
+        }
         py::dict result;
         for (const auto& o : outputs) {
           result[o.name] = o.values;
@@ -522,11 +577,19 @@ void bind_variant(py::module_& module, const char* doc) {
       "solve_flat",
       [prefix](const py::object& in, const std::string& policy, unsigned mask) {
         const Rows<Scalar> in_rows = rows_of<Scalar>(in, "in", Api::flat_in_size);
-        const auto solve = Api::flat_solves[policy_index(Api::flat_solves, policy)].solve;
+        const std::size_t index = policy_index(Api::flat_solves, policy);
         const Batch batch = batch_of<Scalar>({&in_rows});
         py::array_t<Scalar> out = array_of<Scalar>(batch, Api::flat_out_size);
         Scalar* out_data = out.mutable_data();
-        for_each_row(batch, [&](py::ssize_t k) { solve(in_rows.row(k), out_data + k * Api::flat_out_size); });
+        if (batch.batched) {  // the batch entry point, without the GIL
+          py::gil_scoped_release release;
+          solve_in_batch<Scalar>(
+              Api::batch_solves[index].solve, batch.rows, Api::flat_in_size, Api::flat_out_size,
+              [&](std::size_t s, Scalar* to) { std::copy_n(in_rows.row(static_cast<py::ssize_t>(s)), Api::flat_in_size, to); },
+              [&](std::size_t s, const Scalar* from) { std::copy_n(from, Api::flat_out_size, out_data + s * Api::flat_out_size); });
+        } else {
+          Api::flat_solves[index].solve(in_rows.row(0), out_data);
+        }
         const auto status_of = [&](py::ssize_t k) {
           return static_cast<unsigned>(out_data[k * Api::flat_out_size + Api::flat_out_size - 1]);
         };
@@ -535,7 +598,8 @@ void bind_variant(py::module_& module, const char* doc) {
       },
       py::arg("in"), py::kw_only(), py::arg("policy") = default_policy, py::arg("raise_on_status") = 0u,
       "The generated flat entry point: in (flat_in_size,) or (K, flat_in_size) -> out (flat_out_size,) or "
-      "(K, flat_out_size), layouts in the module's flat_in_layout and flat_out_layout (status last).");
+      "(K, flat_out_size), layouts in the module's flat_in_layout and flat_out_layout (status last). K rows go "
+      "through the generated solve_<policy>_batch: several states per vector instruction.");
 }
 
 #if SWEEPGEN_MODULE_HAS_F64

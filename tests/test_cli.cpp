@@ -512,7 +512,7 @@ TEST(CliUsage, VersionAndHelp) {
 
 // ---- sweepgen generate / info ----------------------------------------------------------------
 
-const std::vector<std::string> kPlanarFiles = {"planar_rpr.cmake", "planar_rpr.cpp", "planar_rpr.hpp"};
+const std::vector<std::string> kPlanarFiles = {"planar_rpr.cmake", "planar_rpr.cpp", "planar_rpr.cu", "planar_rpr.hpp"};
 
 TEST(CliGenerate, DefaultSceneFilesAreNamedAfterTheUrdfAndByteStable) {
   test::TempDir dir;
@@ -631,7 +631,7 @@ TEST(CliGenerate, AFailedRunLeavesTheOutputUntouched) {
   const fs::path out = dir.path() / "out";
   ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", out.string()}).exit_code, 0);
   const auto before = snapshot(out);
-  ASSERT_EQ(before.size(), 3u);
+  ASSERT_EQ(before.size(), 4u);
 
   const std::string bad_tip = dir.write("bad_tip.yaml", "sweepgen_scene: 1\nsolver: planar_rpr\nurdf: " + kPlanar +
                                                             "\ntip: tol\n");
@@ -668,7 +668,7 @@ TEST(CliGenerate, AFullDiskLeavesTheOutputUntouched) {
   const fs::path out = dir.path() / "out";
   ASSERT_EQ(sweepgen({"generate", "--urdf", kPanda, "--out", out.string()}).exit_code, 0);
   const auto before = snapshot(out);
-  ASSERT_EQ(before.size(), 3u);
+  ASSERT_EQ(before.size(), 4u);
   const std::string command =
       "ulimit -f 16 && " + test::shell_command({SWEEPGEN_EXECUTABLE, "generate", "--urdf", kPanda, "--solver",
                                                  "renamed", "--file-stem", "panda", "--out", out.string()});
@@ -705,7 +705,8 @@ TEST(CliGenerate, DepfileListsTheSceneAndUrdfAbsolute) {
   const CommandResult r = sweepgen(
       {"generate", "--scene", "robots/planar/planar_nc2.yaml", "--out", out.string(), "--depfile", depfile}, nullptr, kSource);
   ASSERT_EQ(r.exit_code, 0) << describe(r);
-  EXPECT_EQ(names(snapshot(out)), (std::vector<std::string>{"planar_nc2.cmake", "planar_nc2.cpp", "planar_nc2.hpp"}));
+  EXPECT_EQ(names(snapshot(out)),
+            (std::vector<std::string>{"planar_nc2.cmake", "planar_nc2.cpp", "planar_nc2.cu", "planar_nc2.hpp"}));
   const std::string text = test::read_text(depfile);
   const auto lines = lines_of(text);
   ASSERT_EQ(lines.size(), 1u) << text;
@@ -733,11 +734,13 @@ TEST(CliGenerate, FileStemNamesTheFilesAndTheirReferences) {
   const CommandResult r = sweepgen({"generate", "--urdf", kPlanar, "--out", stem.string(), "--file-stem", "mystem"});
   ASSERT_EQ(r.exit_code, 0) << describe(r);
   const auto files = snapshot(stem), reference = snapshot(plain);
-  ASSERT_EQ(names(files), (std::vector<std::string>{"mystem.cmake", "mystem.cpp", "mystem.hpp"}));
+  ASSERT_EQ(names(files), (std::vector<std::string>{"mystem.cmake", "mystem.cpp", "mystem.cu", "mystem.hpp"}));
   EXPECT_EQ(files.at("mystem.hpp"), reference.at("planar_rpr.hpp"));
   expect_contains(files.at("mystem.cpp"), "#include \"mystem.hpp\"");
   EXPECT_EQ(files.at("mystem.cpp").find("planar_rpr.hpp"), std::string::npos);
   expect_contains(files.at("mystem.cpp"), "namespace planar_rpr");  // the namespace is unchanged
+  expect_contains(files.at("mystem.cu"), "#include \"mystem.cpp\"");
+  EXPECT_EQ(files.at("mystem.cu").find("planar_rpr.cpp"), std::string::npos);
   expect_contains(files.at("mystem.cmake"), "${CMAKE_CURRENT_LIST_DIR}/mystem.cpp");
   EXPECT_EQ(files.at("mystem.cmake").find("planar_rpr.cpp"), std::string::npos);
 }

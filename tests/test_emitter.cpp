@@ -144,14 +144,14 @@ TEST(Emitter, StateMembersAndBannersAreNamedFromTheMath) {
       EXPECT_EQ(file.text.find("carried_"), std::string::npos) << file.name;
       if (file.name != "scene.cpp") continue;
       // Between two banners or array comments there is code; no statement precedes the first.
-      const auto body = file.text.find("void outward(");
-      const auto first_statement = file.text.find("  const double", body);
+      const auto body = file.text.find("bool outward_of(");
+      const auto first_statement = file.text.find("  const S ", body);
       const auto first_banner = file.text.find("  // ==== outward sweep", body);
       EXPECT_LT(first_banner, first_statement);
       if (nc > 0) {
         // The constraint multipliers' factorisation sits under the banner of nu (or inside the
         // if/else of its path, C4).
-        const auto solve = file.text.find("void solve_original(");
+        const auto solve = file.text.find("bool solve_original_of(");
         EXPECT_NE(file.text.find("  // nu: ", solve), std::string::npos);
         const auto nu_store = file.text.find("out.nu[0] =", solve);
         const auto last_banner_before = file.text.rfind("  // ", nu_store);
@@ -261,7 +261,8 @@ TEST(Emitter, LiteralsRoundTrip) {
   EXPECT_EQ(emit::literal(1.0, "double"), "1.0");
   EXPECT_EQ(emit::literal(-2.0, "float"), "-2.0f");
   EXPECT_EQ(emit::literal(1e300, "double"), "1e+300");
-  EXPECT_EQ(emit::literal(std::numeric_limits<double>::infinity(), "double"), "std::numeric_limits<double>::infinity()");
+  EXPECT_EQ(emit::literal(std::numeric_limits<double>::infinity(), "double"), "HUGE_VAL");
+  EXPECT_EQ(emit::literal(-std::numeric_limits<double>::infinity(), "float"), "-HUGE_VALF");
 }
 
 // ---- The emitted solver, compiled and run ---------------------------------------------------

@@ -131,13 +131,14 @@ int run_generate(const GenerateOptions& options) {
     std::string name = file.name;
     if (!options.file_stem.empty()) name = options.file_stem + name.substr(default_stem.size());
     if (!options.file_stem.empty()) {
-      // The .cpp includes the header, the .cmake lists the .cpp: both by file name.
+      // The .cpp includes the header, the .cu the .cpp, the .cmake lists the .cpp: by file name.
       const auto rename_reference = [&file](const std::string& from, const std::string& to) {
         const auto at = file.text.find(from);
         if (at != std::string::npos) file.text.replace(at, from.size(), to);
       };
       rename_reference("#include \"" + default_stem + ".hpp\"", "#include \"" + options.file_stem + ".hpp\"");
       rename_reference("/" + default_stem + ".cpp", "/" + options.file_stem + ".cpp");
+      rename_reference("#include \"" + default_stem + ".cpp\"", "#include \"" + options.file_stem + ".cpp\"");
     }
     files.push_back({(std::filesystem::path(options.out) / name).string(), file.text});
   }

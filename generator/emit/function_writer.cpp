@@ -22,6 +22,10 @@ using symbolic::Op;
 
 constexpr int kAtom = 100, kUnary = 3, kProduct = 2, kSum = 1, kTernary = 0;
 
+// Every generated function is a template over its value type S: the scalar, or a Batch of states
+// in vector lanes (templates/lanes.mustache). Literals keep the scalar's spelling.
+constexpr const char* kValueType = "S";
+
 class Writer {
  public:
   Writer(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function, const model::Chain& chain,
@@ -35,6 +39,7 @@ class Writer {
     name_leaves();
     collect_stores();
     lanes_ = find_lane_groups(trace_, f_);
+    find_angles();
     for (std::size_t i = 0; i < f_.computed.size();) {
       std::size_t end = i + 1;
       if (f_.path_block[i] == 0) {
@@ -110,7 +115,7 @@ class Writer {
 
   void flush_loads() {
     for (NodeId id : pending_loads_)
-      text_ << indent_ << "const " << scalar_ << " " << local_.at(id) << " = " << leaf_source_.at(id) << ";\n";
+      text_ << indent_ << "const " << kValueType << " " << local_.at(id) << " = " << leaf_source_.at(id) << ";\n";
     pending_loads_.clear();
   }
 
@@ -175,6 +180,10 @@ class Writer {
       vector_locals(lane->second.first);  // at the group's first member: every lane's operands are ready
       return;
     }
+    if (const auto angle = angle_of_.find(id); angle != angle_of_.end()) {
+      write_angle(id, angle->second);
+      return;
+    }
     if (local_.count(id) || uses_[id] != 1 || hoisted_.count(id)) declare(id);
   }
 
@@ -228,6 +237,46 @@ class Writer {
     return group_locals_[g] = names;
   }
 
+  // The sin and cos nodes of values known when the function starts (the joint angles, loaded or
+  // handed on): one sincos_each call computes them all where the first is needed, several in the
+  // lanes of a vector (templates/lanes.mustache), not one C library call each.
+  void find_angles() {
+    for (std::size_t i = 0; i < f_.computed.size(); ++i) {
+      const NodeId id = f_.computed[i];
+      const Node& n = graph_.node(id);
+      if ((n.op != Op::sin && n.op != Op::cos) || f_.path_block[i] != 0 || lanes_.lane_of.count(id)) continue;
+      const NodeId x = n.args[0];
+      if (graph_.node(x).op != Op::input && plan_.stage[x] == f_.stage) continue;  // computed here: not known at the start
+      const auto [index, added] = angle_index_.emplace(x, angles_.size());
+      if (added) angles_.push_back(x);
+      angle_of_[id] = index->second;
+    }
+  }
+
+  void write_angle(NodeId id, std::size_t k) {
+    banner_for(id);
+    if (!angles_written_) {
+      angles_written_ = true;
+      std::string values;
+      for (NodeId x : angles_) values += (values.empty() ? "" : ", ") + leaf(x);
+      flush_loads();
+      const std::string n = std::to_string(angles_.size());
+      text_ << indent_ << "// sin and cos of the joint angles, all at once (F2; sincos_each)\n"
+            << indent_ << "const " << kValueType << " angle[" << n << "] = {" << values << "};\n"
+            << indent_ << kValueType << " sin_angle[" << n << "], cos_angle[" << n << "];\n"
+            << indent_ << "sincos_each(angle, sin_angle, cos_angle);\n";
+    }
+    const std::string element =
+        std::string(graph_.node(id).op == Op::sin ? "sin_angle[" : "cos_angle[") + std::to_string(k) + "]";
+    if (local_.count(id)) {
+      text_ << indent_ << "const " << kValueType << " " << local_[id] << " = " << element << ";\n";
+    } else {
+      local_[id] = element;
+    }
+    declared_[id] = true;
+    store(id);
+  }
+
   static const char* vector_operator(Op op) {
     switch (op) {
       case Op::add: return " + ";
@@ -254,27 +303,36 @@ class Writer {
     for (NodeId id : results) {
       banner_for(id);
       local_.try_emplace(id, "e" + std::to_string(next_expression_++));
-      text_ << indent_ << scalar_ << " " << local_[id] << ";\n";
+      text_ << indent_ << kValueType << " " << local_[id] << ";\n";
     }
     for (int arm = 0; arm < 2; ++arm)
       for (NodeId id : branch[arm])
         if (hoisted_.count(id)) {
           local_.try_emplace(id, "e" + std::to_string(next_expression_++));
-          text_ << indent_ << scalar_ << " " << local_[id] << ";  // assigned on one path, read by a later block of it\n";
+          text_ << indent_ << kValueType << " " << local_[id] << ";  // assigned on one path, read by a later block of it\n";
         }
     const std::string test = binary(condition.greater, kSum, " > ", condition.than, kSum);
     flush_loads();
-    text_ << indent_ << "if (" << test << ") {  // (C4): the path the condition picks\n";
+    // In lanes (a Batch of states), a group whose lanes part returns false, and its states are
+    // solved one by one (templates/solver.cpp.mustache, solve_in_lanes); a scalar never does.
+    const std::string path = "path_" + std::to_string(next_path_++);
+    text_ << indent_ << "const auto " << path << " = " << test << ";  // (C4): the path the condition picks\n";
+    text_ << indent_ << "if (Lanes<" << kValueType << ">::all(" << path << ")) {\n";
     OpCount cost[2];
     for (int arm = 0; arm < 2; ++arm) {
-      if (arm == 1) text_ << indent_ << "} else {\n";
+      if (arm == 1)
+        text_ << indent_ << "} else {\n"
+              << indent_ << "  if (Lanes<" << kValueType << ">::any(" << path << ")) return false;  // (C4): the lanes part\n";
       const std::set<NodeId> loaded_before = loaded_;
       indent_ = "    ";
       for (NodeId id : branch[arm]) write_node(id, cost[arm]);
       for (NodeId id : results) {
-        const std::string value = operand(graph_.node(id).args[2 + arm], kTernary);
+        const NodeId chosen = graph_.node(id).args[2 + arm];
+        const std::string value = operand(chosen, kTernary);
         flush_loads();
-        text_ << indent_ << local_[id] << " = " << value << ";\n";
+        text_ << indent_ << local_[id] << " = "
+              << (graph_.node(chosen).op == Op::constant ? "Lanes<" + std::string(kValueType) + ">::of(" + value + ")" : value)
+              << ";\n";
       }
       for (NodeId id : branch[arm])
         if (!hoisted_.count(id)) declared_.erase(id);
@@ -304,7 +362,7 @@ class Writer {
     if (!local_.count(id)) local_[id] = "e" + std::to_string(next_expression_++);
     const std::string value = expression(id, kTernary);
     flush_loads();
-    text_ << indent_ << (hoisted_.count(id) ? "" : "const " + scalar_ + " ") << local_[id] << " = " << value << ";\n";
+    text_ << indent_ << (hoisted_.count(id) ? "" : std::string("const ") + kValueType + " ") << local_[id] << " = " << value << ";\n";
     declared_[id] = true;
     store(id);
   }
@@ -395,12 +453,12 @@ class Writer {
         return binary(a, kProduct, " * ", b, kProduct + 1);
       case Op::div: return binary(a, kProduct, " / ", b, kProduct + 1);
       case Op::neg: return "-" + operand(a, kUnary + 1);
-      case Op::sin: return "std::sin(" + operand(a, kTernary) + ")";
-      case Op::cos: return "std::cos(" + operand(a, kTernary) + ")";
-      case Op::abs: return "std::abs(" + operand(a, kTernary) + ")";
+      case Op::sin: return "sin_of(" + operand(a, kTernary) + ")";
+      case Op::cos: return "cos_of(" + operand(a, kTernary) + ")";
+      case Op::abs: return "abs_of(" + operand(a, kTernary) + ")";
       case Op::equilibration_scale: return "equilibration_scale(" + operand(a, kTernary) + ")";
-      case Op::min: return "std::min<" + T + ">(" + binary(a, kTernary, ", ", b, kTernary) + ")";
-      case Op::max: return "std::max<" + T + ">(" + binary(a, kTernary, ", ", b, kTernary) + ")";
+      case Op::min: return "min_of(" + binary(a, kTernary, ", ", b, kTernary) + ")";
+      case Op::max: return "max_of(" + binary(a, kTernary, ", ", b, kTernary) + ")";
       case Op::select_greater:
       case Op::select_path: {
         const std::string condition = binary(a, kSum, " > ", b, kSum);
@@ -425,8 +483,13 @@ class Writer {
             << "\n";
     }
     for (NodeId id : f_.carried_out)
-      if (stores_.count(id))
-        lines << "  " << store_statement("state." + plan_.carried_name.at(id), nullptr, operand(id, kTernary)) << "\n";
+      if (stores_.count(id)) {
+        const Node& n = graph_.node(id);
+        lines << "  "
+              << store_statement("state." + plan_.carried_name.at(id), nullptr, operand(id, kTernary),
+                                 n.op == Op::constant ? &n.value : nullptr)
+              << "\n";
+      }
     text_ << "\n  // Values computed before this function, and constants.\n";
     flush_loads();
     text_ << lines.str();
@@ -454,6 +517,11 @@ class Writer {
   LaneGroups lanes_;
   std::map<std::size_t, std::vector<std::string>> group_locals_;
   int next_vector_ = 0;
+  int next_path_ = 0;
+  std::vector<NodeId> angles_;               // find_angles: the values whose sin and cos are taken
+  std::map<NodeId, std::size_t> angle_index_;  // value -> its index in angles_
+  std::map<NodeId, std::size_t> angle_of_;     // sin or cos node -> the index of its value
+  bool angles_written_ = false;
   std::size_t vector_expressions_ = 0;
   int next_expression_ = 0;
   int block_body_ = -2;

@@ -9,7 +9,7 @@ namespace sweepgen::emit {
 std::string literal(double value, const std::string& scalar) {
   if (std::isnan(value)) throw std::logic_error("literal: NaN constant in generated code");
   if (std::isinf(value))
-    return std::string(value < 0 ? "-" : "") + "std::numeric_limits<" + scalar + ">::infinity()";
+    return std::string(value < 0 ? "-" : "") + (scalar == "float" ? "HUGE_VALF" : "HUGE_VAL");  // <cmath>; host and device
   char buffer[64];
   const bool single = scalar == "float";
   const auto result = single ? std::to_chars(buffer, buffer + sizeof buffer, static_cast<float>(value))

@@ -7,7 +7,7 @@ namespace sweepgen::emit {
 
 // A C++ literal of type `scalar` ("double" or "float") for `value`: the shortest decimal that
 // round-trips in that type (std::to_chars), always with a '.' or exponent, 'f'-suffixed for
-// float; infinities as std::numeric_limits<T>::infinity().
+// float; infinities as HUGE_VAL / HUGE_VALF of <cmath> (constants on the host and on a GPU).
 std::string literal(double value, const std::string& scalar);
 
 }  // namespace sweepgen::emit

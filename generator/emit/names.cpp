@@ -71,13 +71,14 @@ std::string store_statement(const std::string& target, const symbolic::Field* fi
   const Storage storage = field && !is_state_field(*field) ? solution_storage(field->array) : Storage::value;
   switch (storage) {
     case Storage::flag:
-      if (constant) return target + " = " + (*constant != 0 ? "true;" : "false;");
+      if (constant) return target + " = Lanes<S>::flag(" + (*constant != 0 ? "true);" : "false);");
       return target + " = " + value + " != 0;";
     case Storage::count:
-      if (constant) return target + " = " + std::to_string(static_cast<long long>(*constant)) + ";";
-      return target + " = static_cast<int>(" + value + ");";
+      if (constant) return target + " = Lanes<S>::count(" + std::to_string(static_cast<long long>(*constant)) + ");";
+      return target + " = Lanes<S>::count(" + value + ");";
     case Storage::value: break;
   }
+  if (constant) return target + " = Lanes<S>::of(" + value + ");";  // a Batch takes it in every lane
   return target + " = " + value + ";";
 }
 

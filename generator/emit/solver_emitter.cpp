@@ -43,10 +43,18 @@ double epsilon_of(const std::string& scalar) {
 
 std::string tag_of(const std::string& scalar) { return scalar == "double" ? "f64" : "f32"; }
 
+// The member types of a struct: the header's (one state), or its twin's in the generated source
+// (a Batch of states, templates/lanes.mustache).
+struct MemberTypes {
+  std::string value, flag, count;
+};
+const MemberTypes kScalarMembers{"Scalar", "bool", "int"};
+const MemberTypes kBatchMembers{"Batch", "Lanes<Batch>::Flag", "Lanes<Batch>::Count"};
+
 // Array declarations "  Scalar name[rows][columns];" for the given fields, in first-seen order;
 // in a Solution, flags as bool and counts as one int (names.hpp, Storage).
 std::string array_members(const symbolic::Trace& trace, const std::vector<std::size_t>& fields, std::size_t bodies,
-                          bool solution) {
+                          bool solution, const MemberTypes& types = kScalarMembers) {
   std::vector<std::string> order;
   std::map<std::string, std::pair<bool, int>> shape;  // name -> (per body, components)
   for (std::size_t i : fields) {
@@ -61,8 +69,8 @@ std::string array_members(const symbolic::Trace& trace, const std::vector<std::s
     const Storage storage = solution ? solution_storage(name) : Storage::value;
     const std::string extent = storage == Storage::count ? ""
                                : (per_body ? "[" + std::to_string(bodies) + "]" : "") + "[" + std::to_string(components) + "]";
-    const char* type = storage == Storage::flag ? "bool" : storage == Storage::count ? "int" : "Scalar";
-    text += std::string("  ") + type + " " + name + extent + ";  // " + equation_of(name).cited() + "\n";
+    const std::string& type = storage == Storage::flag ? types.flag : storage == Storage::count ? types.count : types.value;
+    text += "  " + type + " " + name + extent + ";  // " + equation_of(name).cited() + "\n";
   }
   return text;
 }
@@ -98,24 +106,24 @@ std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
   return arrays;
 }
 
-std::string drivers_members(const symbolic::TraceRequest& request) {
+std::string drivers_members(const symbolic::TraceRequest& request, const std::string& type) {
   std::string text;
-  for (const auto& a : driver_arrays(request)) text += "  Scalar " + a.declarator + ";  // " + a.doc + "\n";
+  for (const auto& a : driver_arrays(request)) text += "  " + type + " " + a.declarator + ";  // " + a.doc + "\n";
   return text;
 }
 
 std::string unpack_drivers(const symbolic::TraceRequest& request) {
-  std::string text = "  [[maybe_unused]] const Scalar* cursor = drivers_in;\n";
+  std::string text = "  [[maybe_unused]] const S* cursor = drivers_in;\n";
   for (const auto& a : driver_arrays(request)) text += "  " + a.loops + " drivers." + a.element + " = *cursor++;\n";
   return text;
 }
 
 // decompose(): NaN/Inf among the drivers (scene: check_inputs).
 std::string check_drivers(const symbolic::TraceRequest& request) {
-  std::string text = "  Scalar residue = 0;  // NaN/Inf among the drivers (scene: check_inputs; see outward())\n";
+  std::string text = "  S residue{};  // NaN/Inf among the drivers (scene: check_inputs; see outward())\n";
   for (const auto& a : driver_arrays(request))
     text += "  " + a.loops + " residue += drivers." + a.element + " - drivers." + a.element + ";\n";
-  return text + "  state.drivers_input_status = residue == Scalar(0) ? status_ok : status_not_finite;";
+  return text + "  state.drivers_input_status = Lanes<S>::status_if(residue != 0, status_not_finite);";
 }
 
 // The order of solver::FlatLayout's `in` (solver/flat_layout.hpp).
@@ -145,15 +153,15 @@ std::vector<std::pair<std::string, std::string>> solution_arrays(std::size_t nc,
 }
 
 std::string pack_solution(std::size_t nc, std::size_t sets) {
-  std::string text = "  Scalar* cursor_out = out;\n";
+  std::string text = "  S* cursor_out = out;\n";
   for (const auto& [element, loop] : solution_arrays(nc, sets)) text += "  " + loop + " *cursor_out++ = solution." + element + ";\n";
-  text += "  *cursor_out = static_cast<Scalar>(solution.status);";
+  text += "  *cursor_out = Lanes<S>::value(solution.status);";
   return text;
 }
 
 // solve_<policy>(): NaN/Inf among the setpoints and the results (scene: check_inputs).
 std::string check_solution(std::size_t nc, std::size_t sets) {
-  std::string text = "  Scalar residue = 0;  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
+  std::string text = "  S residue{};  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
   if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
   for (const auto& [element, loop] : solution_arrays(nc, sets))
     text += "  " + loop + " residue += out." + element + " - out." + element + ";\n";
@@ -174,28 +182,35 @@ std::string factorisation_note(const solver::SolverOptions& options, std::size_t
                    tolerance + " (scene: constraint_factorisation).";
 }
 
-// The vector type of the groups of lanes (lane_groups.hpp), one lane per constraint direction:
-// GCC's and clang's vector extension (an SSE2 register, or half an AVX one; the same rounding per
-// lane as the scalar code), else (or with SWEEPGEN_SCALAR_LANES defined) an array with the same
-// operators.
+// The type of the groups of lanes (lane_groups.hpp), one lane per constraint direction, by value
+// type S: for the scalar, GCC's and clang's vector extension on the host (an SSE2 register, or half
+// an AVX one; the same rounding per lane as the scalar code); else (a Batch of states, a GPU,
+// SWEEPGEN_SCALAR_LANES) an array with the same operators. A function that computes in lanes names
+// it Lanes2 (lanes_alias).
 std::string lane_type() {
-  const std::string name = "Lanes" + std::to_string(LaneGroups::kWidth), n = std::to_string(LaneGroups::kWidth);
-  const std::string loop = "for (int l = 0; l < " + n + "; ++l) ";
+  const std::string n = std::to_string(LaneGroups::kWidth), loop = "for (int l = 0; l < " + n + "; ++l) ";
   std::string text =
       "\n// Two lanes, two constraint directions of a set (their expressions are alike: computed\n"
       "// together, as in sweepgen's emit/lane_groups.hpp); a set of odd count repeats a lane.\n"
-      "#if defined(__GNUC__) && !defined(SWEEPGEN_SCALAR_LANES)\ntypedef Scalar " + name + " __attribute__((vector_size(" + n +
-      " * sizeof(Scalar))));\n#else\nstruct " + name + " {\n  Scalar lane[" + n + "];\n" +
-      "  Scalar operator[](int l) const { return lane[l]; }\n" + "  friend " + name + " operator-(" + name + " a) { " + loop +
-      "a.lane[l] = -a.lane[l]; return a; }\n";
+      "template <class S>\nstruct LaneArray {\n  S lane[" + n + "];\n"
+      "  SWEEPGEN_HD S operator[](int l) const { return lane[l]; }\n"
+      "  friend SWEEPGEN_HD LaneArray operator-(LaneArray a) { " + loop + "a.lane[l] = -a.lane[l]; return a; }\n";
   for (const char* op : {"+", "-", "*", "/"}) {
     const std::string o = op;
-    text += "  friend " + name + " operator" + o + "(" + name + " a, " + name + " b) { " + loop + "a.lane[l] = a.lane[l] " + o +
-            " b.lane[l]; return a; }\n" + "  friend " + name + " operator" + o + "(Scalar s, " + name + " b) { " + loop +
-            "b.lane[l] = s " + o + " b.lane[l]; return b; }\n" + "  friend " + name + " operator" + o + "(" + name +
-            " a, Scalar s) { " + loop + "a.lane[l] = a.lane[l] " + o + " s; return a; }\n";
+    text += "  friend SWEEPGEN_HD LaneArray operator" + o + "(LaneArray a, LaneArray b) { " + loop + "a.lane[l] = a.lane[l] " + o +
+            " b.lane[l]; return a; }\n" + "  template <class T>\n  friend SWEEPGEN_HD LaneArray operator" + o +
+            "(T s, LaneArray b) { " + loop + "b.lane[l] = s " + o + " b.lane[l]; return b; }\n" +
+            "  template <class T>\n  friend SWEEPGEN_HD LaneArray operator" + o + "(LaneArray a, T s) { " + loop +
+            "a.lane[l] = a.lane[l] " + o + " s; return a; }\n";
   }
-  return text + "};\n#endif\n";
+  return text + "};\ntemplate <class S>\nstruct LanesOf {\n  using type = LaneArray<S>;\n};\n"
+                "#if defined(SWEEPGEN_BATCH_BYTES)\ntypedef Scalar LaneVector __attribute__((vector_size(" + n +
+                " * sizeof(Scalar))));\ntemplate <>\nstruct LanesOf<Scalar> {\n  using type = LaneVector;\n};\n#endif\n";
+}
+
+// The first line of a function that computes in lanes: their type for its value type S.
+std::string lanes_alias(const FunctionText& text) {
+  return text.vector_expressions > 0 ? "  using Lanes" + std::to_string(LaneGroups::kWidth) + " = typename LanesOf<S>::type;\n" : "";
 }
 
 // One line on the lanes the code computes in (run-time directions of a set, columns).
@@ -299,10 +314,10 @@ std::string derivative_flat_out(std::size_t n, std::size_t nc, const solver::Der
 }
 
 std::string pack_derivatives(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
-  std::string text = "  Scalar* cursor_out = out;\n";
+  std::string text = "  S* cursor_out = out;\n";
   for (const auto& [name, size] : derivative_arrays(n, nc, outputs))
     text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) *cursor_out++ = derivatives." + name + "[i];\n";
-  return text + "  *cursor_out = static_cast<Scalar>(derivatives.status);";
+  return text + "  *cursor_out = Lanes<S>::value(derivatives.status);";
 }
 
 // The Jacobians the derivative functions return and those left out (scene key derivatives), one
@@ -321,9 +336,9 @@ std::string derivatives_line(const solver::DerivativeOutputs& outputs, std::size
 
 // NaN/Inf among the results (scene: check_inputs): one in an input the results depend on reaches them.
 std::string check_derivatives(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
-  std::string text = "  Scalar residue = 0;  // NaN/Inf among the results (scene: check_inputs; see outward())\n";
-  for (const auto& [name, size] : derivative_arrays(n, nc, outputs)) text += "  for (Scalar x : out." + name + ") residue += x - x;\n";
-  return text + "  status |= residue == Scalar(0) ? status_ok : status_not_finite;";
+  std::string text = "  S residue{};  // NaN/Inf among the results (scene: check_inputs; see outward())\n";
+  for (const auto& [name, size] : derivative_arrays(n, nc, outputs)) text += "  for (const S& x : out." + name + ") residue += x - x;\n";
+  return text + "  status |= Lanes<S>::status_if(residue != 0, status_not_finite);";
 }
 
 }  // namespace
@@ -384,11 +399,14 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variant.set("scalar", scalar);
     variant.set("outward_rows", trace.constraint_rows == solver::ConstraintRows::outward_rows ? "true" : "false");
     variant.set("tag", tag_of(scalar));
-    variant.set("drivers_members", drivers_members(request.trace));
+    variant.set("drivers_members", drivers_members(request.trace, kScalarMembers.value));
+    variant.set("batch_drivers_members", drivers_members(request.trace, kBatchMembers.value));
 
-    std::string state = array_members(trace, plan.state_fields, n + 1, false);
-    for (const auto& [node, name] : plan.carried_name) state += "  Scalar " + name + ";\n";
-    variant.set("state_members", state);
+    for (const MemberTypes* types : {&kScalarMembers, &kBatchMembers}) {
+      std::string state = array_members(trace, plan.state_fields, n + 1, false, *types);
+      for (const auto& [node, name] : plan.carried_name) state += "  " + types->value + " " + name + ";\n";
+      variant.set(types == &kScalarMembers ? "state_members" : "batch_state_members", state);
+    }
 
     std::vector<std::size_t> solution_fields;
     std::set<std::string> seen;
@@ -396,6 +414,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       for (std::size_t i : f.fields)
         if (!is_state_field(trace.fields[i])) solution_fields.push_back(i);
     variant.set("solution_members", array_members(trace, solution_fields, n + 1, true));
+    variant.set("batch_solution_members", array_members(trace, solution_fields, n + 1, true, kBatchMembers));
 
     OpCount shared, shared_worst;
     std::size_t vector_expressions = 0;
@@ -409,7 +428,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       if (f.stage < symbolic::stage_solve) {
         shared += text.ops;
         shared_worst += text.worst;
-        variant.set(f.name + "_body", text.body);
+        variant.set(f.name + "_body", lanes_alias(text) + text.body);
         continue;
       }
       OpCount full = shared, full_worst = shared_worst;
@@ -424,7 +443,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       solve.set("name", f.name);
       solve.set("policy", f.group);
       solve.set("doc", policy_doc(f.group));
-      solve.set("body", text.body);
+      solve.set("body", lanes_alias(text) + text.body);
       solve.set("pack_solution", pack_solution(nc, sets));
       solves.push_back(solve);
     }
@@ -435,6 +454,8 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       const Plan derivative_plan = make_single_pass_plan(derivative_trace, "derivatives_");
       variant.set("derivatives_members",
                   array_members(derivative_trace, derivative_plan.functions.front().fields, n + 1, true));
+      variant.set("batch_derivatives_members",
+                  array_members(derivative_trace, derivative_plan.functions.front().fields, n + 1, true, kBatchMembers));
       data functions{data::type::list};
       for (const auto& f : derivative_plan.functions) {
         const FunctionText text = write_function(derivative_trace, derivative_plan, f, chain, scalar);
@@ -445,7 +466,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
         function.set("name", f.name);
         function.set("policy", f.group);
         function.set("doc", policy_doc(f.group));
-        function.set("body", text.body);
+        function.set("body", lanes_alias(text) + text.body);
         function.set("check", check_derivatives(n, nc, request.derivative_outputs));
         function.set("pack", pack_derivatives(n, nc, request.derivative_outputs));
         functions.push_back(function);
@@ -480,6 +501,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
 
   data values;
   values.set("fused", fused);
+  values.set("lanes_runtime", embedded_templates().at("lanes.mustache"));
   values.set("fused_note", std::to_string(file_operations + fused_operations) + " operations in this file, at most " +
                                std::to_string(kFusedOperations) + " fused");
   values.set("provenance", request.provenance);
@@ -570,6 +592,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("target", stem);
   result.files.push_back({stem + ".hpp", render("solver.hpp.mustache", values)});
   result.files.push_back({stem + ".cpp", render("solver.cpp.mustache", values)});
+  result.files.push_back({stem + ".cu", render("solver.cu.mustache", values)});
   result.files.push_back({stem + ".cmake", render("solver.cmake.mustache", values)});
   return result;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <limits>
 
@@ -214,6 +215,62 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
   }
 }
 
+// The states, `states` of them in a scene's random problems (an odd count: the last group of
+// lanes is partial), every third one made to part from its group's others in turn: the joints
+// at q = 0 (axes aligned: a rank-deficient constraint on most arms, so the pivoted path of (C4)),
+// a NaN in one flat input (as many positions as there are inputs), the first torque 1000 times its
+// range (saturation, where a policy saturates), and where directions are run-time inputs, one
+// repeated (rank-deficient, so the pivoted path); the statuses counted show the cases occur.
+template <class Scalar>
+void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::string& scene_path, int states) {
+  const scene::Scene s = scene::load_scene(scene_path);
+  const model::Chain chain = scene::load_scene_chain(s);
+  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const std::size_t rows = static_cast<std::size_t>(states | 1), in_size = variant.in_size, out_size = variant.out_size;
+  RandomProblem random(11);
+  std::vector<std::vector<Scalar>> problems;
+  for (std::size_t state = 0; state < rows; ++state) {
+    const FlatProblem p = random_flat_problem(random, s, chain);
+    std::vector<Scalar> in(p.in.begin(), p.in.end());
+    if (state % 3 == 0) {
+      switch ((state / 3) % 4) {
+        case 0:
+          for (std::size_t i = layout.floating_base ? 9 : 0; i < layout.positions(); ++i) in[layout.q() + i] = 0;
+          break;
+        case 1: in[(state / 12) % in_size] = std::numeric_limits<Scalar>::quiet_NaN(); break;
+        case 2:
+          for (std::size_t i = 0; i < layout.dof; ++i) in[layout.torque(0) + i] *= 1000;
+          break;
+        default:
+          if (layout.input_directions.size() > 1)
+            std::copy_n(in.begin() + static_cast<std::ptrdiff_t>(layout.alpha(0)), 6,
+                        in.begin() + static_cast<std::ptrdiff_t>(layout.alpha(1)));
+      }
+    }
+    problems.push_back(std::move(in));
+  }
+  std::vector<Scalar> batch_in(in_size * rows), batch_out(out_size * rows), out(out_size);
+  for (std::size_t state = 0; state < rows; ++state)
+    for (std::size_t k = 0; k < in_size; ++k) batch_in[k * rows + state] = problems[state][k];
+  const auto same = [](Scalar a, Scalar b) { return std::isnan(a) ? std::isnan(b) : std::memcmp(&a, &b, sizeof a) == 0; };
+  for (const auto& entry : variant.solves) {
+    entry.batch(static_cast<int>(rows), batch_in.data(), batch_out.data());
+    unsigned seen = 0;
+    for (std::size_t state = 0; state < rows; ++state) {
+      entry.solve(problems[state].data(), out.data());
+      seen |= static_cast<unsigned>(out[layout.status()]);
+      for (std::size_t k = 0; k < out_size; ++k)
+        ASSERT_TRUE(same(batch_out[k * rows + state], out[k])) << entry.policy << ", state " << state << ", flat output " << k
+                                                             << ": batch " << batch_out[k * rows + state] << ", flat " << out[k];
+    }
+    std::cout << "[batch] " << scene_path << " " << entry.policy << ": " << rows << " states equal to their flat calls; status bits seen "
+              << seen << "\n";
+    if (layout.input_directions.size() > 1) EXPECT_NE(seen & solver::status_constraint_rank_deficient, 0u) << entry.policy;
+    if (layout.constraints > 0 && std::string(entry.policy).rfind("saturate", 0) == 0)
+      EXPECT_NE(seen & solver::status_saturated, 0u) << entry.policy;  // saturation clamps the constraint torque
+  }
+}
+
 ResolveProblems resolve_problems(const std::string& scene_path, int states) {
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
@@ -235,5 +292,7 @@ template ErrorSummary check_against_reference<float>(const FlatVariant<float>&, 
                                                      unsigned);
 template void check_bad_inputs<double>(const FlatVariant<double>&, const std::string&, bool, unsigned);
 template void check_bad_inputs<float>(const FlatVariant<float>&, const std::string&, bool, unsigned);
+template void check_batch_equals_flat<double>(const FlatVariant<double>&, const std::string&, int);
+template void check_batch_equals_flat<float>(const FlatVariant<float>&, const std::string&, int);
 
 }  // namespace sweepgen::test

@@ -21,6 +21,7 @@
     using Solution = ns::Solution;                                                \
     static constexpr const auto& solves = ns::solves;                             \
     static constexpr const auto& flat_solves = ns::flat_solves;                   \
+    static constexpr const auto& batch_solves = ns::batch_solves;                 \
     static constexpr int flat_in_size = ns::flat_in_size;                         \
     static constexpr int flat_out_size = ns::flat_out_size;                       \
     static constexpr bool outward_rows = ns::outward_constraint_rows;             \
@@ -36,6 +37,7 @@ struct FlatVariant {
   struct Entry {
     const char* policy;
     void (*solve)(const Scalar* in, Scalar* out);
+    void (*batch)(int n, const Scalar* in, Scalar* out);  // the same policy, n states at once
   };
   std::size_t in_size = 0, out_size = 0;
   std::vector<Entry> solves;
@@ -47,7 +49,8 @@ FlatVariant<typename Api::Scalar> flat_variant() {
   FlatVariant<typename Api::Scalar> v;
   v.in_size = static_cast<std::size_t>(Api::flat_in_size);
   v.out_size = static_cast<std::size_t>(Api::flat_out_size);
-  for (const auto& entry : Api::flat_solves) v.solves.push_back({entry.policy, entry.solve});
+  for (std::size_t k = 0; k < std::size(Api::flat_solves); ++k)
+    v.solves.push_back({Api::flat_solves[k].policy, Api::flat_solves[k].solve, Api::batch_solves[k].solve});
   v.outward_rows = Api::outward_rows;
   return v;
 }
@@ -80,6 +83,11 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
 template <class Scalar>
 void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& scene_path, bool checks_inputs,
                       unsigned not_finite_bit);
+
+// The batch entry points against the flat ones (generated_check.cpp says on which states): the
+// same status and, bit for bit, the same values for every state (NaN where the flat call gives NaN).
+template <class Scalar>
+void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::string& scene_path, int states);
 
 // Problems for check_resolve_equals_full_solve: flat inputs, a first setpoint vector (one value
 // more than there are constraints: a solve reads only its own), and where the parts of `in` are.
@@ -126,5 +134,7 @@ extern template ErrorSummary check_against_reference<float>(const FlatVariant<fl
                                                             const Domain&, unsigned);
 extern template void check_bad_inputs<double>(const FlatVariant<double>&, const std::string&, bool, unsigned);
 extern template void check_bad_inputs<float>(const FlatVariant<float>&, const std::string&, bool, unsigned);
+extern template void check_batch_equals_flat<double>(const FlatVariant<double>&, const std::string&, int);
+extern template void check_batch_equals_flat<float>(const FlatVariant<float>&, const std::string&, int);
 
 }  // namespace sweepgen::test
