@@ -15,7 +15,9 @@
 # the Panda at Nc = 0, 3, 6 and the iiwa 14 and UR5 at Nc = 6 (bench/support/kdl_bench.hpp);
 # ReferenceSolver<double> on every scene (original); the report's dense KKT solve on the trees,
 # floating bases and panda_nc6; the derivative functions of the scenes with derivatives: true
-# (derivatives_<policy>_flat: the solve and its Jacobians).
+# (derivatives_<policy>_flat: the solve and its Jacobians); the batch entry points of every f64
+# variant (solve_<policy>_batch, derivatives_<policy>_batch: kStates = 64 states a call, so their
+# N is CALLS rounded up to a multiple of 64, and a "call" there is one state).
 # Prints a table with the floating-point operation counts the generator wrote into each header
 # and the ratio instructions / operation, then ratios against KDL, re-solve / full, reference /
 # generated; writes everything to BUILD_DIR/bench/instructions.csv.
@@ -50,7 +52,7 @@ while read -r id policies; do
     reference/*) cases+=("$id original full") ;;
     */f32) cases+=("$id original full") ;;  # float: the original policy only (keeps the run short)
     *)
-      for p in $policies; do cases+=("$id $p full"); done
+      for p in $policies; do cases+=("$id $p full" "$id $p batch"); done
       cases+=("$id - decompose")
       if [[ $id == panda_* ]]; then
         for p in $policies; do cases+=("$id $p resolve"); done
@@ -59,7 +61,7 @@ while read -r id policies; do
   esac
 done < <("$driver" --list)
 while read -r id policies; do
-  for p in $policies; do cases+=("$id $p derivatives"); done
+  for p in $policies; do cases+=("$id $p derivatives"); [[ $id == */f64 ]] && cases+=("$id $p derivatives_batch"); done
 done < <("$driver" --list-derivatives)
 if [ -n "${ONLY:-}" ]; then
   kept=()
@@ -71,9 +73,10 @@ fi
 # depend on the policy (the policy-name lookup differs by ~60 instructions in total, < 0.1 per call).
 runs=()
 declare -A baseline_seen
+batch_calls=$(( (calls + 63) / 64 * 64 ))
 for c in "${cases[@]}"; do
   read -r id policy mode <<<"$c"
-  runs+=("$calls $c")
+  case $mode in *batch) runs+=("$batch_calls $c") ;; *) runs+=("$calls $c") ;; esac
   if [ -z "${baseline_seen[$id $mode]:-}" ]; then
     baseline_seen[$id $mode]=1
     runs+=("0 $c")
@@ -103,7 +106,7 @@ while read -r n id policy mode ir; do
   if [ "$n" = 0 ]; then ir0[$id $mode]=$ir; fi
 done < "$tmp/runs"
 while read -r n id policy mode ir; do
-  if [ "$n" != 0 ]; then echo "$id $policy $mode ${ir0[$id $mode]} $ir"; fi
+  if [ "$n" != 0 ]; then echo "$id $policy $mode ${ir0[$id $mode]} $ir $n"; fi
 done < "$tmp/runs" > "$tmp/results"
 
 # ---- operation counts from the generated headers ---------------------------------------------
@@ -118,7 +121,8 @@ ops() {  # <id> <policy> <mode>
   case $mode in
     full) grep -F "//   $tag: outward + decompose + solve_$policy:" "$header" | sed -n "$total" ;;
     resolve) grep -F "//   $tag::solve_$policy:" "$header" | sed -n "$total" ;;
-    derivatives) grep -F "//   $tag::derivatives_$policy:" "$header" | sed -n "$total" ;;
+    derivatives | derivatives_batch) grep -F "//   $tag::derivatives_$policy:" "$header" | sed -n "$total" ;;
+    batch) grep -F "//   $tag: outward + decompose + solve_$policy:" "$header" | sed -n "$total" ;;
     decompose)
       { grep -F "//   $tag::outward:" "$header"; grep -F "//   $tag::decompose:" "$header"; } |
         sed -n "$total" | awk '{s += $1} END {print s}' ;;
@@ -128,18 +132,18 @@ ops() {  # <id> <policy> <mode>
 sort -k1,1 -k3,3 -k2,2 "$tmp/results" > "$tmp/sorted"
 echo "id,policy,mode,calls,ir_n0,ir_n,instructions_per_call,fp_ops,instructions_per_op" > "$csv"
 declare -A per_call
-while read -r id policy mode ir0 irn; do
-  pc=$(awk -v a="$ir0" -v b="$irn" -v n="$calls" 'BEGIN {printf "%.1f", (b - a) / n}')
+while read -r id policy mode ir0 irn n; do
+  pc=$(awk -v a="$ir0" -v b="$irn" -v n="$n" 'BEGIN {printf "%.1f", (b - a) / n}')
   per_call["$id $policy $mode"]=$pc
   f=$(ops "$id" "$policy" "$mode")
   ratio=""
   if [ -n "$f" ] && [ "$f" != 0 ]; then ratio=$(awk -v a="$pc" -v b="$f" 'BEGIN {printf "%.2f", a / b}'); fi
-  echo "$id,$policy,$mode,$calls,$ir0,$irn,$pc,$f,$ratio" >> "$csv"
+  echo "$id,$policy,$mode,$n,$ir0,$irn,$pc,$f,$ratio" >> "$csv"
 done < "$tmp/sorted"
 
 # ---- tables ----------------------------------------------------------------------------------
 echo
-echo "Instructions per call (callgrind Ir, (Ir(N=$calls) - Ir(N=0)) / $calls); fp_ops: the generator's count of"
+echo "Instructions per call (callgrind Ir, (Ir(N) - Ir(N=0)) / N, N = $calls; batch modes: per state, N = $batch_calls); fp_ops: the generator's count of"
 echo "floating-point operations (add/sub, mul, div, neg, sin/cos, compare) in the generated header."
 echo
 printf '%-26s %-20s %-10s %12s %8s %9s\n' id policy mode instr/call fp_ops instr/op
@@ -205,6 +209,21 @@ while read -r vid policies; do
   for p in $policies; do
     printf '  %-26s %-20s %10s / %8s = %s\n' "$vid" "$p" "${per_call[$vid $p derivatives]:--}" "${per_call[$vid $p full]:--}" \
       "$(ratio "$vid $p derivatives" "$vid $p full")"
+  done
+done < <("$driver" --list-derivatives)
+
+echo
+echo "Batch (solve_<policy>_batch, per state) / flat call (solve_<policy>_flat), f64, original policy:"
+while read -r vid _; do
+  [[ $vid == */f64 ]] || continue
+  printf '  %-26s %10s / %8s = %s\n' "$vid" "${per_call[$vid original batch]:--}" "${per_call[$vid original full]:--}" \
+    "$(ratio "$vid original batch" "$vid original full")"
+done < <("$driver" --list)
+while read -r vid policies; do
+  [[ $vid == */f64 ]] || continue
+  for p in $policies; do
+    printf '  %-26s %10s / %8s = %s (derivatives)\n' "$vid" "${per_call[$vid $p derivatives_batch]:--}" \
+      "${per_call[$vid $p derivatives]:--}" "$(ratio "$vid $p derivatives_batch" "$vid $p derivatives")"
   done
 done < <("$driver" --list-derivatives)
 

@@ -12,7 +12,8 @@
 # positions in radians; run-time directions are then not unit vectors, which changes no
 # instruction count: the code is branch-free except where the compiler turns a select into a
 # branch), runs it under callgrind with CALLS (default 1000) calls and with none, and prints
-# (count with CALLS − count without) / CALLS per quantity, largest first. libm's sincos is
+# (count with CALLS − count without) / CALLS per quantity, largest first. The joint angles' sin and
+# cos are the runtime's (sincos_lanes, in the file); libm's sincos, for angles beyond its range, is
 # listed apart; the last line is the whole program's count per call, the driver's loop included,
 # as a check on the sum. Needs valgrind (callgrind_annotate).
 set -euo pipefail
@@ -89,7 +90,11 @@ awk -F'\t' -v calls="$calls" -v sincos="$sincos" -v program="$program" '
   FILENAME == ARGV[1] { base[$1] = $2; next }  # (empty where no line of the file ran: N = 0)
   {
     text = $3
-    if (match(text, /^[A-Za-z][^(]* [a-z_0-9]+\(/)) { fn = substr(text, 1, RLENGTH - 1); sub(/.* /, "", fn); quantity = "(loads, stores, call)" }
+    # A function definition begins a function (the sweeps are templates, <stage>_of, over the value
+    # type: their rows read <stage>); the runtime'"'"'s (sincos_lanes, equilibration_scale, ...) keep
+    # their names.
+    if (text !~ /^(using|typedef) / && match(text, /^[A-Za-z][^(]* [a-z_0-9]+\(/)) {
+      fn = substr(text, 1, RLENGTH - 1); sub(/.* /, "", fn); sub(/_of$/, "", fn); quantity = "(loads, stores, call)" }
     if (match(text, /^  \/\/ [a-z_0-9]+: /)) { quantity = substr(text, 6, RLENGTH - 7) }
     n = $2 - base[$1]
     if (n > 0) { total[fn " / " quantity] += n; all += n }

@@ -1,7 +1,7 @@
 // bench_calls: a minimal driver for instruction counting (bench/count_instructions.sh).
 //
 //   bench_calls --list
-//   bench_calls <id> <policy> <N> [full|decompose|resolve|derivatives]
+//   bench_calls <id> <policy> <N> [full|decompose|resolve|derivatives|batch|derivatives_batch]
 //
 // prepares the inputs of <id> (kStates random problems), then makes N calls, cycling through
 // them, and prints a checksum. Running it under callgrind for N = 0 and N = 1000 and dividing
@@ -11,7 +11,9 @@
 //                             solve_<policy>_flat (outward + decompose + solve), decompose =
 //                             outward + decompose, resolve = solve_<policy> on a decomposed
 //                             state with new setpoints, derivatives = the flat
-//                             derivatives_<policy>_flat (scenes with derivatives: true)
+//                             derivatives_<policy>_flat (scenes with derivatives: true); batch,
+//                             derivatives_batch = N states through solve_<policy>_batch,
+//                             derivatives_<policy>_batch, kStates (64) a call: N a multiple of 64
 //   reference/<scene>         ReferenceSolver<double>; full or resolve
 //   kdl/<robot>/nc<K>         KDL's ChainHdSolver_Vereshchagin (bench/support/kdl_bench.hpp:
 //                             panda at K = 0, 3, 6; iiwa14, ur5 at K = 6; if built with KDL);
@@ -39,7 +41,7 @@ using namespace sweepgen::bench;
 
 int usage() {
   std::cerr << "usage: bench_calls --list | --list-derivatives\n"
-               "       bench_calls <id> <policy> <N> [full|decompose|resolve|derivatives]\n";
+               "       bench_calls <id> <policy> <N> [full|decompose|resolve|derivatives|batch|derivatives_batch]\n";
   return 2;
 }
 
@@ -83,10 +85,11 @@ int run(const std::string& id, const std::string& policy, long calls, Mode mode)
     const std::string full_id = id.find('/') == std::string::npos ? id + "/f64" : id;
     for (const auto& v : generated_variants()) {
       if (v.id() != full_id) continue;
-      if (mode == Mode::derivatives) {
+      if (mode == Mode::derivatives || mode == Mode::derivatives_batch) {
         const auto d = std::find(v.derivative_policies.begin(), v.derivative_policies.end(), policy);
         if (d == v.derivative_policies.end()) throw std::runtime_error(full_id + " has no derivatives of policy " + policy);
-        std::cout << v.run_derivatives(make_inputs(v.scene_path), static_cast<std::size_t>(d - v.derivative_policies.begin()), calls)
+        std::cout << v.run_derivatives(make_inputs(v.scene_path), static_cast<std::size_t>(d - v.derivative_policies.begin()), calls,
+                                       mode == Mode::derivatives_batch)
                   << "\n";
         return 0;
       }
@@ -141,6 +144,8 @@ int main(int argc, char** argv) {
     else if (m == "decompose") mode = Mode::decompose;
     else if (m == "resolve") mode = Mode::resolve;
     else if (m == "derivatives") mode = Mode::derivatives;
+    else if (m == "batch") mode = Mode::batch;
+    else if (m == "derivatives_batch") mode = Mode::derivatives_batch;
     else return usage();
   }
   char* end = nullptr;

@@ -33,6 +33,7 @@
     using Drivers = ns::Drivers;                                                                 \
     static constexpr const auto& solves = ns::solves;                                            \
     static constexpr const auto& flat_solves = ns::flat_solves;                                  \
+    static constexpr const auto& batch_solves = ns::batch_solves;                                \
     static constexpr int flat_in_size = ns::flat_in_size;                                        \
     static constexpr int flat_out_size = ns::flat_out_size;                                      \
     static void outward(const Scalar* q, const Scalar* qd, State& s) noexcept { ns::outward(q, qd, s); } \
@@ -44,13 +45,16 @@
 #define SWEEPGEN_BENCH_DERIVATIVES(Name, ns)                                                     \
   struct Name {                                                                                  \
     static constexpr const auto& solves = ns::derivative_solves;                                 \
+    static constexpr const auto& batch_solves = ns::derivative_batch_solves;                     \
     static constexpr int flat_out_size = ns::derivative_flat_out_size;                           \
   }
 
 namespace sweepgen::bench {
 
-// derivatives: the flat derivatives_<policy>_flat (outward + decompose + solve, differentiated).
-enum class Mode { full, decompose, resolve, derivatives };
+// derivatives: the flat derivatives_<policy>_flat (outward + decompose + solve, differentiated);
+// batch, derivatives_batch: the same states through solve_<policy>_batch and
+// derivatives_<policy>_batch, kStates at a time (a call of these modes is one state).
+enum class Mode { full, decompose, resolve, derivatives, batch, derivatives_batch };
 
 struct GeneratedVariant {
   std::string stem;        // scene file stem, e.g. panda_nc6
@@ -67,7 +71,7 @@ struct GeneratedVariant {
   // The policies with a derivatives_<policy> function (scene key derivatives), and its mode
   // `derivatives`, which run_calls passes on to run_derivatives (policy indexes this list).
   std::vector<std::string> derivative_policies;
-  double (*run_derivatives)(const SceneInputs&, std::size_t policy, long calls) = nullptr;
+  double (*run_derivatives)(const SceneInputs&, std::size_t policy, long calls, bool batch) = nullptr;
   std::string id() const { return stem + "/" + tag; }
 };
 
@@ -105,7 +109,31 @@ struct Prepared {
   }
   std::size_t count() const { return states.size(); }
   const Scalar* in(std::size_t i) const { return flat.data() + i * Api::flat_in_size; }
+  // Every state's flat input in rows of count() values, as the batch entry points take them.
+  std::vector<Scalar> rows() const {
+    std::vector<Scalar> rows(flat.size());
+    for (std::size_t i = 0; i < count(); ++i)
+      for (int k = 0; k < Api::flat_in_size; ++k) rows[k * count() + i] = in(i)[k];
+    return rows;
+  }
 };
+
+// `states` states through a batch entry point `solve`, count() (kStates) at a time; `states` a
+// multiple of it (count_instructions.sh rounds CALLS up), so every call solves the same states.
+template <class Api>
+double run_batches(const Prepared<Api>& p, void (*solve)(int, const typename Api::Scalar*, typename Api::Scalar*) noexcept,
+                   int out_size, long states) {
+  const auto count = static_cast<long>(p.count());
+  if (states % count != 0) throw std::runtime_error("batch modes: N must be a multiple of " + std::to_string(count));
+  const std::vector<typename Api::Scalar> in = p.rows();
+  std::vector<typename Api::Scalar> out(static_cast<std::size_t>(count * out_size));
+  double checksum = 0;
+  for (long done = 0; done < states; done += count) {
+    solve(static_cast<int>(count), in.data(), out.data());
+    checksum += static_cast<double>(out[0]);
+  }
+  return checksum;
+}
 
 template <class Api>
 double run_calls(const SceneInputs& inputs, std::size_t policy, Mode mode, long calls) {
@@ -144,15 +172,19 @@ double run_calls(const SceneInputs& inputs, std::size_t policy, Mode mode, long 
       }
       break;
     }
-    case Mode::derivatives: throw std::logic_error("derivatives: run_derivatives");
+    case Mode::batch: checksum = run_batches(p, Api::batch_solves[policy].solve, Api::flat_out_size, calls); break;
+    case Mode::derivatives:
+    case Mode::derivatives_batch: throw std::logic_error("derivatives: run_derivatives");
   }
   return checksum;
 }
 
-// `calls` flat derivative calls of policy index `policy`, as run_calls' full mode.
+// `calls` flat derivative calls of policy index `policy`, as run_calls' full mode (`batch`: that
+// many states through the batch entry point, as its batch mode).
 template <class Api, class Derivatives>
-double run_derivatives(const SceneInputs& inputs, std::size_t policy, long calls) {
+double run_derivatives(const SceneInputs& inputs, std::size_t policy, long calls, bool batch) {
   const Prepared<Api> p(inputs);
+  if (batch) return run_batches(p, Derivatives::batch_solves[policy].solve, Derivatives::flat_out_size, calls);
   const auto solve = Derivatives::solves[policy].solve_flat;
   std::vector<typename Api::Scalar> out(Derivatives::flat_out_size);
   double checksum = 0;
@@ -201,6 +233,20 @@ void register_generated(const GeneratedVariant& variant, const SceneInputs& inpu
         benchmark::ClobberMemory();
         if (++i == p->count()) i = 0;
       }
+    });
+  }
+  for (std::size_t k = 0; k < std::size(Api::batch_solves); ++k) {
+    // kStates states a batch: the rate counter is states per second (time per state = its inverse).
+    benchmark::RegisterBenchmark((prefix + "batch/" + Api::batch_solves[k].policy).c_str(), [p, k](benchmark::State& st) {
+      const auto solve = Api::batch_solves[k].solve;
+      const std::vector<typename Api::Scalar> in = p->rows();
+      std::vector<typename Api::Scalar> out(p->count() * Api::flat_out_size);
+      for (auto _ : st) {
+        solve(static_cast<int>(p->count()), in.data(), out.data());
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+      }
+      st.counters["states"] = benchmark::Counter(static_cast<double>(st.iterations() * p->count()), benchmark::Counter::kIsRate);
     });
   }
   benchmark::RegisterBenchmark((prefix + "decompose").c_str(), [p](benchmark::State& st) {
