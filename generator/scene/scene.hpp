@@ -96,7 +96,7 @@
 //   check_inputs: true              # optional: true (default) or false. When true, the generated
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
-//                                   #   checks out (bench/README.md gives their cost)
+//                                   #   checks out (README.md, "Bad input at run time", gives their cost)
 //   derivatives: false              # optional: false (default), true, or a list of the outputs
 //                                   #   whose Jacobians are wanted, e.g. [qdd, nu]. Otherwise than
 //                                   #   false, the generated code gains per differentiable policy
