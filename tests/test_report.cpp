@@ -355,6 +355,8 @@ TEST(Report, CompilerFailureIsAToolError) {
     EXPECT_EQ(result.exit_code, 3) << compiler << "\n" << result.err;
     EXPECT_NE(result.err.find("compiler"), std::string::npos) << result.err;
     EXPECT_NE(result.err.find(compiler), std::string::npos) << result.err;
+    // Found missing before the scene is studied (report/external_tools.hpp).
+    EXPECT_EQ(result.err.find("[1/1"), std::string::npos) << result.err;
     // No report, and no staging folder left behind.
     for (const auto& entry : std::filesystem::directory_iterator(dir.path() / "out"))
       EXPECT_EQ(entry.path().filename(), "build") << entry.path();
@@ -364,7 +366,8 @@ TEST(Report, CompilerFailureIsAToolError) {
 // A "compiler" that succeeds but writes something that is no shared library: dlopen fails.
 TEST(Report, DlopenFailureIsAToolError) {
   TempDir dir;
-  const std::string fake = dir.write("fake-cxx", "#!/bin/sh\nfor a; do out=$a; done\necho 'not a library' > \"$out\"\n");
+  const std::string fake = dir.write("fake-cxx", "#!/bin/sh\n[ \"$1\" = --version ] && exit 0\nfor a; do out=$a; done\n"
+                                                 "echo 'not a library' > \"$out\"\n");
   std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
   const auto result = run_command(shell_command({SWEEPGEN_EXECUTABLE, "report", "--scene", planar_scene(), "--states",
                                                  "5", "--cxx", fake, "--out", (dir.path() / "out").string()}));
@@ -444,6 +447,27 @@ TEST(Report, StabilityReportOnTwoCases) {
         EXPECT_GT(rows[std::string(c) + " " + policy + " " + variant], 0) << c << " " << policy << " " << variant;
 
   EXPECT_GT(std::filesystem::file_size(out / "stability.png"), 0u);
+}
+
+// What the report needs from outside (the compiler, gnuplot) is checked before any work: without
+// gnuplot on PATH both reports stop at once with exit 3 naming it, not after measuring every
+// case and drawing the first figure.
+TEST(Report, MissingGnuplotStopsBeforeAnyWork) {
+  TempDir dir;
+  const std::string without_gnuplot = "PATH=" + dir.path().string() + " ";
+  for (const std::vector<std::string>& arguments :
+       {std::vector<std::string>{"--scene", planar_scene(), "--quick"}, {"--stability", "--cases", "planar_nc2"}}) {
+    std::vector<std::string> command{SWEEPGEN_EXECUTABLE, "report", "--cxx", "/usr/bin/c++", "--out",
+                                     (dir.path() / "out").string()};
+    command.insert(command.end(), arguments.begin(), arguments.end());
+    const auto result = run_command(without_gnuplot + shell_command(command));
+    EXPECT_EQ(result.exit_code, 3) << arguments.front() << "\n" << result.err;
+    EXPECT_NE(result.err.find("gnuplot: cannot be run"), std::string::npos) << result.err;
+    // Nothing was studied: no scene's or case's progress line.
+    EXPECT_EQ(result.err.find("[1/1"), std::string::npos) << result.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "out" / "report.md"));
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "out" / "stability.csv"));
+  }
 }
 
 TEST(Report, StabilityUnknownCaseIsAnInputError) {
