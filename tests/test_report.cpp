@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -212,6 +213,51 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_NE(md.find("- **planar_nc2**: generated double original"), std::string::npos);
   EXPECT_NE(md.find("](planar_nc2_time.png)"), std::string::npos);
   EXPECT_NE(md.find("](planar_nc2_kappa.png)"), std::string::npos);
+
+  // Why rows have a status or no answer, per family, and whether it is expected: the saturating
+  // policies clamp on the fast states (their torques exceed the effort limits).
+  const std::size_t why = md.find("Why rows have no answer or a large error, per family (and whether it is expected):");
+  ASSERT_NE(why, std::string::npos) << md;
+  const std::size_t fast = md.find("- **fast**", why);
+  ASSERT_NE(fast, std::string::npos) << md;
+  const std::size_t clamp = md.find("clamped torques at their effort limits (status_saturated) on ", fast);
+  ASSERT_NE(clamp, std::string::npos) << md;
+  const std::string line = md.substr(md.rfind('\n', clamp) + 1, md.find('\n', clamp) - md.rfind('\n', clamp) - 1);
+  EXPECT_NE(line.find("generated double saturate"), std::string::npos) << line;
+  EXPECT_NE(line.find(": expected, the policy's job"), std::string::npos) << line;
+  EXPECT_EQ(line.find("generated double original:"), std::string::npos) << line;
+}
+
+// Both figures draw each row with the same marker and colour (a kind of row has one in every
+// scene's figures), and the recommended row last, on top of the others.
+TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {
+  const PlanarReport& report = planar_report();
+  ASSERT_EQ(report.result.exit_code, 0) << report.result.err;
+  const std::string& printed = report.result.out;
+  const std::size_t at = printed.find("recommendation: ");
+  ASSERT_NE(at, std::string::npos) << printed;
+  const std::string recommended_row = printed.substr(at + 16, printed.find(':', at + 16) - at - 16);
+  const std::regex series(R"(pointtype (\d+) pointsize [0-9.]+ linecolor rgb '(#[0-9a-f]+)' title '([^']+)')");
+  std::map<std::string, std::string> style_of_row;  // title -> "pointtype colour", from both figures
+  for (const char* figure : {"planar_nc2_time.gp", "planar_nc2_kappa.gp"}) {
+    const std::string script = test::read_text(report.out / "build" / "plots" / figure);
+    std::string last;
+    std::size_t rows = 0;
+    for (std::sregex_iterator it(script.begin(), script.end(), series), end; it != end; ++it, ++rows) {
+      std::string title = (*it)[3];
+      last = title;
+      const std::string recommended = " (recommended)";
+      if (title.size() > recommended.size() && title.compare(title.size() - recommended.size(), recommended.size(), recommended) == 0)
+        title.resize(title.size() - recommended.size());
+      const std::string style = (*it)[1].str() + " " + (*it)[2].str();
+      const auto [at, inserted] = style_of_row.emplace(title, style);
+      EXPECT_EQ(at->second, style) << figure << ": " << title;
+    }
+    EXPECT_GE(rows, 9u) << figure;
+    EXPECT_EQ(last, recommended_row + " (recommended)") << figure;
+  }
+  std::set<std::string> styles;
+  for (const auto& [title, style] : style_of_row) EXPECT_TRUE(styles.insert(style).second) << title << " shares " << style;
 }
 
 // The q̈ errors of the "reference double" row against a computation of the same numbers without
