@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Per generated solver: compile time, static instruction count and register spills (bench/README.md,
-# "Compile time and spills").
+# "Instructions per operation").
 #
 #   bash bench/code_stats.sh [SCENE...]      (default: every generated/<scene>.cpp)
 #

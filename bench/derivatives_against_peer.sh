@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Issue #31's comparison in one command: the derivatives of the lean Panda and iiwa14 scenes (the
+# The derivatives against the peer in one command: the derivatives of the lean Panda and iiwa14 scenes (the
 # peer's problems: Nc = 0, ∂q̈/∂(q, q̇, τ); a 6-D contact at the hand, ∂q̈ and ∂ν) in instructions per
 # call of derivatives_original_flat at `-O2` and at `-O3 -march=x86-64-v3`, beside Pinocchio 3.7 +
-# CppADCodeGen's figures as issue #31 quotes them (measured outside this repository), and the
-# ratio ours / peer's (bench/README.md, "Issue #31: (D8)").
+# CppADCodeGen's figures (measured outside this repository), and the ratio ours / peer's
+# (bench/README.md, "Derivatives").
 #
 #   bash bench/derivatives_against_peer.sh [build dir, default build]     (CALLS, default 100)
 #
@@ -33,7 +33,7 @@ for scene in nc0:qdd "nc6_fixed:qdd, nu"; do
 done
 for scene in "$tmp/scenes/"*.yaml; do "$sweepgen" generate --scene "$scene" --out "$tmp/generated" > /dev/null 2>&1; done
 
-# scene | what the peer returns | the peer's -O2 and v3 figures (issue #31)
+# scene | what the peer returns | the peer's -O2 and v3 figures
 rows=(
   "panda_lean_nc0_derivatives|Panda Nc = 0, dqdd/d(q, qd, tau)|21306|13075"
   "panda_lean_nc6_fixed_derivatives|Panda 6-D, dqdd and dnu|35637|19898"

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Where a generated solver's instructions go: callgrind's instruction count per source line of
 # the committed generated/<scene>.cpp, summed per function and per quantity (the `// <quantity>:`
-# line under each banner), per call of the flat full solve (bench/README.md, "Where the
-# instructions go").
+# line under each banner), per call of the flat full solve (bench/README.md, "The
+# figures").
 #
 #   bash bench/instructions_by_quantity.sh <scene> [policy]     (policy default: original)
 #   bash bench/instructions_by_quantity.sh <scene> derivatives_<policy>   (scene key derivatives)

@@ -4,11 +4,13 @@
 #   Finds what the modules need: a Python 3 interpreter that imports NumPy, its development files
 #   (Development.Module) and pybind11 (CONFIG). Sets SWEEPGEN_PYTHON_FOUND, SWEEPGEN_PYTHON_EXECUTABLE
 #   (the interpreter the modules are built for and imported by) and, when something is missing,
-#   SWEEPGEN_PYTHON_MISSING (what, for a message). Without -DPython3_EXECUTABLE it takes the first of
-#   `python3` on PATH and /usr/bin/python3 that imports NumPy: a pyenv or virtual-environment
-#   interpreter with NumPy is used, one without it (a pyenv shim first on PATH) does not hide the
-#   system interpreter. Debian 12: pybind11-dev python3-dev python3-numpy. A macro: call it at
-#   directory scope, before sweepgen_add_python_module().
+#   SWEEPGEN_PYTHON_MISSING (what, and the Debian package, for a message). Without
+#   -DPython3_EXECUTABLE it takes the first of `python3` on PATH and /usr/bin/python3 that imports
+#   NumPy: a pyenv or virtual-environment interpreter with NumPy is used, one without it (a pyenv
+#   shim first on PATH) does not hide the system interpreter. Says which interpreter the modules
+#   are for, and which it passed over, or what is missing (message STATUS). Debian 12:
+#   pybind11-dev python3-dev python3-numpy. A macro: call it at directory scope, before
+#   sweepgen_add_python_module().
 #
 # sweepgen_add_python_module(<name> SCENE <scene.yaml> [OUTPUT_DIR <dir>] [EXPOSE all|outputs])
 # sweepgen_add_python_module(<name> SOLVER <target>)
@@ -20,32 +22,42 @@
 #   header at build time into <binary dir>/sweepgen_python/<name>/sweepgen_module_scene.hpp.
 #   The module lands in the target's LIBRARY_OUTPUT_DIRECTORY (set it to collect several).
 
-function(_sweepgen_python_with_numpy out)
+# The first of `python3` on PATH and /usr/bin/python3 that imports NumPy (or ""), and in
+# `passed_over` the ones before it that do not.
+function(_sweepgen_python_with_numpy out passed_over)
   find_program(_sweepgen_path_python3 NAMES python3 NO_CACHE)
+  set(without)
   foreach(candidate ${_sweepgen_path_python3} /usr/bin/python3)
-    if(EXISTS "${candidate}")
+    if(EXISTS "${candidate}" AND NOT candidate IN_LIST without)
       execute_process(COMMAND "${candidate}" -c "import numpy" RESULT_VARIABLE failed OUTPUT_QUIET ERROR_QUIET)
       if(NOT failed)
         set(${out} "${candidate}" PARENT_SCOPE)
+        set(${passed_over} "${without}" PARENT_SCOPE)
         return()
       endif()
+      list(APPEND without "${candidate}")
     endif()
   endforeach()
   set(${out} "" PARENT_SCOPE)
+  set(${passed_over} "${without}" PARENT_SCOPE)
 endfunction()
 
 macro(sweepgen_find_python)
+  set(_sweepgen_passed_over)
   if(NOT DEFINED Python3_EXECUTABLE)
-    _sweepgen_python_with_numpy(_sweepgen_python)
+    _sweepgen_python_with_numpy(_sweepgen_python _sweepgen_passed_over)
     if(_sweepgen_python)
       set(Python3_EXECUTABLE "${_sweepgen_python}" CACHE FILEPATH "Python interpreter of the sweepgen Python modules")
     endif()
   endif()
   find_package(Python3 QUIET COMPONENTS Interpreter Development.Module NumPy)
+  set(SWEEPGEN_PYTHON_SEARCHED TRUE)
   set(SWEEPGEN_PYTHON_FOUND FALSE)
   set(SWEEPGEN_PYTHON_MISSING "")
-  if(NOT Python3_Interpreter_FOUND OR NOT Python3_NumPy_FOUND)
-    set(SWEEPGEN_PYTHON_MISSING "a Python 3 interpreter with NumPy (Debian: python3-numpy)")
+  if(NOT Python3_Interpreter_FOUND)
+    set(SWEEPGEN_PYTHON_MISSING "a Python 3 interpreter (Debian: python3)")
+  elseif(NOT Python3_NumPy_FOUND)
+    set(SWEEPGEN_PYTHON_MISSING "NumPy for ${Python3_EXECUTABLE} (Debian: python3-numpy)")
   elseif(NOT Python3_Development.Module_FOUND)
     set(SWEEPGEN_PYTHON_MISSING "the Python headers of ${Python3_EXECUTABLE} (Debian: python3-dev)")
   else()
@@ -57,6 +69,17 @@ macro(sweepgen_find_python)
       set(SWEEPGEN_PYTHON_MISSING "pybind11 (Debian: pybind11-dev)")
     endif()
   endif()
+  if(_sweepgen_passed_over)
+    list(JOIN _sweepgen_passed_over ", " _sweepgen_passed_over)
+    set(_sweepgen_passed_over "; passed over ${_sweepgen_passed_over}, which cannot import NumPy")
+  endif()
+  if(SWEEPGEN_PYTHON_FOUND)
+    message(STATUS "sweepgen: Python modules are built for ${SWEEPGEN_PYTHON_EXECUTABLE} (Python "
+                   "${Python3_VERSION}, NumPy ${Python3_NumPy_VERSION}): import them with that interpreter"
+                   "${_sweepgen_passed_over}")
+  else()
+    message(STATUS "sweepgen: no Python modules: ${SWEEPGEN_PYTHON_MISSING} not found${_sweepgen_passed_over}")
+  endif()
 endmacro()
 
 function(sweepgen_add_python_module name)
@@ -67,9 +90,13 @@ function(sweepgen_add_python_module name)
   if(NOT name MATCHES "^[A-Za-z_][A-Za-z0-9_]*$")
     message(FATAL_ERROR "sweepgen_add_python_module(${name}): the module name must be a Python identifier")
   endif()
-  if(NOT COMMAND pybind11_add_module OR NOT TARGET Python3::Module)
+  if(NOT SWEEPGEN_PYTHON_SEARCHED)
     message(FATAL_ERROR "sweepgen_add_python_module(${name}): call sweepgen_find_python() first (and check "
                         "SWEEPGEN_PYTHON_FOUND)")
+  elseif(NOT SWEEPGEN_PYTHON_FOUND)
+    message(FATAL_ERROR "sweepgen_add_python_module(${name}): cannot build a Python module: "
+                        "${SWEEPGEN_PYTHON_MISSING} not found (sweepgen_find_python() sets SWEEPGEN_PYTHON_FOUND: "
+                        "check it before adding modules)")
   endif()
   if(arg_SCENE AND NOT arg_SOLVER)
     set(solver ${name}_solver)

@@ -21,6 +21,12 @@ function(sweepgen_add_solver target)
     message(FATAL_ERROR "sweepgen_add_solver(${target}): unknown arguments ${arg_UNPARSED_ARGUMENTS}")
   endif()
   get_filename_component(scene "${arg_SCENE}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+  # Said here, at configure time, not by the build tool as a missing input of the generator's rule.
+  get_source_file_property(scene_is_generated "${scene}" GENERATED)
+  if(NOT EXISTS "${scene}" AND NOT scene_is_generated)
+    message(FATAL_ERROR "sweepgen_add_solver(${target}): no scene file ${scene} (SCENE ${arg_SCENE}, relative to "
+                        "${CMAKE_CURRENT_SOURCE_DIR})")
+  endif()
   set(out "${arg_OUTPUT_DIR}")
   if(NOT out)
     set(out "${CMAKE_CURRENT_BINARY_DIR}/sweepgen/${target}")
@@ -31,7 +37,7 @@ function(sweepgen_add_solver target)
   endif()
   add_custom_command(
     OUTPUT "${out}/${target}.hpp" "${out}/${target}.cpp" "${out}/${target}.cu"
-    COMMAND sweepgen::sweepgen generate --scene "${scene}" --out "${out}" --file-stem ${target}
+    COMMAND sweepgen::sweepgen generate --quiet --scene "${scene}" --out "${out}" --file-stem ${target}
             --depfile "${out}/${target}.d" ${extra}
     DEPENDS "${scene}" sweepgen::sweepgen
     DEPFILE "${out}/${target}.d"

@@ -322,8 +322,27 @@ std::size_t policy_index(const Table& table, const std::string& policy) {
     static constexpr const auto& batch_solves = scene::tag::derivative_batch_solves;                     \
     static constexpr int flat_in_size = scene::tag::flat_in_size;                                        \
     static constexpr int flat_out_size = scene::tag::derivative_flat_out_size;                           \
+    static constexpr const auto& all_solves = scene::tag::solves;                                        \
     static auto drivers_from_flat(const Scalar* drivers) { return scene::tag::drivers_from_flat(drivers); } \
   }
+
+// Index of `policy` among a variant's derivative functions. A policy of the scene without one is
+// not differentiable (README, "Derivatives": the saturating policies clamp, a kink in the solve):
+// the ValueError says so, not that the scene lacks the policy.
+template <class Derived>
+std::size_t derivative_index(const std::string& policy) {
+  std::string differentiable;
+  for (std::size_t k = 0; k < std::size(Derived::solves); ++k) {
+    if (policy == Derived::solves[k].policy) return k;
+    differentiable += (k ? ", " : "") + std::string(Derived::solves[k].policy);
+  }
+  for (const auto& entry : Derived::all_solves)
+    if (policy == entry.policy)
+      throw py::value_error("policy: '" + policy + "' is a policy of this scene but is not differentiable: it clamps "
+                            "torques at their limits, a kink in the solve, so no derivatives are generated for it "
+                            "(derivatives of this scene: " + differentiable + ")");
+  return policy_index(Derived::solves, policy);
+}
 
 // derivatives(): the values and the Jacobians of one state or K, split by the columns of (D2):
 // d_<y>_dq (rows, dof), d_<y>_dqd (rows, dof), d_<y>_dtau_ff (rows, dof), d_<y>_dbeta (rows,
@@ -350,7 +369,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
         const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
                            d = rows_of<Scalar>(drivers, "drivers", n_drivers),
                            b = rows_of<Scalar>(beta, "beta", constraints);
-        const std::size_t index = policy_index(Derived::solves, policy);
+        const std::size_t index = derivative_index<Derived>(policy);
         const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows, &d, &b});
         constexpr py::ssize_t columns = Derived::columns;
         // Per output y (rows r): its values and its four column blocks, (D2)'s order.

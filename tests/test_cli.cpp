@@ -3,6 +3,7 @@
 // `info` summarises a chain; exit codes as in README.md (0 ok, 1 bad input, 2 usage, 3 I/O).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -868,6 +869,106 @@ TEST(CliGenerate, QuarterTurnsAreSaidAndCanBeTurnedOff) {
   ASSERT_EQ(solve_snapped.exit_code, 0) << describe(solve_snapped);
   ASSERT_EQ(solve_literal.exit_code, 0) << describe(solve_literal);
   EXPECT_NE(solve_snapped.out, solve_literal.out);
+}
+
+// ---- What a message tells the user to change -------------------------------------------------
+
+// A vendor's URDF with two frames at the flange (ee_link and tool0, both fixed to the last link):
+// there is no default tip. Each command says how to name one with its own flag, in its own words.
+TEST(CliMessages, NoDefaultTipNamesTheFlagOfTheCommandRun) {
+  test::TempDir dir;
+  const std::string urdf = dir.write("flange.urdf", test::one_joint_robot(R"(<joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit effort="10" velocity="1" lower="-1" upper="1"/></joint>
+  <link name="ee_link"/><link name="tool0"/>
+  <joint name="to_ee" type="fixed"><parent link="arm"/><child link="ee_link"/></joint>
+  <joint name="to_tool" type="fixed"><parent link="arm"/><child link="tool0"/></joint>)"));
+  const std::string scene = dir.write("no_tip.yaml", "sweepgen_scene: 1\nsolver: flange\nurdf: " + urdf + "\n");
+  const std::string tree = "link 'arm': the tree branches here (children 'ee_link', 'tool0', 0 of them with moving joints below)";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"info", "--urdf", urdf}, "name the tip link: sweepgen info --urdf " + urdf + " --tip LINK"},
+      {{"generate", "--urdf", urdf, "--out", (dir.path() / "out").string()},
+       "name the tip link: sweepgen generate --urdf " + urdf + " --tip LINK"},
+      {{"solve", "--urdf", urdf}, "name the tip link: sweepgen solve --urdf " + urdf + " --tip LINK"},
+      {{"info", "--scene", scene}, "name the tip link: the scene key 'tip'"},
+  };
+  for (const auto& [args, advice] : cases) {
+    SCOPED_TRACE(test::shell_command(args));
+    const CommandResult r = sweepgen(args, "");
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    expect_contains(r.err, tree);
+    expect_contains(r.err, advice);
+    for (const char* other : {"sweepgen solve", "sweepgen info", "sweepgen generate"}) {
+      if (advice.find(other) == std::string::npos) {
+        EXPECT_EQ(r.err.find(other), std::string::npos) << r.err;
+      }
+    }
+  }
+}
+
+// An XML syntax error is reported at its line and column (urdfdom's own message has neither).
+TEST(CliMessages, UrdfSyntaxErrorsHaveLineAndColumn) {
+  test::TempDir dir;
+  const std::string urdf = dir.write("broken.urdf", "<robot name=\"r\">\n  <link name=\"a\"/>\n  <link name=\"b\">\n"
+                                                    "  </lnk>\n</robot>\n");
+  const CommandResult r = sweepgen({"info", "--urdf", urdf});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  expect_contains(r.err, urdf + ":4:3: XML: not well-formed: ");
+}
+
+// --quiet: nothing on standard output, the same files; warnings still said (on standard error).
+TEST(CliMessages, GenerateQuietPrintsOnlyWarnings) {
+  test::TempDir dir;
+  const CommandResult loud = sweepgen({"generate", "--urdf", kPanda, "--out", (dir.path() / "loud").string()});
+  ASSERT_EQ(loud.exit_code, 0) << describe(loud);
+  expect_contains(loud.out, "sweepgen: note: ");
+  const CommandResult quiet = sweepgen({"generate", "--quiet", "--urdf", kPanda, "--out", (dir.path() / "quiet").string()});
+  ASSERT_EQ(quiet.exit_code, 0) << describe(quiet);
+  EXPECT_EQ(quiet.out, "");
+  EXPECT_EQ(quiet.err, "");
+  EXPECT_EQ(snapshot(dir.path() / "quiet"), snapshot(dir.path() / "loud"));
+}
+
+// Two constraint sets on one rigid body (the fingers of a gripper that is not on a tip's path are
+// locked, so both ride on the hand's body): generate and info warn, naming both sets and the body.
+TEST(CliMessages, SetsOnOneRigidBodyAreWarnedAbout) {
+  test::TempDir dir;
+  const std::string urdf = kSource + "/robots/mobile_panda_gripper/mobile_panda_gripper.urdf";
+  const std::string scene = dir.write("fingers.yaml", "sweepgen_scene: 1\nsolver: fingers\nurdf: " + urdf +
+                                                          "\ntip: panda_hand\ndrivers:\n  constraints:\n"
+                                                          "    - {link: panda_leftfinger, count: 3}\n"
+                                                          "    - {link: panda_rightfinger, count: 3}\n");
+  const std::string warning = "sweepgen: warning: " + scene + ": constraint sets act on one rigid body: set 0 on "
+                              "'panda_leftfinger', set 1 on 'panda_rightfinger' are all carried by the body of link "
+                              "'panda_link7'";
+  for (const std::vector<std::string>& args : {std::vector<std::string>{"info", "--scene", scene},
+                                               {"generate", "--quiet", "--scene", scene, "--out", dir.path().string()}}) {
+    const CommandResult r = sweepgen(args);
+    EXPECT_EQ(r.exit_code, 0) << describe(r);
+    expect_contains(r.err, warning);
+    expect_contains(r.err, "status_constraint_rank_deficient");
+  }
+  // The bundled grasp puts the two sets on the tips of a tree: separate bodies, no warning.
+  const CommandResult grasp = sweepgen({"info", "--scene", kSource + "/robots/mobile_panda_gripper/mobile_panda_grasp.yaml"});
+  EXPECT_EQ(grasp.exit_code, 0) << describe(grasp);
+  EXPECT_EQ(grasp.err.find("warning"), std::string::npos) << grasp.err;
+}
+
+// An output that comes out the same is not rewritten: its time stamp stays, so a build that
+// regenerates after a touch of the URDF recompiles nothing. A changed file is replaced.
+TEST(CliGenerate, UnchangedOutputIsLeftUntouched) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", out.string()}).exit_code, 0);
+  const auto an_hour_ago = fs::file_time_type::clock::now() - std::chrono::hours(1);
+  for (const std::string& name : kPlanarFiles) fs::last_write_time(out / name, an_hour_ago);
+  std::ofstream(out / "planar_rpr.cmake", std::ios::app) << "# edited\n";
+  const auto edited = fs::last_write_time(out / "planar_rpr.cmake");
+  ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", out.string()}).exit_code, 0);
+  EXPECT_EQ(fs::last_write_time(out / "planar_rpr.hpp"), an_hour_ago);
+  EXPECT_EQ(fs::last_write_time(out / "planar_rpr.cpp"), an_hour_ago);
+  EXPECT_EQ(test::read_text(out / "planar_rpr.cmake").find("# edited"), std::string::npos);
+  EXPECT_GE(fs::last_write_time(out / "planar_rpr.cmake"), edited);
+  EXPECT_FALSE(has_temporaries(dir.path()));
 }
 
 }  // namespace SWEEPGEN_TEST_FILE

@@ -4,7 +4,7 @@
 // Tolerances: these are identities between two double evaluations of the same sums in a
 // different order. Rounding in ν is amplified by cond(E^A_cstr,0), so two correct double
 // solvers differ by ~10 eps cond times the size of the terms: we allow 1e-10 relative where
-// cond <= 1e6 (the bound issue 2 sets for the dense oracle) and 1e-10 * cond / 1e6 beyond.
+// cond <= 1e6 (the bound the dense oracle is judged within, tests/test_dense_oracle.cpp) and 1e-10 * cond / 1e6 beyond.
 // Where E^A_cstr,0 is rank deficient (Nc > dof, singular poses) ν is not unique and the
 // dropped pivots depend on rounding: there both solves must report the rank deficiency and
 // stay finite. 1000 random states per robot and Nc.

@@ -1,4 +1,4 @@
-// docs/derivation.md is the one statement of the equations (issue 17): every equation there has
+// docs/derivation.md is the one statement of the equations: every equation there has
 // one tag, written "(TAG)" at the start of its line; the code, the generated files and the docs
 // cite tags as "(TAG)" or "(TAG, TAG, ...)". This test reads the repository's text files and
 // checks that every cited tag is defined, every defined tag is cited by the generator's code

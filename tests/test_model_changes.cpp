@@ -1,5 +1,5 @@
 // What the loader takes differently from the URDF as written, or leaves to the application, and
-// that it says so (model/model_notes.hpp; issue 30): <mimic> joints as joints of their own (or
+// that it says so (model/model_notes.hpp): <mimic> joints as joints of their own (or
 // locked), the quarter-turn rule and its switch, axes scaled to unit length, inertias made
 // symmetric. Each is listed, and where it can be turned off, off gives the literal model.
 #include <gtest/gtest.h>
@@ -130,7 +130,7 @@ TEST(QuarterTurns, EveryOriginTheRuleChangesIsListed) {
   const model::ModelChange& change = chain.changes[0];
   EXPECT_EQ(change.element, "joint 'j1' <origin>");
   EXPECT_EQ(change.written, "rpy '1.57079632679 0 -3.14159265359'");  // as written, not as urdfdom reads it back
-  EXPECT_EQ(change.taken_as, "(pi/2, 0, pi)");
+  EXPECT_EQ(change.taken_as, "(pi/2, 0, -pi)");  // the same rotation as urdfdom's (pi/2, 0, pi), as written
   EXPECT_EQ(change.unit, "rad");
   // Both angles are off by 4.9e-12 and 2.1e-13 rad about different axes.
   EXPECT_NEAR(change.deviation, std::hypot(kShortHalfPiDeviation, 3.14159265359 - M_PI), kDeviationRounding);
@@ -138,8 +138,26 @@ TEST(QuarterTurns, EveryOriginTheRuleChangesIsListed) {
   const model::Mat3& E = chain.joints[1].tree_transform.E;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) EXPECT_TRUE(E(r, c) == 0 || std::abs(E(r, c)) == 1) << E;
-  expect_contains(note_with(chain, "joint 'j1' <origin>"), "taken as (pi/2, 0, pi) (changed by ");
+  expect_contains(note_with(chain, "joint 'j1' <origin>"), "taken as (pi/2, 0, -pi) (changed by ");
   expect_contains(note_with(chain, "the quarter-turn rule"), "snap_quarter_turns: false");
+}
+
+// A pitch of pi reads back from urdfdom's quaternion as roll and yaw of pi, the same rotation: the
+// listing gives the rotation taken in the form the file writes it.
+TEST(QuarterTurns, TheRotationTakenIsSaidAsWritten) {
+  const model::Chain chain = load(gripper_arm(R"(xyz="0 0 0.1" rpy="0 3.14159265359 0")"), "finger_left");
+  ASSERT_EQ(chain.changes.size(), 1u);
+  EXPECT_EQ(chain.changes[0].written, "rpy '0 3.14159265359 0'");
+  EXPECT_EQ(chain.changes[0].taken_as, "(0, pi, 0)");
+  expect_contains(note_with(chain, "joint 'j1' <origin>"), "rpy '0 3.14159265359 0' taken as (0, pi, 0)");
+  // Exactly Ry(pi): a signed permutation.
+  model::Mat3 expected;
+  expected << -1, 0, 0, 0, 1, 0, 0, 0, -1;
+  EXPECT_EQ(chain.joints[1].tree_transform.E, expected);
+  // An angle that is no quarter turn keeps the triple taken from urdfdom's angles.
+  const model::Chain mixed = load(gripper_arm(R"(xyz="0 0 0.1" rpy="1.57079632679 0.3 0")"), "finger_left");
+  ASSERT_EQ(mixed.changes.size(), 1u);
+  EXPECT_EQ(mixed.changes[0].taken_as.rfind("(pi/2, 0.3", 0), 0u) << mixed.changes[0].taken_as;
 }
 
 // A pitch within 1e-5 of pi/2 urdfdom reads back as pi/2 exactly; the deviation, measured

@@ -1,5 +1,5 @@
 // Every invalid URDF or chain request gets an InputError naming the file, the element and the
-// reason (issue 2, item 4).
+// reason.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -57,7 +57,7 @@ TEST(ModelErrors, ValidArmLoads) {
 }
 
 // The sweeps compute one triangle of every symmetric block, so the loaded inertias must be
-// exactly symmetric (issue 12): R I R^T of a full tensor under a skew rotation is not, in
+// exactly symmetric: R I R^T of a full tensor under a skew rotation is not, in
 // floating point, unless the loader makes it so.
 TEST(ModelErrors, LoadedInertiasAreExactlySymmetric) {
   const std::string skew_inertial =
@@ -72,10 +72,13 @@ TEST(ModelErrors, LoadedInertiasAreExactlySymmetric) {
   }
 }
 
+// XML that is not well-formed is reported at its line and column (model/xml_syntax.hpp); well-formed
+// XML that urdfdom rejects, with urdfdom's reason.
 TEST(ModelErrors, MalformedXml) {
   const std::string message = load_error("<robot name='x'><link name='a'></robot");
-  expect_contains(message, "<robot>");
-  expect_contains(message, "not a valid URDF");
+  expect_contains(message, "robot.urdf:1:32: XML: not well-formed: ");
+  const std::string urdf = load_error("<robot name='x'>\n  <link name='a'/>\n  <joint name='j' type='sliding'/>\n</robot>");
+  expect_contains(urdf, "robot.urdf: <robot>: not a valid URDF");
 }
 
 TEST(ModelErrors, MissingFile) {

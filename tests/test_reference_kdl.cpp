@@ -433,7 +433,7 @@ void compare_with_kdl(const std::string& label, const model::Chain& chain, const
       // singular to working precision) are compared with KDL on nothing but finiteness: there
       // sweepgen leaves the dependent direction unenforced while KDL's truncated SVD inverts
       // whatever singular values pass its absolute cut-off, two different policies for an
-      // ill-posed problem (issue 2, item 5). Every other state is compared in full.
+      // ill-posed problem. Every other state is compared in full.
       EXPECT_TRUE(sol.qdd.allFinite() && sol.nu.allFinite() && sol.tau_cmd.allFinite());
       const bool judged = unique_nu && tol <= kToleranceCeiling;
       skips.skip(!judged, unique_nu ? "cond > 1e9" : "dropped a pivot");

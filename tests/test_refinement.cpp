@@ -1,9 +1,9 @@
 // The refinement (R1, docs/derivation.md section 5) brings the double solver to the best double
-// solver's level (issue #12): on random states of every bundled scene with constraints, and on
+// solver's level (docs/stability.md, "Refinement"): on random states of every bundled scene with constraints, and on
 // the UR5 with a linear tip constraint (Nc = 3, the state family where the unrefined error was
 // 400x KDL's), ReferenceSolver<double> — whose trace the generated code is — judged against the
 // binary128 referee (report/stability_errors.hpp) next to KDL's Vereshchagin on the same states:
-//  (a) per state, the q̈ error within max(2 × KDL's, 4 eps) (the issue's target), on all but
+//  (a) per state, the q̈ error within max(2 × KDL's, 4 eps) (docs/stability.md, "Refinement"), on all but
 //      kLuckShare of the states: on a single well-conditioned state two backward-stable solvers
 //      of different operation order differ in luck by a few eps (the misses measured here are
 //      all below 12 eps, where KDL happened to be 2.5-11x closer; the printed lines), and on
@@ -39,7 +39,7 @@ namespace SWEEPGEN_TEST_FILE {
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 // (a): measured 0.2–0.7 % of the states per scene.
 constexpr double kLuckShare = 0.015;
-// (b): the issue's target is 2. Measured refined 0.05-0.7 where E is ill-conditioned (Nc = 6,
+// (b): the target is 2 (docs/stability.md, "Refinement"). Measured refined 0.05-0.7 where E is ill-conditioned (Nc = 6,
 // the UR5's Nc = 3), but 1.7 (planar_nc2) and 3.42 (panda_nc3) where κ is 1-10: errors of
 // 1e-15 from the recursion's own rounding, which the refinement does not touch (unrefined: 5.2
 // and 3.2; KDL on the same states, printed alongside: 6.5 and 2.8).
@@ -109,7 +109,7 @@ std::string bundled(const std::string& path) { return std::string(SWEEPGEN_SOURC
 
 TEST(Refinement, AtTheBestDoubleSolversLevel) {
   test::TempDir dir;
-  // The issue's UR5: base_link -> tool0, three run-time directions.
+  // The UR5 where the unrefined error was 400x KDL's: base_link -> tool0, three run-time directions.
   const std::string ur5_nc3 = dir.write("ur5_nc3.yaml", "sweepgen_scene: 1\nsolver: ur5_nc3\nurdf: " +
                                                              bundled("robots/ur5/ur5.urdf") +
                                                              "\nroot: base_link\ntip: tool0\n"

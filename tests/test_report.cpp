@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -212,6 +213,51 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_NE(md.find("- **planar_nc2**: generated double original"), std::string::npos);
   EXPECT_NE(md.find("](planar_nc2_time.png)"), std::string::npos);
   EXPECT_NE(md.find("](planar_nc2_kappa.png)"), std::string::npos);
+
+  // Why rows have a status or no answer, per family, and whether it is expected: the saturating
+  // policies clamp on the fast states (their torques exceed the effort limits).
+  const std::size_t why = md.find("Why rows have no answer or a large error, per family (and whether it is expected):");
+  ASSERT_NE(why, std::string::npos) << md;
+  const std::size_t fast = md.find("- **fast**", why);
+  ASSERT_NE(fast, std::string::npos) << md;
+  const std::size_t clamp = md.find("clamped torques at their effort limits (status_saturated) on ", fast);
+  ASSERT_NE(clamp, std::string::npos) << md;
+  const std::string line = md.substr(md.rfind('\n', clamp) + 1, md.find('\n', clamp) - md.rfind('\n', clamp) - 1);
+  EXPECT_NE(line.find("generated double saturate"), std::string::npos) << line;
+  EXPECT_NE(line.find(": expected, the policy's job"), std::string::npos) << line;
+  EXPECT_EQ(line.find("generated double original:"), std::string::npos) << line;
+}
+
+// Both figures draw each row with the same marker and colour (a kind of row has one in every
+// scene's figures), and the recommended row last, on top of the others.
+TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {
+  const PlanarReport& report = planar_report();
+  ASSERT_EQ(report.result.exit_code, 0) << report.result.err;
+  const std::string& printed = report.result.out;
+  const std::size_t at = printed.find("recommendation: ");
+  ASSERT_NE(at, std::string::npos) << printed;
+  const std::string recommended_row = printed.substr(at + 16, printed.find(':', at + 16) - at - 16);
+  const std::regex series(R"(pointtype (\d+) pointsize [0-9.]+ linecolor rgb '(#[0-9a-f]+)' title '([^']+)')");
+  std::map<std::string, std::string> style_of_row;  // title -> "pointtype colour", from both figures
+  for (const char* figure : {"planar_nc2_time.gp", "planar_nc2_kappa.gp"}) {
+    const std::string script = test::read_text(report.out / "build" / "plots" / figure);
+    std::string last;
+    std::size_t rows = 0;
+    for (std::sregex_iterator it(script.begin(), script.end(), series), end; it != end; ++it, ++rows) {
+      std::string title = (*it)[3];
+      last = title;
+      const std::string recommended = " (recommended)";
+      if (title.size() > recommended.size() && title.compare(title.size() - recommended.size(), recommended.size(), recommended) == 0)
+        title.resize(title.size() - recommended.size());
+      const std::string style = (*it)[1].str() + " " + (*it)[2].str();
+      const auto [at, inserted] = style_of_row.emplace(title, style);
+      EXPECT_EQ(at->second, style) << figure << ": " << title;
+    }
+    EXPECT_GE(rows, 9u) << figure;
+    EXPECT_EQ(last, recommended_row + " (recommended)") << figure;
+  }
+  std::set<std::string> styles;
+  for (const auto& [title, style] : style_of_row) EXPECT_TRUE(styles.insert(style).second) << title << " shares " << style;
 }
 
 // The q̈ errors of the "reference double" row against a computation of the same numbers without
@@ -355,6 +401,8 @@ TEST(Report, CompilerFailureIsAToolError) {
     EXPECT_EQ(result.exit_code, 3) << compiler << "\n" << result.err;
     EXPECT_NE(result.err.find("compiler"), std::string::npos) << result.err;
     EXPECT_NE(result.err.find(compiler), std::string::npos) << result.err;
+    // Found missing before the scene is studied (report/external_tools.hpp).
+    EXPECT_EQ(result.err.find("[1/1"), std::string::npos) << result.err;
     // No report, and no staging folder left behind.
     for (const auto& entry : std::filesystem::directory_iterator(dir.path() / "out"))
       EXPECT_EQ(entry.path().filename(), "build") << entry.path();
@@ -364,7 +412,8 @@ TEST(Report, CompilerFailureIsAToolError) {
 // A "compiler" that succeeds but writes something that is no shared library: dlopen fails.
 TEST(Report, DlopenFailureIsAToolError) {
   TempDir dir;
-  const std::string fake = dir.write("fake-cxx", "#!/bin/sh\nfor a; do out=$a; done\necho 'not a library' > \"$out\"\n");
+  const std::string fake = dir.write("fake-cxx", "#!/bin/sh\n[ \"$1\" = --version ] && exit 0\nfor a; do out=$a; done\n"
+                                                 "echo 'not a library' > \"$out\"\n");
   std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
   const auto result = run_command(shell_command({SWEEPGEN_EXECUTABLE, "report", "--scene", planar_scene(), "--states",
                                                  "5", "--cxx", fake, "--out", (dir.path() / "out").string()}));
@@ -444,6 +493,27 @@ TEST(Report, StabilityReportOnTwoCases) {
         EXPECT_GT(rows[std::string(c) + " " + policy + " " + variant], 0) << c << " " << policy << " " << variant;
 
   EXPECT_GT(std::filesystem::file_size(out / "stability.png"), 0u);
+}
+
+// What the report needs from outside (the compiler, gnuplot) is checked before any work: without
+// gnuplot on PATH both reports stop at once with exit 3 naming it, not after measuring every
+// case and drawing the first figure.
+TEST(Report, MissingGnuplotStopsBeforeAnyWork) {
+  TempDir dir;
+  const std::string without_gnuplot = "PATH=" + dir.path().string() + " ";
+  for (const std::vector<std::string>& arguments :
+       {std::vector<std::string>{"--scene", planar_scene(), "--quick"}, {"--stability", "--cases", "planar_nc2"}}) {
+    std::vector<std::string> command{SWEEPGEN_EXECUTABLE, "report", "--cxx", "/usr/bin/c++", "--out",
+                                     (dir.path() / "out").string()};
+    command.insert(command.end(), arguments.begin(), arguments.end());
+    const auto result = run_command(without_gnuplot + shell_command(command));
+    EXPECT_EQ(result.exit_code, 3) << arguments.front() << "\n" << result.err;
+    EXPECT_NE(result.err.find("gnuplot: cannot be run"), std::string::npos) << result.err;
+    // Nothing was studied: no scene's or case's progress line.
+    EXPECT_EQ(result.err.find("[1/1"), std::string::npos) << result.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "out" / "report.md"));
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "out" / "stability.csv"));
+  }
 }
 
 TEST(Report, StabilityUnknownCaseIsAnInputError) {

@@ -740,8 +740,16 @@ TEST(SceneErrors, Tips) {
   expect_error(both, position(both, 6, "["), "tips", "give either 'tip' (one chain) or 'tips'");
   const std::string twice = with_urdf(replace(kTreeScene, "right_panda_hand]", "left_panda_hand]"), urdf);
   expect_error(twice, position(twice, 5, "left_panda_hand", 2), "tips[1]", "tip 'left_panda_hand' named twice");
+  // A bad entry is reported at its own line and column, not at the list's.
   const std::string unknown = with_urdf(replace(kTreeScene, "right_panda_hand]", "right_panda_hnd]"), urdf);
-  expect_error(unknown, position(unknown, 5, "["), "tip", "tip link 'right_panda_hnd'", "right_panda_hand");
+  expect_error(unknown, position(unknown, 5, "right_panda_hnd"), "tips[1]", "tip link 'right_panda_hnd'", "right_panda_hand");
+  const std::string first = with_urdf(replace(kTreeScene, "[left_panda_hand", "[left_panda_hnd"), urdf);
+  expect_error(first, position(first, 5, "left_panda_hnd"), "tips[0]", "tip link 'left_panda_hnd'", "left_panda_hand");
+  // A message about the tree names every tip, not only the first.
+  const std::string off_tree = with_urdf(replace(kTreeScene, "link: left_panda_hand, count: 6", "link: left_panda_hnd, count: 6"), urdf);
+  expect_error(off_tree, position(off_tree, 8, "left_panda_hnd"), "drivers.constraints[0].link",
+               "link 'left_panda_hnd' of a constraint set is not on the tree from 'station' to 'left_panda_hand', "
+               "'right_panda_hand'", "left_panda_hand");
   // Five directions on the right elbow (moved by the torso and four arm joints) and six on the
   // right hand are each within reach, but together they ask 11 of the 8 joints that move them.
   const std::string over = with_urdf(replace(kTreeScene, "right_panda_link4, count: 2", "right_panda_link4, count: 5}\n"

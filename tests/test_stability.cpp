@@ -1,4 +1,4 @@
-// The numerical-stability suite (docs/stability.md; tracker issue #5): the reference solver in
+// The numerical-stability suite (docs/stability.md): the reference solver in
 // double against itself in IEEE binary128 (solver/quad_scalar.hpp) on the synthetic robot
 // family (generator/family) and the bundled scenes, in extreme states
 // (generator/report/extreme_states.hpp). Measures and asserts per case and kind of state.
@@ -245,7 +245,7 @@ TEST_P(Stability, PowerOfTwoScaledCopiesAgree) {
   std::printf("[stability] %s: power-of-two scaled copies, max relative difference %.2e\n", c.name.c_str(), worst);
 }
 
-// ---- Against KDL's Vereshchagin (issue #5) ----------------------------------------------------
+// ---- Against KDL's Vereshchagin ---------------------------------------------------------------
 // The scaled arms and the thin rods: sweepgen's reference double must never be worse than KDL
 // 1.5's ChainHdSolver_Vereshchagin (report/kdl_row.hpp) beyond its own rounding bound:
 // per full-rank state, error ≤ max(KDL's error, kErrorFactor · eps · κ) (same scale-invariant
@@ -296,7 +296,7 @@ TEST(StabilityKdl, NotWorseThanKdlOnScaledAndThinRodCases) {
 #endif
 }
 
-// ---- RK4 energy drift (issue #5) -------------------------------------------------------------
+// ---- RK4 energy drift -------------------------------------------------------------------------
 // Conservative long chains (no drivers, no constraints, no damping: the solver model has none;
 // gravity on): q̈ = FD(q, q̇) from ReferenceSolver<double> (Nc = 0, the bias track only),
 // integrated by classical fixed-step RK4. E = T + V with

@@ -1,7 +1,7 @@
 // The dense KKT solve of `sweepgen report`'s "dense KKT" row (generator/oracle/dense_dynamics.hpp:
 // M(q) by inverse dynamics column by column, the constraint Jacobian of each direction's link,
 // one LDLᵀ of the KKT system) on a scene's prepared inputs: what sweepgen's recursion is
-// measured against on trees and floating bases (issue 16: >= 10x fewer instructions).
+// measured against on trees and floating bases (bench/README.md, "KDL and the dense KKT solve").
 #pragma once
 
 #include <string>

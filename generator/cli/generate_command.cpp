@@ -10,6 +10,7 @@
 #include "model/error.hpp"
 #include "model/model_notes.hpp"
 #include "scene/scene.hpp"
+#include "solver/shared_body_sets.hpp"
 
 namespace sweepgen::cli {
 namespace {
@@ -42,7 +43,8 @@ scene::Scene resolve_scene(const SceneOptions& options) {
   if (options.scene.empty() && options.urdf.empty())
     throw InputError("command line", "--scene / --urdf", "give a scene file, or a URDF for the default scene");
   scene::Scene s = options.scene.empty()
-                       ? scene::default_scene(options.urdf, options.root, options.tip, options.branch_tips, !options.literal_angles)
+                       ? scene::default_scene(options.urdf, options.root, options.tip, options.branch_tips, !options.literal_angles,
+                                              options.command)
                        : scene::load_scene(options.scene);
   const auto override_with = [&s](const std::string& value, std::string& field, const char* element, const char* flag) {
     if (value.empty()) return;
@@ -57,6 +59,9 @@ scene::Scene resolve_scene(const SceneOptions& options) {
       s.chain.branch_tips = options.branch_tips;
       s.locations["tip"] = "--branch-tip";
     }
+    if (!options.tip.empty() || !options.branch_tips.empty())  // the file's `tips` entries no longer name them
+      for (auto it = s.locations.begin(); it != s.locations.end();)
+        it = it->first.rfind("tips[", 0) == 0 ? s.locations.erase(it) : std::next(it);
     if (options.literal_angles) s.chain.snap_quarter_turns = false;
   }
   if (!options.solver.empty()) {
@@ -96,6 +101,12 @@ void print_notes(const model::Chain& chain, std::ostream& out) {
   for (const std::string& line : model::model_notes(chain)) out << "sweepgen: note: " << line << "\n";
 }
 
+// What the scene allows but will likely not do what was meant (solver/shared_body_sets.hpp).
+void print_warnings(const scene::Scene& s, const model::Chain& chain) {
+  for (const std::string& line : solver::shared_body_warnings(s.layout.constraint_sets(), chain))
+    std::cerr << "sweepgen: warning: " << (s.path.empty() ? std::string("command line") : s.path) << ": " << line << "\n";
+}
+
 void print_costs(const emit::EmittedSolver& emitted, std::ostream& out) {
   for (const std::string& choice : emitted.choices) out << "  " << choice << "\n";
   for (const auto& cost : emitted.costs)
@@ -106,20 +117,26 @@ void print_costs(const emit::EmittedSolver& emitted, std::ostream& out) {
 
 void add_generate_command(CLI::App& app, GenerateOptions& options) {
   CLI::App* command = app.add_subcommand("generate", "Emit the solver a scene describes");
+  options.scene.command = "sweepgen generate";
   add_scene_options(command, options.scene);
   command->add_option("--out", options.out, "output directory (created if missing)")->capture_default_str();
   command->add_option("--file-stem", options.file_stem, "output file names (default: from the namespace)");
   command->add_option("--depfile", options.depfile, "write a Makefile depfile listing the scene and URDF");
+  command->add_flag("--quiet", options.quiet,
+                    "print nothing on success but warnings: not the files written, the notes on the URDF or the "
+                    "operation counts (`sweepgen info` prints those)");
 }
 
 void add_info_command(CLI::App& app, SceneOptions& options) {
   CLI::App* command = app.add_subcommand("info", "Summarise a chain and the cost of its default (or given) scene");
+  options.command = "sweepgen info";
   add_scene_options(command, options);
 }
 
 int run_generate(const GenerateOptions& options) {
   const scene::Scene s = resolve_scene(options.scene);
   const model::Chain chain = scene::load_scene_chain(s);
+  print_warnings(s, chain);
   emit::EmittedSolver emitted = emit_scene(s, chain);
 
   std::error_code error;
@@ -149,6 +166,7 @@ int run_generate(const GenerateOptions& options) {
     files.push_back({options.depfile, deps + "\n"});
   }
   io::write_files_atomically(files);
+  if (options.quiet) return 0;
   std::cout << "sweepgen: " << s.solver << " (" << chain.dof() << " joints, Nc = " << s.layout.constraints
             << "): wrote";
   for (const auto& f : files) std::cout << " " << f.path;
@@ -161,6 +179,7 @@ int run_generate(const GenerateOptions& options) {
 int run_info(const SceneOptions& options) {
   const scene::Scene s = resolve_scene(options);
   const model::Chain chain = scene::load_scene_chain(s);
+  print_warnings(s, chain);
   std::string tips = chain.tip_link;
   for (const std::string& tip : chain.branch_tips) tips += ", " + tip;
   std::cout << (chain.is_chain() ? "chain " : "tree ") << chain.root_link << " -> " << tips << " in " << chain.source

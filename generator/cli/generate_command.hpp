@@ -9,6 +9,7 @@ namespace sweepgen::cli {
 
 // Where a scene comes from: a scene file, or a URDF with the default scene; flags override.
 struct SceneOptions {
+  std::string command;  // "sweepgen generate" or "sweepgen info", for messages
   std::string scene;
   std::string urdf;
   std::string root;
@@ -26,6 +27,7 @@ struct GenerateOptions {
   std::string out = ".";
   std::string file_stem;
   std::string depfile;
+  bool quiet = false;  // only warnings and errors
 };
 
 void add_generate_command(CLI::App& app, GenerateOptions& options);

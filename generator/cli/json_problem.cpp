@@ -59,7 +59,7 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   // A link a driver acts on: on the chain, and not fixed to the base (`on_the_base` says why).
   const auto check_link = [&](const std::string& key, const std::string& link, const std::string& on_the_base) {
     const auto frame = chain.frames.find(link);
-    if (frame == chain.frames.end()) throw KeyError(key, "link is not on the chain" + nearest_name_hint(link, links));
+    if (frame == chain.frames.end()) throw KeyError(key, "link is not on " + chain.extent() + nearest_name_hint(link, links));
     if (frame->second.body == 0) throw KeyError(key, "link is fixed to the base; " + on_the_base);
   };
   if (line.contains("f_ext")) {

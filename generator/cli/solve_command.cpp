@@ -81,6 +81,7 @@ int run_solve(const SolveOptions& options) {
   spec.floating_base = options.floating_base;
   spec.snap_quarter_turns = !options.literal_angles;
   spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
+  spec.naming_the_tip = "sweepgen solve --urdf " + options.urdf + " --tip LINK (for a tree, --branch-tip LINK for each further tip)";
   const model::Chain chain = model::load_chain(spec);
 
   std::ifstream file;

@@ -35,7 +35,7 @@ bool is_leaf_here(const Graph& graph, const std::vector<int>& stage, NodeId id, 
 // list schedule that places next (i.e. earlier in the code) the ready node (all its users
 // placed) that adds the fewest new live values (its operands not yet live) minus the one it
 // ends (itself, if live); ties keep the depth-first order. Only the order changes, not what
-// is computed: callgrind on panda_nc6 (bench/README.md) counts ~1 % fewer instructions.
+// is computed: callgrind on panda_nc6 (bench/README.md, "Instructions per operation") counts ~1 % fewer instructions.
 void reduce_live_ranges(const Graph& graph, std::vector<NodeId>& computed, const std::vector<int>& blocks) {
   const std::size_t count = computed.size();
   std::unordered_map<NodeId, std::size_t> index;

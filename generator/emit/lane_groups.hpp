@@ -1,4 +1,4 @@
-// SIMD over the constraint directions (issue #29): which nodes of one generated function are the
+// SIMD over the constraint directions: which nodes of one generated function are the
 // same expression once per run-time direction α_k of a constraint set, so that the writer computes
 // them together, one lane per direction, in one vector expression.
 //
@@ -6,15 +6,15 @@
 // F^A_cstr,i (I2) are X^T P^T applied to each α_k, so the trace holds, per direction, isomorphic
 // expressions that share every operand except the direction's own. Only the columns (I2) get
 // lanes: the rows (I6) take α_k at their end, where each lane would be read out at once for
-// E^A_cstr's entries (measured slower: bench/README.md, "Issue #29, fifth session"). Grouping is bottom-up (as a compiler's SLP vectoriser, on the traced
+// E^A_cstr's entries (measured slower: bench/README.md, "Two lanes over the constraint columns"). Grouping is bottom-up (as a compiler's SLP vectoriser, on the traced
 // graph): the seeds are the components of the set's α_k (group j holds α_k,j for every k of the
 // set, lane k); a node joins lane l of a new group when, for every lane, a node of the same
 // operation exists whose operands are either the same node in every lane (a shared value,
 // broadcast) or lane l of one group. Only +, −, ×, ÷ and negation are grouped.
 // A group is written as vectors of two lanes (chunks of 16 bytes of doubles: one SSE2 register,
 // the x86-64 baseline's; wider vectors need 32- or 64-byte stack slots, which the baseline gets
-// only by realigning the frame at run time, and measured slower there: bench/README.md, "Issue
-// #29, fifth session"). A set of odd count pads its last chunk with a copy of that chunk's first
+// only by realigning the frame at run time, and measured slower there: bench/README.md, "Two
+// lanes over the constraint columns"). A set of odd count pads its last chunk with a copy of that chunk's first
 // lane: it computes what that lane computes, so it raises no floating-point exception it does not.
 // The writer computes a group where its first member (in FunctionPlan::computed) stands: every
 // operand of every member is ready there, a shared one being that member's operand too, a lane

@@ -233,11 +233,11 @@ struct PlannedCost {
 // than two directions. Each such column is a 6-vector live through every body's step; past two
 // (12 values) they no longer fit the 16 vector registers of x86-64 and spill, which an operation
 // count does not see (bench/code_stats.sh: 3 033 spills with columns against 2 599 with rows on
-// panda_nc6). On nine scenes measured both ways (bench/README.md, "Issue #29, fourth session"),
+// panda_nc6). On nine scenes measured both ways (bench/README.md, "Constraint columns (I2) or rows (I6)"),
 // rows ran fewer instructions wherever the columns led the count by up to 4.3 % with Nc >= 3,
 // columns ran fewer where they led by 6.7 % (panda_nc3) or carried two directions (planar_nc2,
 // 1.6 %); 5 % separates them. Run-time directions put the columns in lanes, two per register on
-// the baseline, and the weight does not apply (bench/README.md, "Issue #29, fifth session").
+// the baseline, and the weight does not apply (bench/README.md, "Two lanes over the constraint columns").
 double rows_cost(solver::ConstraintRows rows, const PlannedCost& cost, std::size_t directions) {
   constexpr std::size_t kColumnsInRegisters = 2;
   constexpr double kSpillingColumnsWeight = 21.0 / 20.0;
@@ -491,7 +491,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   // Fusing the flat solves (templates/solver.cpp.mustache) puts one more copy of the whole
   // solve into the file per policy and scalar; they are fused while the file stays within
   // kFusedOperations operations (measured: every bundled scene within it compiles in <= 5 s at
-  // -O2 on a 2-core VM, bench/README.md).
+  // -O2 on a 2-core VM, bench/README.md, "The fused flat solve").
   std::size_t file_operations = 0, fused_operations = 0;
   for (const FunctionCost& cost : result.costs) {
     const bool full = cost.function.rfind("full ", 0) == 0;

@@ -9,13 +9,28 @@
 #include <sstream>
 
 namespace sweepgen::io {
+namespace {
+
+// Whether the file at `path` exists and holds exactly `text`.
+bool holds(const std::string& path, const std::string& text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream existing;
+  existing << in.rdbuf();
+  return existing.str() == text;
+}
+
+}  // namespace
 
 void write_files_atomically(const std::vector<OutputFile>& files) {
   std::vector<std::string> temporaries;
+  std::vector<const OutputFile*> changed;
   const auto discard = [&temporaries] {
     for (const auto& t : temporaries) std::remove(t.c_str());
   };
   for (const auto& file : files) {
+    if (holds(file.path, file.text)) continue;
+    changed.push_back(&file);
     const std::string temporary = file.path + ".tmp" + std::to_string(::getpid());
     temporaries.push_back(temporary);
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
@@ -27,11 +42,11 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
       throw IoError(file.path + ": cannot write (" + reason + ")");
     }
   }
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    if (std::rename(temporaries[i].c_str(), files[i].path.c_str()) != 0) {
+  for (std::size_t i = 0; i < changed.size(); ++i) {
+    if (std::rename(temporaries[i].c_str(), changed[i]->path.c_str()) != 0) {
       const std::string reason = std::strerror(errno);
       discard();
-      throw IoError(files[i].path + ": cannot replace (" + reason + ")");
+      throw IoError(changed[i]->path + ": cannot replace (" + reason + ")");
     }
   }
 }

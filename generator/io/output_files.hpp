@@ -14,7 +14,8 @@ struct OutputFile {
 
 // Writes every file to a temporary name in its directory, then renames them all into place.
 // On any failure the temporaries are removed, nothing already there is changed, and an
-// IoError naming the path is thrown.
+// IoError naming the path is thrown. A file that already holds exactly its text is left alone,
+// time stamp included, so that a build regenerating unchanged output recompiles nothing.
 void write_files_atomically(const std::vector<OutputFile>& files);
 
 class IoError : public std::runtime_error {

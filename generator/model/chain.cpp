@@ -3,12 +3,21 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "model/error.hpp"
+
 namespace sweepgen::model {
 
 std::size_t Chain::joint_index(const std::string& name) const {
   for (std::size_t i = 1; i < joints.size(); ++i)
     if (joints[i].name == name) return i;
   return 0;
+}
+
+std::string Chain::extent() const {
+  std::string text = (branch_tips.empty() ? "the chain from " : "the tree from ") + quote_name(root_link) + " to " +
+                     quote_name(tip_link);
+  for (const std::string& tip : branch_tips) text += ", " + quote_name(tip);
+  return text;
 }
 
 bool Chain::is_chain() const {

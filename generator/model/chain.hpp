@@ -139,6 +139,9 @@ struct Chain {
   // Whether body `ancestor` is `body` or lies on its path to the base.
   bool supports(std::size_t ancestor, std::size_t body) const;
   const Frame& tip() const { return frames.at(tip_link); }
+  // For messages: "the chain from 'root' to 'tip'", or with further tips "the tree from 'root' to
+  // 'tip', 'a', 'b'" (every tip).
+  std::string extent() const;
   // Index (1..N) of the joint named `name`, or 0 if there is none.
   std::size_t joint_index(const std::string& name) const;
 };

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <sstream>
 
 #include "model/error.hpp"
 
@@ -84,6 +85,24 @@ std::map<std::string, std::string> written_rpy(const std::string& urdf_text) {
     if (const char* name = link->Attribute("name"); name && rpy_of(link->FirstChildElement("inertial")))
       written["link " + quote_name(name) + " <inertial> <origin>"] = rpy_of(link->FirstChildElement("inertial"));
   return written;
+}
+
+std::string quarter_turns_as_written(const std::string& taken_as, const std::string& rpy_attribute) {
+  // taken_as lists three angles, each a multiple of pi/2 as text ("0", "pi/2", "-pi", ...) or a number.
+  std::istringstream taken(taken_as.size() > 2 ? taken_as.substr(1, taken_as.size() - 2) : "");
+  int angles = 0;
+  for (std::string angle; std::getline(taken, angle, ','); ++angles)
+    if (angle.find("pi") == std::string::npos && angle != "0" && angle != " 0") return "";
+  std::istringstream written(rpy_attribute);
+  std::string text = "(";
+  for (int k = 0; k < 3; ++k) {
+    double angle = 0;
+    long quarter_turns = 0;
+    if (!(written >> angle) || !near_quarter_turn(angle, quarter_turns)) return "";
+    text += (k ? ", " : "") + quarter_turns_text(quarter_turns);
+  }
+  std::string rest;
+  return angles == 3 && !(written >> rest) ? text + ")" : "";
 }
 
 std::string quarter_turns_text(long k) {

@@ -42,6 +42,12 @@ constexpr double kRoundingOfQuarterTurns = 1e-14;
 // load_chain).
 std::map<std::string, std::string> written_rpy(const std::string& urdf_text);
 
+// The rotation taken, `taken_as` ("(pi, 0, pi)": the rule applied to urdfdom's angles), in the form
+// the file writes it: for rpy="0 3.14159265359 0", "(0, pi, 0)". Where the angles written and those
+// taken are all multiples of pi/2 (within 1e-10 rad, or 0), both triples are the same signed
+// permutation, exactly: that one said as written. "" otherwise (taken_as is then the triple to give).
+std::string quarter_turns_as_written(const std::string& taken_as, const std::string& rpy_attribute);
+
 // "pi/2", "-pi", "3pi/2", "0": k quarter turns as text.
 std::string quarter_turns_text(long k);
 

@@ -17,6 +17,7 @@
 
 #include "model/error.hpp"
 #include "model/quarter_turns.hpp"
+#include "model/xml_syntax.hpp"
 
 namespace sweepgen::model {
 namespace {
@@ -173,7 +174,8 @@ bool moves_below(const urdf::Link& link, std::size_t& budget, const std::string&
 // links, a sensor or a tool flange, are lumped and do not end the chain); two moving branches,
 // or several children none of which moves, are ambiguous. More steps down than there are links
 // means a cycle.
-std::string deepest_link(const urdf::Link& root, std::size_t link_count, const std::string& file) {
+std::string deepest_link(const urdf::Link& root, std::size_t link_count, const std::string& file,
+                         const std::string& naming_the_tip) {
   const urdf::Link* link = &root;
   for (std::size_t steps = 0; !link->child_links.empty(); ++steps) {
     if (steps == link_count)
@@ -191,8 +193,8 @@ std::string deepest_link(const urdf::Link& root, std::size_t link_count, const s
       for (const auto& child : link->child_links) children += (children.empty() ? "" : ", ") + quote_name(child->name);
       throw InputError(file, named("link", link->name),
                        "the tree branches here (children " + children + ", " + std::to_string(moving.size()) +
-                           " of them with moving joints below); name the tip link explicitly, or several for the "
-                           "tree (scene key tips; sweepgen solve --branch-tip)");
+                           " of them with moving joints below), so there is no default tip; name the tip link: " +
+                           naming_the_tip);
     }
     link = moving.empty() ? link->child_links.front().get() : moving.front();
   }
@@ -437,7 +439,8 @@ void apply_rotor_inertia(Chain& chain, const std::map<std::string, double>& roto
   for (const auto& [name, value] : rotor_inertia) {
     const std::string element = "rotor inertia of joint " + quote_name(name);
     const std::size_t i = chain.joint_index(name);
-    if (i == 0) throw InputError(source, element, "no moving joint of that name on the chain" + nearest_name_hint(name, names));
+    if (i == 0)
+      throw InputError(source, element, "no moving joint of that name on " + chain.extent() + nearest_name_hint(name, names));
     if (!std::isfinite(value) || value < 0) throw InputError(source, element, "must be a finite number >= 0");
     chain.joints[i].rotor_inertia = value;
   }
@@ -464,6 +467,7 @@ Chain load_chain(const ChainSpec& spec) {
     // as fuzz/regressions/urdf/reject_utf8_lead_byte_at_end.urdf). NUL bytes after the text keep
     // such a read inside the buffer; the parser stops at the first NUL either way.
     padded_text = text.str() + std::string(8, '\0');
+    check_xml_syntax(padded_text, urdf_path);
     model = urdf::parseURDF(padded_text);
     if (!model || !console.messages().empty())
       throw InputError(urdf_path, "<robot>",
@@ -474,7 +478,7 @@ Chain load_chain(const ChainSpec& spec) {
   chain.source = urdf_path;
   chain.root_link = root_link.empty() ? model->getRoot()->name : root_link;
   const auto root = find_link(*model, chain.root_link, urdf_path, "root");
-  chain.tip_link = tip_link.empty() ? deepest_link(*root, model->links_.size(), urdf_path) : tip_link;
+  chain.tip_link = tip_link.empty() ? deepest_link(*root, model->links_.size(), urdf_path, spec.naming_the_tip) : tip_link;
   find_link(*model, chain.tip_link, urdf_path, "tip");
 
   // The base. A fixed one's inertia moves nothing; its mass (the root link's and the links fixed
@@ -573,19 +577,21 @@ Chain load_chain(const ChainSpec& spec) {
           throw InputError(urdf_path, element, "joint type unknown");
       }
     }
-  if (chain.dof() == 0)
-    throw InputError(urdf_path, "links " + quote_name(chain.root_link) + " and " + quote_name(chain.tip_link),
-                     "no moving joint between them");
+  if (chain.dof() == 0) throw InputError(urdf_path, chain.extent(), "no moving joint on it");
   OffChainLumper(*model, spec, chain).run(chain_links);
   check_finite_model(chain);
   apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);
   check_outermost_joints_can_accelerate(chain);
-  // The quarter-turn rule's listing shows the angles as written (urdfdom keeps a quaternion).
+  // The quarter-turn rule's listing shows the angles as written (urdfdom keeps a quaternion), and
+  // the rotation taken in the same form where it can (quarter_turns_as_written).
   if (std::any_of(chain.changes.begin(), chain.changes.end(), [](const ModelChange& c) { return c.unit == "rad"; })) {
     const auto written = written_rpy(padded_text);
     for (ModelChange& change : chain.changes)
-      if (const auto text = written.find(change.element); change.unit == "rad" && text != written.end())
+      if (const auto text = written.find(change.element); change.unit == "rad" && text != written.end()) {
         change.written = "rpy " + quote_name(text->second);
+        if (const std::string taken = quarter_turns_as_written(change.taken_as, text->second); !taken.empty())
+          change.taken_as = taken;
+      }
   }
   return chain;
 }

@@ -26,6 +26,9 @@ struct ChainSpec {
   // The quarter-turn rule (model/quarter_turns.hpp): true takes URDF angles within 1e-10 rad of a
   // multiple of pi/2 as exactly that (each such origin listed in Chain::changes); false, literally.
   bool snap_quarter_turns = true;
+  // How the user names the tip, for the message when an empty tip_link cannot be found (the tree
+  // branches): the scene's keys, or the command line's flags with the command that was run.
+  std::string naming_the_tip = "the scene key 'tip' (for a tree, 'tips')";
 };
 
 // Reads and validates the chain, lumping every link that a moving body carries (chain.hpp).

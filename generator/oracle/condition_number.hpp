@@ -1,7 +1,8 @@
 // Condition numbers of the constraint-space matrix E^A_cstr,0 (docs/stability.md, "Errors and
 // condition numbers"), computed in the matrix's own scalar: binary128 measures them up to ~1e30,
-// double up to ~1e15. The SVD behind them is compiled once, in oracle/condition_number.cpp, for
-// double, long double and binary128 (solver::Quad), the scalars the report and the tests use.
+// double up to ~1e15. The SVD behind them is compiled once per scalar the report and the tests
+// use: binary128 (solver::Quad) in condition_number_quad.cpp, double and long double in
+// condition_number_double.cpp.
 #pragma once
 
 #include <Eigen/Core>

@@ -177,8 +177,8 @@ class DenseDynamics {
   std::map<std::string, LinkData> links_;
 };
 
-// Compiled once, in oracle/dense_dynamics.cpp, for the scalars the report (double) and the tests
-// (long double) use: the dense linear algebra behind M, the KKT solve and the eigenvalues took
+// Compiled once per scalar, for the report (double, oracle/dense_dynamics_double.cpp) and the tests
+// (long double, oracle/dense_dynamics_long_double.cpp): the dense linear algebra behind M, the KKT solve and the eigenvalues took
 // 15-40 s to compile in every file that included it.
 extern template class DenseDynamics<double>;
 extern template class DenseDynamics<long double>;

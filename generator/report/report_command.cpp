@@ -10,6 +10,8 @@
 #include "io/output_files.hpp"
 #include "model/error.hpp"
 #include "family/family.hpp"
+#include "report/bundled_data.hpp"
+#include "report/external_tools.hpp"
 #include "report/native_library.hpp"
 #include "report/stability_cases.hpp"
 #include "report/stability_command.hpp"
@@ -33,10 +35,10 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Every bundled scene (robots/*/*.yaml of the source tree), sorted.
+// Every bundled scene (robots/*/*.yaml, report/bundled_data.hpp), sorted.
 std::vector<std::string> bundled_scenes() {
   std::vector<std::string> scenes;
-  const fs::path robots = fs::path(SWEEPGEN_SOURCE_DIR) / "robots";
+  const fs::path robots = bundled_data_dir() / "robots";
   std::error_code error;
   for (const auto& robot : fs::directory_iterator(robots, error))
     for (const auto& file : fs::directory_iterator(robot.path(), error))
@@ -60,10 +62,10 @@ std::vector<std::string> family_cases_of(const ReportOptions& options) {
 }
 
 std::vector<scene::Scene> load_scenes(const ReportOptions& options) {
-  if (!options.urdf.empty()) return {scene::default_scene(options.urdf, options.root, options.tip)};
+  if (!options.urdf.empty()) return {scene::default_scene(options.urdf, options.root, options.tip, {}, true, "sweepgen report")};
   std::vector<std::string> files = options.scenes;
   if (by_default(options))
-    files = options.quick ? std::vector<std::string>{(fs::path(SWEEPGEN_SOURCE_DIR) / kQuickScene).string()}
+    files = options.quick ? std::vector<std::string>{(bundled_data_dir() / kQuickScene).string()}
                           : bundled_scenes();
   std::vector<scene::Scene> scenes;
   for (const std::string& file : files) scenes.push_back(scene::load_scene(file));
@@ -185,6 +187,11 @@ int run_report(const ReportOptions& options) {
 
   const fs::path out = fs::absolute(options.out.empty() ? "report" : options.out);
   const Staging staging(out);
+  std::cerr << "[report] " << scenes.size() + family_cases.size() << " scene(s):";
+  for (const scene::Scene& s : scenes) std::cerr << " " << (s.path.empty() ? s.chain.urdf : s.path);
+  for (const std::string& name : family_cases) std::cerr << " --family " << name;
+  std::cerr << std::endl;
+  check_external_tools(options.cxx, staging.dir().string());
   const fs::path family_dir = out / "build" / "family";
   if (!family_cases.empty()) fs::create_directories(family_dir);
   for (const std::string& name : family_cases) {

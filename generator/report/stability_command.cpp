@@ -8,6 +8,8 @@
 #include "io/output_files.hpp"
 #include "family/family.hpp"
 #include "model/error.hpp"
+#include "report/bundled_data.hpp"
+#include "report/external_tools.hpp"
 #include "report/stability_output.hpp"
 #include "report/text_format.hpp"
 
@@ -41,11 +43,11 @@ std::vector<std::string> selected_cases(const StabilityOptions& options) {
 }
 
 StabilityCase load_case(const std::string& name, const std::filesystem::path& build_dir) {
-  const std::string bundled = bundled_scene_file(name);
-  if (!bundled.empty()) return bundled_stability_case(bundled, SWEEPGEN_SOURCE_DIR);
   std::error_code error;
   std::filesystem::create_directories(build_dir, error);
   if (error) throw io::IoError(build_dir.string() + ": cannot create directory (" + error.message() + ")");
+  const std::string bundled = bundled_scene_file(name);
+  if (!bundled.empty()) return bundled_stability_case(bundled, bundled_data_dir());
   return family_stability_case(name, build_dir);
 }
 
@@ -61,13 +63,17 @@ int run_stability_report(const StabilityOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   const std::vector<std::string> cases = selected_cases(options);
   const std::filesystem::path out_dir = std::filesystem::absolute(options.out);
+  // Every case loaded (its scene and URDF read and checked) and the tools found before any is measured.
+  std::vector<StabilityCase> loaded;
+  for (const std::string& name : cases) loaded.push_back(load_case(name, out_dir / "build" / name));
+  check_external_tools(options.cxx, (out_dir / "build").string());
   std::vector<StabilityRow> rows;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string where = "[" + std::to_string(i + 1) + "/" + std::to_string(cases.size()) + "] " + cases[i];
     std::cerr << where << ": extreme states (" << options.states_per_kind
               << " per random kind), binary128 referees for both policies, double and float..." << std::endl;
     const std::filesystem::path build_dir = out_dir / "build" / cases[i];
-    const StabilityCase c = load_case(cases[i], build_dir);
+    const StabilityCase& c = loaded[i];
     StabilityRunOptions run;
     run.states_per_kind = options.states_per_kind;
     run.seed = options.seed;

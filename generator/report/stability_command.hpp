@@ -1,5 +1,5 @@
 // `sweepgen report --stability`: error against condition number, per case, ill-conditioning
-// policy and variant (docs/stability.md, "Stability report"; tracker issue #5, item 7).
+// policy and variant (docs/stability.md, "Stability report").
 #pragma once
 
 #include <string>

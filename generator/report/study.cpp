@@ -54,6 +54,20 @@ std::string policy_label(Policy p) {
   return "";
 }
 
+// Why a row of this policy and factorisation does not meet the constraint to rounding, by design
+// ("" where it does; docs/derivation.md, section 5).
+std::string gives_way_because(Policy p, ConstraintFactorisation f) {
+  if (p == Policy::prioritize_external)
+    return "Alg. 4 leaves the external forces out of the constraint's reaction and adds their full effect on top, so "
+           "the constraint gives way where they act (docs/derivation.md, section 5)";
+  if (p == Policy::saturate || p == Policy::saturate_exact)
+    return "where a torque is clamped at its effort limit, the constrained motion is out of reach";
+  if (f == ConstraintFactorisation::damped)
+    return "the damped factorisation solves (E + t I): ν stays bounded and the constraint is met to about t cond_s(E) "
+           "(scene key constraint_factorisation)";
+  return "";
+}
+
 scene::Scene with_factorisation(scene::Scene s, ConstraintFactorisation f) {
   s.constraint_factorisation = f;
   return s;
@@ -174,13 +188,14 @@ bool float_answered_any(const VariantStudy& float_variant) {
 
 // The sentence for the fastest of `candidates` (the generated double solves of the scene's own
 // problem: original policy, its factorisation), with float's domain.
-std::string recommend(const SceneStudy& study, const std::vector<std::string>& candidates) {
+std::string recommend(SceneStudy& study, const std::vector<std::string>& candidates) {
   const VariantStudy* best = nullptr;
   for (const VariantStudy& v : study.variants)
     if (v.note.empty() && std::find(candidates.begin(), candidates.end(), v.name) != candidates.end() &&
         (!best || v.ns_median < best->ns_median))
       best = &v;
   if (!best) return "no generated double variant was measured";
+  study.recommended = best->name;
   const std::string timing = format("%.0f", best->ns_median) + " ns median and " + format("%.0f", best->ns_p99) +
                              " ns p99 per solve";
   if (best->all.judged == 0) {
@@ -259,6 +274,9 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
     say("measured " + name);
     VariantStudy study;
     study.operations = operations;
+    study.keeps_every_direction = referee.factorisation == ConstraintFactorisation::damped;
+    study.clamps = referee.policy == Policy::saturate || referee.policy == Policy::saturate_exact;
+    study.gives_way_because = gives_way_because(referee.policy, referee.factorisation);
     study.name = std::move(name);
     study.solves = std::move(solves);
     study.scalar = std::move(scalar);
@@ -313,8 +331,17 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
       {Policy::original, own, "double"}, measure_reference_precise(s, chain, problems, once), true);
   add("KDL", "KDL 1.5 ChainHdSolver_Vereshchagin (Alg. 1, original composition)", "double",
       {Policy::original, own, "double"}, measure_kdl(s, chain, problems, timing));
+  measured.back().study.keeps_every_direction = true;
+  measured.back().study.gives_way_because = "";
+  measured.back().study.unbounded_because =
+      "KDL solves E by an SVD with an absolute tolerance, without equilibrating it, and keeps or drops other "
+      "directions than the referee near a singularity (docs/stability.md, \"Against KDL\": error ≈ 1 there)";
   add("dense KKT", "M, b, J by Newton–Euler, (n + Nc) KKT system by full-pivot LU (Eigen)", "double",
       {Policy::original, own, "double"}, measure_dense_kkt(s, chain, problems, timing));
+  measured.back().study.keeps_every_direction = true;
+  measured.back().study.gives_way_because = "";
+  measured.back().study.unbounded_because =
+      "it solves the (n + Nc) KKT system in the robot's own units, unscaled, whose condition κ does not bound";
 
   std::map<Referee, std::vector<Truth>> referees;
   for (Measured& m : measured) {

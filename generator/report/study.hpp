@@ -56,6 +56,14 @@ struct VariantStudy {
   std::string scalar;  // double, float, binary128
   std::string note;    // why it has no numbers (empty when measured)
   bool referee = false;  // the binary128 referee itself: timed, error 0 by definition
+  // Solves with every direction, dropping none (KDL, the dense KKT, a damped factorisation).
+  bool keeps_every_direction = false;
+  bool clamps = false;  // a saturating policy: clamps torques at their effort limits
+  // Why this row does not meet the constraint to rounding, by design ("": it does).
+  std::string gives_way_because;
+  // Why the stability suite's bound of 100 ε κ does not hold for this row ("": it holds, the
+  // project's own solvers).
+  std::string unbounded_because;
   double ns_median = NAN, ns_p99 = NAN, ns_max = NAN;  // per call, after a warm-up pass
   std::size_t operations = 0;  // generated rows: the generator's operation count of one full solve
   std::vector<FamilyErrors> families;                  // SceneStudy::families order
@@ -74,6 +82,7 @@ struct SceneStudy {
   // Generated float answers every state below this κ (NaN: no float row; 0: it answered none).
   double float_domain_kappa = NAN;
   std::string recommendation;       // one sentence
+  std::string recommended;          // the row it recommends ("" if none)
 };
 
 // The accuracy a float solve has to reach for its state to count as inside float's domain (it

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "report/gnuplot.hpp"
+#include "report/study_reasons.hpp"
 #include "report/text_format.hpp"
 
 namespace sweepgen::report {
@@ -80,12 +81,42 @@ std::vector<std::string> csv_fields(const SceneStudy& s, const VariantStudy& v, 
 
 double floored(double error) { return std::max(error, kPlotFloor); }
 
-// The variants drawn: measured ones with errors (the referee has none).
+// The variants drawn: measured ones with errors (the referee has none), the recommended one last,
+// so that it is drawn on top of the others (the reference solver's markers sit on its own).
 std::vector<const VariantStudy*> drawn(const SceneStudy& s) {
   std::vector<const VariantStudy*> variants;
   for (const VariantStudy& v : s.variants)
     if (v.note.empty() && !v.referee && v.all.judged > 0) variants.push_back(&v);
+  std::stable_partition(variants.begin(), variants.end(), [&s](const VariantStudy* v) { return v->name != s.recommended; });
   return variants;
+}
+
+// One marker and colour per kind of row, the same in every figure of every scene: the row's name
+// says its kind (study.cpp names them), the first match below decides.
+struct Style {
+  int pointtype;
+  const char* colour;
+};
+Style style_of(const std::string& variant) {
+  static const std::vector<std::pair<std::string, Style>> styles = {
+      {"x86-64-v3", {7, "#d62728"}},           {" damped", {9, "#8c564b"}},
+      {" pivoted_ldlt", {9, "#8c564b"}},       {"generated float", {13, "#ff7f0e"}},
+      {"saturate_exact", {11, "#17becf"}},     {"saturate", {10, "#bcbd22"}},
+      {"prioritize_external", {4, "#9467bd"}}, {"generated double", {5, "#1f77b4"}},
+      {"reference double", {6, "#7f7f7f"}},    {"KDL", {2, "#2ca02c"}},
+      {"dense KKT", {3, "#e377c2"}}};
+  for (const auto& [part, style] : styles)
+    if (variant.find(part) != std::string::npos) return style;
+  return {1, "#000000"};
+}
+
+// A series' marker, colour and title; the recommended row's marker larger.
+std::string series_style(const SceneStudy& s, const VariantStudy& v) {
+  const Style style = style_of(v.name);
+  const bool recommended = v.name == s.recommended;
+  return "pointtype " + std::to_string(style.pointtype) + " pointsize " + (recommended ? "2.2" : "1.3") +
+         " linecolor rgb '" + style.colour + "' title " +
+         gnuplot_string(v.name + (recommended ? " (recommended)" : ""));
 }
 
 void write_text(const std::filesystem::path& path, const std::string& text) {
@@ -103,8 +134,8 @@ std::string time_figure(const SceneStudy& s, const std::filesystem::path& work_d
     const FamilyErrors& e = v->families.front();
     data << v->ns_median << " " << floored(e.median) << " " << v->ns_median << " " << v->ns_p99 << " "
          << floored(e.median) << " " << floored(e.p99) << "\n\n\n";
-    series.push_back("'' index " + std::to_string(index) + " using 1:2:3:4:5:6 with xyerrorbars pointtype " +
-                     std::to_string(5 + index % 9) + " pointsize 1.5 linewidth 1.5 title " + gnuplot_string(v->name));
+    series.push_back("'' index " + std::to_string(index) + " using 1:2:3:4:5:6 with xyerrorbars linewidth 1.5 " +
+                     series_style(s, *v));
     ++index;
   }
   const std::filesystem::path data_path = work_dir / (s.name + "_time.dat");
@@ -140,7 +171,6 @@ std::string kappa_figure(const SceneStudy& s, const std::filesystem::path& work_
          << ", graph 1 fillcolor rgb '#e8f0e0' fillstyle solid noborder behind\n"
          << "set label 1 'float domain (error <= " << kFloatGoal << ")' at graph 0.02, graph 0.04\n";
   std::vector<std::string> series;
-  int type = 1;
   for (const VariantStudy* v : drawn(s)) {
     std::ostringstream data;
     data << std::setprecision(17);
@@ -150,8 +180,7 @@ std::string kappa_figure(const SceneStudy& s, const std::filesystem::path& work_
     std::replace(file.begin(), file.end(), ' ', '_');
     const std::filesystem::path data_path = work_dir / (s.name + "_kappa_" + file + ".dat");
     write_text(data_path, data.str());
-    series.push_back(gnuplot_string(data_path.string()) + " using 1:2 with points pointtype " + std::to_string(type++) +
-                     " title " + gnuplot_string(v->name));
+    series.push_back(gnuplot_string(data_path.string()) + " using 1:2 with points " + series_style(s, *v));
   }
   series.push_back("x * " + format("%.17g", std::numeric_limits<double>::epsilon()) +
                    " with lines dashtype 2 linecolor rgb 'black' title 'eps_double kappa'");
@@ -263,6 +292,17 @@ std::string report_markdown(const std::vector<SceneStudy>& studies, const std::s
       for (const FamilyErrors& e : v.families)
         cells.push_back(error_cell(e, e.max) + " (" + share(e.status_raised, e.states) + ")");
       md << markdown_row(cells);
+    }
+    const std::vector<Reason> reasons = study_reasons(s);
+    if (!reasons.empty()) {
+      md << "\nWhy rows have no answer or a large error, per family (and whether it is expected):\n";
+      std::string family;
+      for (const Reason& r : reasons) {
+        if (r.family != family) md << "\n- **" << (family = r.family) << "**\n";
+        std::string rows;
+        for (const std::string& v : r.variants) rows += (rows.empty() ? "" : ", ") + v;
+        md << "  - " << (r.expected ? "" : "**unexpected**: ") << rows << ": " << r.text << "\n";
+      }
     }
     if (s.constraints > 0) {
       md << "\nPath of ν (docs/derivation.md, (C4)), share of states on the natural-order path / on the pivoted one:";

@@ -163,6 +163,15 @@ class Reader {
   std::string file_;
 };
 
+// The keys of the mapping at `parent` (a path of scene_keys(): "" for the top level), in order.
+std::vector<std::string> keys_under(const std::string& parent) {
+  std::vector<std::string> keys;
+  const std::string prefix = parent.empty() ? "" : parent + ".";
+  for (const std::string& key : scene_keys())
+    if (key.rfind(prefix, 0) == 0 && key.find('.', prefix.size()) == std::string::npos) keys.push_back(key.substr(prefix.size()));
+  return keys;
+}
+
 std::vector<std::string> policy_names() {
   std::vector<std::string> names;
   for (solver::Policy p : {solver::Policy::original, solver::Policy::prioritize_external, solver::Policy::saturate,
@@ -213,7 +222,7 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
     layout.sets.push_back(std::move(set));
   };
   if (value.node.IsMap()) {
-    const auto fields = reader.entries(value, {"directions"});
+    const auto fields = reader.entries(value, keys_under("drivers.constraints"));
     if (fields.empty()) reader.fail(value, "missing key 'directions'");
     auto fixed = read_directions(reader, fields[0].second);
     add({"", fixed.size(), fixed});
@@ -223,7 +232,7 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
     std::map<std::string, Item> seen;
     for (std::size_t c = 0; c < sets.size(); ++c) {
       std::optional<Item> link_item, count_item, directions_item;
-      for (const auto& [k, v] : reader.entries(sets[c], {"link", "count", "directions"}))
+      for (const auto& [k, v] : reader.entries(sets[c], keys_under("drivers.constraints[]")))
         (k.node.Scalar() == "link" ? link_item : k.node.Scalar() == "count" ? count_item : directions_item) = v;
       if (!link_item) reader.fail(sets[c], "missing key 'link' (the link the set acts on)");
       if (count_item.has_value() == directions_item.has_value())
@@ -273,7 +282,7 @@ void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::
     instances.emplace(name, item);
     return name;
   };
-  for (const auto& [key, value] : reader.entries(drivers, {"torques", "external_forces", "constraints"})) {
+  for (const auto& [key, value] : reader.entries(drivers, keys_under("drivers"))) {
     const std::string& name = key.node.Scalar();
     if (name == "torques") {
       for (const Item& item : reader.sequence(value)) scene.layout.torques.push_back(add_instance(item));
@@ -281,7 +290,8 @@ void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::
       std::size_t index = 0;
       for (const Item& item : reader.sequence(value)) {
         std::optional<Item> name_item, link_item;
-        for (const auto& [k, v] : reader.entries(item, {"name", "link"})) (k.node.Scalar() == "name" ? name_item : link_item) = v;
+        for (const auto& [k, v] : reader.entries(item, keys_under("drivers.external_forces[]")))
+          (k.node.Scalar() == "name" ? name_item : link_item) = v;
         if (!name_item) reader.fail(item, "missing key 'name'");
         if (!link_item) reader.fail(item, "missing key 'link'");
         solver::ExternalForceDriver driver;
@@ -382,6 +392,17 @@ std::string solver_namespace_problem(const std::string& text) {
 
 bool is_identifier(const std::string& name) { return identifier_problem(name).empty(); }
 
+const std::vector<std::string>& scene_keys() {
+  static const std::vector<std::string> keys = {
+      "sweepgen_scene", "solver", "urdf", "root", "tip", "tips", "base", "gravity", "rotor_inertia",
+      "snap_quarter_turns", "locked_joints", "drivers", "drivers.torques", "drivers.external_forces",
+      "drivers.external_forces[].name", "drivers.external_forces[].link", "drivers.constraints",
+      "drivers.constraints.directions", "drivers.constraints[].link", "drivers.constraints[].count",
+      "drivers.constraints[].directions", "decomposition", "policies", "scalars", "expose",
+      "constraint_factorisation", "pivot_tolerance", "refinement", "constraint_rows", "check_inputs", "derivatives"};
+  return keys;
+}
+
 std::string Scene::location(const std::string& element) const {
   if (const auto it = locations.find(element); it != locations.end()) return it->second;
   return path.empty() ? "command line" : path;
@@ -423,12 +444,8 @@ Scene load_scene(const std::string& path) {
 
   Scene scene;
   scene.path = path;
-  const std::vector<std::string> keys = {"sweepgen_scene", "solver", "urdf",     "root",     "tip", "tips", "base",
-                                         "gravity",        "rotor_inertia", "locked_joints", "drivers", "decomposition", "policies",
-                                         "scalars",        "expose", "pivot_tolerance", "check_inputs", "constraint_factorisation",
-                                         "refinement", "constraint_rows", "snap_quarter_turns", "derivatives"};
   std::map<std::string, Item> values;
-  for (const auto& [key, value] : reader.entries(root, keys)) values.emplace(key.node.Scalar(), value);
+  for (const auto& [key, value] : reader.entries(root, keys_under(""))) values.emplace(key.node.Scalar(), value);
   const auto get = [&](const std::string& key) -> std::optional<Item> {
     const auto it = values.find(key);
     return it == values.end() ? std::nullopt : std::optional<Item>(it->second);
@@ -477,13 +494,15 @@ Scene load_scene(const std::string& path) {
     const auto tips = reader.sequence(*item);
     if (tips.empty()) reader.fail(*item, "at least one tip link is needed");
     std::map<std::string, Item> seen;
-    for (const Item& entry : tips) {
+    for (std::size_t k = 0; k < tips.size(); ++k) {
+      const Item& entry = tips[k];
       const std::string link = reader.string(entry);
       if (link.empty()) reader.fail(entry, "link name is empty");
       if (const auto previous = seen.find(link); previous != seen.end())
         reader.fail(entry, "tip " + quote_name(link) + " named twice (first at " + reader.where(previous->second) + ")");
       seen.emplace(link, entry);
       (scene.chain.tip_link.empty() ? scene.chain.tip_link : scene.chain.branch_tips.emplace_back()) = link;
+      scene.locations[entry.element] = reader.where(entry);  // "tips[k]": a bad tip is reported at its own entry
     }
     scene.locations["tip"] = reader.where(*item);
   }
@@ -634,11 +653,17 @@ model::Chain load_scene_chain(const Scene& scene) {
       std::string element = "urdf";  // names are compared as the message spells them (message_text)
       if (!s.root_link.empty() && message.find(message_text("root link " + quote_name(s.root_link))) != std::string::npos)
         element = "root";
-      if (!s.tip_link.empty() && (message.find(message_text("tip link " + quote_name(s.tip_link))) != std::string::npos ||
-                                  message.find("not connected") != std::string::npos))
-        element = "tip";
-      for (const std::string& tip : s.branch_tips)
-        if (message.find(message_text("tip link " + quote_name(tip))) != std::string::npos) element = "tip";
+      // A tip the message names ("tip link 'x'", or "links 'root' and 'x'" not connected): at its
+      // own entry of a `tips` list where the scene has one.
+      std::vector<std::string> tips;
+      if (!s.tip_link.empty()) tips.push_back(s.tip_link);
+      tips.insert(tips.end(), s.branch_tips.begin(), s.branch_tips.end());
+      for (std::size_t k = 0; k < tips.size(); ++k)
+        if (message.find(message_text("tip link " + quote_name(tips[k]))) != std::string::npos ||
+            message.find(message_text("and " + quote_name(tips[k]) + ":")) != std::string::npos) {
+          const std::string entry = "tips[" + std::to_string(k) + "]";
+          element = scene.locations.count(entry) ? entry : "tip";
+        }
       throw InputError(scene.location(element), element, message);
     }
   };
@@ -660,8 +685,7 @@ model::Chain load_scene_chain(const Scene& scene) {
       for (const auto& [name, value] : spec.rotor_inertia) {
         if (chain->joint_index(name) == 0)
           throw InputError(scene.location("rotor_inertia." + name), element_path("rotor_inertia", name),
-                           "no moving joint " + quote_name(name) + " on the chain from " + quote_name(chain->root_link) + " to " +
-                               quote_name(chain->tip_link) + nearest_name_hint(name, joints));
+                           "no moving joint " + quote_name(name) + " on " + chain->extent() + nearest_name_hint(name, joints));
       }
     }
   }
@@ -676,8 +700,7 @@ model::Chain load_scene_chain(const Scene& scene) {
     const auto frame = chain.frames.find(link);
     if (frame == chain.frames.end())
       throw InputError(scene.location(element), element,
-                       "link " + quote_name(link) + " of " + what + " is not on the chain from " + quote_name(chain.root_link) +
-                           " to " + quote_name(chain.tip_link) + nearest_name_hint(link, links));
+                       "link " + quote_name(link) + " of " + what + " is not on " + chain.extent() + nearest_name_hint(link, links));
     if (frame->second.body == 0)
       throw InputError(scene.location(element), element,
                        "link " + quote_name(link) + " of " + what + " is fixed to the base; " + on_the_base);
@@ -698,7 +721,7 @@ model::Chain load_scene_chain(const Scene& scene) {
 }
 
 Scene default_scene(const std::string& urdf, const std::string& root, const std::string& tip,
-                    const std::vector<std::string>& branch_tips, bool snap_quarter_turns) {
+                    const std::vector<std::string>& branch_tips, bool snap_quarter_turns, const std::string& command) {
   Scene scene;
   std::string name = std::filesystem::path(urdf).stem().string();
   for (char& c : name)
@@ -714,6 +737,7 @@ Scene default_scene(const std::string& urdf, const std::string& root, const std:
   scene.chain.tip_link = tip;
   scene.chain.branch_tips = branch_tips;
   scene.chain.snap_quarter_turns = snap_quarter_turns;
+  scene.chain.naming_the_tip = command + " --urdf " + urdf + " --tip LINK (for a tree, --branch-tip LINK for each further tip)";
   scene.locations["urdf"] = "--urdf";
   if (!root.empty()) scene.locations["root"] = "--root";
   if (!tip.empty()) scene.locations["tip"] = "--tip";

@@ -1,111 +1,7 @@
-// The scene file: what the generator emits, for which chain, with which drivers.
-//
-// Scene file schema, version 1 (YAML). Keys not listed are errors, as are wrong types,
-// duplicate keys and duplicate names; every error names file:line:column, the element and
-// the reason.
-//
-//   sweepgen_scene: 1               # required: schema version (integer; only 1 exists)
-//   solver: panda_nc6               # required: C++ namespace of the generated solver; one
-//                                   #   identifier or several joined by '::' (e.g. robots::panda);
-//                                   #   no C++ keywords, no reserved names ('__', '_X'), not 'std'
-//   urdf: ../panda/panda.urdf       # required: URDF file, relative to the scene file's
-//                                   #   directory (absolute paths work too)
-//   root: panda_link0               # optional: root (base) link; default: the URDF's root
-//   tip: panda_hand                 # optional: tip link (constraint frame); default: the deepest
-//                                   #   link below the root, if nothing branches
-//   # tips: [left_hand, right_hand] # ... or several tips: the moving joints on the paths from
-//                                   #   the root to each form a tree (shared trunk once); the
-//                                   #   first tip is `tip` (tip_acceleration's frame); not with
-//                                   #   'tip'. Constraint sets and forces may act on any of its links
-//   base: fixed                     # optional: 'fixed' (default) or 'floating': the root link
-//                                   #   moves freely (docs/derivation.md, F5); the generated q
-//                                   #   starts with its orientation world_R_base (9, row-major),
-//                                   #   qd, qdd and the torques with its six coordinates (twist
-//                                   #   [omega; v] in its frame, spatial acceleration, wrench)
-//   gravity: [0, 0, -9.81]          # optional: gravity in the root frame, or the world's for a
-//                                   #   floating base [m/s^2]; default [0, 0, -9.81]
-//   rotor_inertia:                  # optional: armature d_i (>= 0) by moving-joint name;
-//     panda_joint1: 0.1             #   joints not listed get 0
-//   snap_quarter_turns: true        # optional: true (default) takes URDF angles within 1e-10 rad of
-//                                   #   a multiple of pi/2 as exact (they fold; each such <origin> is
-//                                   #   listed by `sweepgen info`, generate and the header); false
-//                                   #   takes the URDF literally
-//   locked_joints:                  # optional: position [rad or m] by name of a moving joint
-//     panda_finger_joint1: 0.04     #   off the chain (a gripper's fingers, a second arm), or of a
-//                                   #   <mimic> joint on it (else its own degree of freedom): the
-//                                   #   links behind it are lumped into the body that carries
-//                                   #   them, with the joint held there; within the joint's
-//                                   #   limits. Off-chain joints not listed are locked at 0
-//                                   #   clamped into their limits. `sweepgen info` and the
-//                                   #   generated header list every lumped, locked and left-out
-//                                   #   link with its mass
-//   drivers:                        # optional: no drivers (bias only, Nc = 0) when absent
-//     torques: [tau_ff]             # optional: feed-forward torque instances (identifiers)
-//     external_forces:              # optional: external wrench instances, each acting on a
-//       - {name: contact, link: panda_link5}   # link of the chain (not fixed to the base),
-//                                   #   given in that link's frame about its origin
-//     constraints: 6                # optional: Nc in 0..6; the directions (alpha, tip frame)
-//                                   #   are run-time inputs of the generated code; default 0
-//     # constraints:                # ... or fixed directions folded into the code:
-//     #   directions: [[0,0,0,1,0,0], [0,0,0,0,1,0]]   # unit 6-vectors [moment; force] in the
-//                                   #   tip frame (|v| = 1 within 1e-9), at most 6; Nc = count
-//     # constraints:                # ... or constraint sets on any links of the chain, each
-//     #   - {link: panda_link4, count: 1}           # with its own directions, run-time (count,
-//     #   - {link: panda_hand, directions: [[0,0,0,0,0,1]]}  # 1..6) or fixed (as above), in
-//                                   #   that link's frame; one set per link; directions are
-//                                   #   numbered in list order (alpha, beta, nu); each set's
-//                                   #   link acceleration is an output (set_acceleration). The
-//                                   #   sets must not over-determine the robot: no group of sets
-//                                   #   may hold more directions than the joints that move their
-//                                   #   links
-//   decomposition: decomposed       # optional: 'composed' (one track, Alg. 1), 'decomposed'
-//                                   #   (bias and every instance on a track of its own, Alg. 2;
-//                                   #   the default), or a list of groups, each a list of
-//                                   #   instance names sharing one track, e.g.
-//                                   #   [[bias, tau_ff], [contact, push]]; 'bias' names the
-//                                   #   velocity-product terms; an instance may be in at most one
-//                                   #   group; everything not named (the bias too) gets a track
-//                                   #   of its own. A group's track is named after its first
-//                                   #   member; the tracks are the groups in the order given,
-//                                   #   then the unnamed ones (bias, torques, external forces).
-//   policies: [original, prioritize_external, saturate, saturate_exact]
-//                                   # optional: solver-sweep policies to emit, no duplicates;
-//                                   #   default [original]. prioritize_external (Alg. 4) needs
-//                                   #   every external force on a track without the bias or
-//                                   #   torques (so not with 'composed').
-//   scalars: [double, float]        # optional: scalar types to emit, no duplicates;
-//                                   #   default [double]
-//   expose: outputs                 # optional: 'outputs' (default) or 'all' intermediates
-//   constraint_factorisation: pivoted_ldlt  # optional: pivoted_ldlt (default) drops directions
-//                                   #   whose pivot is below the tolerance (exact where kept);
-//                                   #   damped solves (E + t I) after equilibration (damped
-//                                   #   least squares: every direction kept, biased by ~t cond)
-//   pivot_tolerance: 1e-12          # optional: relative tolerance of the constraint
-//                                   #   factorisation (pivot threshold, or damping when damped),
-//                                   #   0 < t < 1; default: 1000 * epsilon of the emitted scalar
-//   refinement: true                # optional: true (default) or false. When true, the original
-//                                   #   policy (and saturate_exact before its clamp) refines ν once
-//                                   #   from the constraint's residual, with the pivoted
-//                                   #   factorisation (docs/derivation.md, (R1)): about a tenth more
-//                                   #   work per solve for errors near a dense KKT solve's
-//   constraint_rows: auto           # optional: how the rows r_i = S_i^T F^A_cstr,i are formed:
-//                                   #   inward_columns (I2), outward_rows (I6, not with expose:
-//                                   #   all), or auto (default): the generator counts both and
-//                                   #   emits the cheaper, the columns' count weighted by 21/20
-//                                   #   past two directions (they spill; the header says which)
-//   check_inputs: true              # optional: true (default) or false. When true, the generated
-//                                   #   code checks every input (q, qd, drivers, beta) and output
-//                                   #   for NaN/Inf and raises status_not_finite; false leaves the
-//                                   #   checks out (bench/README.md gives their cost)
-//   derivatives: false              # optional: false (default), true, or a list of the outputs
-//                                   #   whose Jacobians are wanted, e.g. [qdd, nu]. Otherwise than
-//                                   #   false, the generated code gains per differentiable policy
-//                                   #   (original, prioritize_external; at least one listed) a
-//                                   #   function derivatives_<policy> returning q̈, ν, τcmd and the
-//                                   #   Jacobians of qdd, nu and tau_cmd (true) or of those listed,
-//                                   #   w.r.t. q, qd, tau_ff, beta (docs/derivation.md, (D1)–(D3));
-//                                   #   what is not listed is not computed. Needs a torque driver
-//                                   #   (the tau_ff columns); nu only with constraint directions
+// The scene file: what the generator emits, for which chain, with which drivers. docs/scene.md is
+// its reference: every key (scene_keys() below, the table the parser takes its keys from) with its
+// type, default, meaning and an example. Keys not listed are errors, as are wrong types, duplicate
+// keys and duplicate names; every error names file:line:column, the element and the reason.
 //
 // Driver instance names (torques and external forces) share one namespace: identifiers,
 // unique, not C++ keywords, not 'bias' and not 'alpha'.
@@ -180,10 +76,19 @@ model::Chain load_scene_chain(const Scene& scene);
 // gravity and pivot tolerance. Loads the URDF to resolve an empty root/tip (so both are filled
 // in); throws InputError if it cannot be loaded.
 // `branch_tips` add tips (a tree; the constraint set stays on the first tip); snap_quarter_turns as ChainSpec's.
+// `command` is what was run (e.g. "sweepgen info"): where no tip is named and the URDF's tree branches,
+// the message says how to name one with it.
 Scene default_scene(const std::string& urdf, const std::string& root = "", const std::string& tip = "",
-                    const std::vector<std::string>& branch_tips = {}, bool snap_quarter_turns = true);
+                    const std::vector<std::string>& branch_tips = {}, bool snap_quarter_turns = true,
+                    const std::string& command = "sweepgen generate");
 
 // Whether `name` is a usable C++ identifier (not a keyword, not reserved).
 bool is_identifier(const std::string& name);
+
+// Every key of the scene format by its path: "drivers.torques" is key torques of the drivers
+// mapping, "drivers.constraints[].link" key link of each mapping in the constraints list. The
+// parser takes the keys of each mapping from this table; docs/scene.md documents each (type,
+// default, meaning, example), and tests/test_scene_reference.cpp keeps the two in step.
+const std::vector<std::string>& scene_keys();
 
 }  // namespace sweepgen::scene

@@ -137,7 +137,7 @@ void validate(const DriverLayout& layout, const model::Chain& chain, const std::
     const std::string element = "constraint set on " + quote_name(link);
     const auto frame = chain.frames.find(link);
     if (frame == chain.frames.end())
-      throw InputError(source, element, "link " + quote_name(link) + " is not on the chain" + nearest_name_hint(link, links));
+      throw InputError(source, element, "link " + quote_name(link) + " is not on " + chain.extent() + nearest_name_hint(link, links));
     if (frame->second.body == 0)
       throw InputError(source, element, "link " + quote_name(link) + " is fixed to the base; a constraint on it holds nothing");
     if (set.count == 0 || set.count > kMaxSetDirections)
@@ -161,7 +161,7 @@ void validate(const DriverLayout& layout, const model::Chain& chain, const std::
     const auto frame = chain.frames.find(ext.link);
     if (frame == chain.frames.end())
       throw InputError(source, element,
-                       "link " + quote_name(ext.link) + " is not on the chain" + nearest_name_hint(ext.link, links));
+                       "link " + quote_name(ext.link) + " is not on " + chain.extent() + nearest_name_hint(ext.link, links));
     if (frame->second.body == 0)
       throw InputError(source, element, "link " + quote_name(ext.link) + " is fixed to the base; a force on it moves nothing");
   }

@@ -117,9 +117,9 @@ unsigned ReferenceSolver<Scalar>::status() const {
   return s;
 }
 
-// Compiled once, in reference_solver.cpp of sweepgen_core, for double, float and long double: a
-// translation unit that includes this header does not instantiate (and optimise) the sweeps
-// again. Other scalars (Quad, the symbolic one) instantiate where they are used.
+// Compiled once, for double and float in reference_solver.cpp of sweepgen_core and for long double
+// (the tests') in reference_solver_long_double.cpp of sweepgen_test_solvers: a translation unit
+// that includes this header does not instantiate (and optimise) the sweeps again. Other scalars (Quad, the symbolic one) instantiate where they are used.
 extern template class ReferenceSolver<double>;
 extern template class ReferenceSolver<float>;
 extern template class ReferenceSolver<long double>;

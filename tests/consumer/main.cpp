@@ -4,14 +4,14 @@
 #include <cmath>
 #include <cstdio>
 
-#include "consumer_solver.hpp"
+#include "planar_arm_solver.hpp"
 
-namespace solver = consumer::planar::f64;
-using consumer::planar::constraints;
-using consumer::planar::dof;
+namespace solver = planar_arm::f64;
+using planar_arm::constraints;
+using planar_arm::dof;
 
 static_assert(dof == 3, "the planar arm has three moving joints");
-static_assert(constraints == 2, "scene.yaml fixes two constraint directions");
+static_assert(constraints == 2, "README.md's first scene fixes two constraint directions");
 // in = [q, qd, tau_ff, tool_load, beta], out = [qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, status]
 static_assert(solver::flat_in_size == 3 * dof + 6 + constraints, "flat input layout");
 static_assert(solver::flat_out_size == 3 * dof + constraints + 6 + 1, "flat output layout");
@@ -80,7 +80,7 @@ int main() {
   check(all_finite(solution.tau_ctrl, dof), "tau_ctrl finite");
   check(all_finite(solution.nu, constraints), "nu finite");
   check(all_finite(solution.tip_acceleration, 6), "tip_acceleration finite");
-  check(solution.status == consumer::planar::status_ok, "status ok");
+  check(solution.status == planar_arm::status_ok, "status ok");
   check(all_finite(out, solver::flat_out_size), "flat output finite");
 
   const double* flat = out;

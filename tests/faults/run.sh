@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fault injection (issue 12): shows that the suites catch what they claim to. Each fault of
+# Fault injection: shows that the suites catch what they claim to. Each fault of
 # tests/faults/faults.txt (a flipped sign, a dropped term, a mis-lumped link, a wrongly printed
 # expression) is applied, one at a time, to a copy of the committed tree; sweepgen_tests is
 # rebuilt and the fault's suites run; a fault is caught when at least one of their tests fails.

@@ -386,6 +386,19 @@ class DerivativeModuleTest:
         print(f"[derivatives] {self.STEM}: {int(judged.sum())} of {STATES} states judged (kappa <= 1e8)", file=sys.stderr)
         self.assertGreaterEqual(judged.sum(), 0.75 * STATES)  # six random directions: see tests/test_solve_derivatives.cpp
 
+    def test_a_policy_without_derivatives_says_why(self):
+        """A saturating policy of the scene has no derivatives (a kink where it clamps): derivatives()
+        says it is not differentiable, not that the scene lacks it; a name the scene lacks is that."""
+        d, v = self.data, self.m.f64
+        q, qd, drivers, beta = (a[0] for a in d.split(d.flat))
+        without = [p for p in v.policies if p not in v.derivative_policies]
+        self.assertTrue(without, f"{self.STEM}: the scene needs a policy without derivatives for this test")
+        for policy in without:
+            with self.assertRaisesRegex(ValueError, f"'{policy}' is a policy of this scene but is not differentiable"):
+                v.derivatives(q, qd, drivers, beta, policy=policy)
+        with self.assertRaisesRegex(ValueError, "'saturate_later' is not a policy of this scene"):
+            v.derivatives(q, qd, drivers, beta, policy="saturate_later")
+
 
 def load_tests(loader, tests, pattern):
     suite = unittest.TestSuite()

@@ -1,12 +1,14 @@
-// The condition numbers of oracle/condition_number.hpp, instantiated for the report's and the
-// tests' scalars.
+// The condition numbers of oracle/condition_number.hpp, included only by the files that instantiate
+// them: condition_number_quad.cpp (binary128: the report, the tests) and condition_number_double.cpp
+// (double and long double: the tests). Apart, the two compile side by side, and the report's build
+// compiles only the first.
+#pragma once
+
 #include "oracle/condition_number.hpp"
 
 #include <Eigen/SVD>
 #include <cmath>
 #include <limits>
-
-#include "solver/quad_scalar.hpp"
 
 namespace sweepgen::oracle {
 
@@ -28,12 +30,5 @@ double scaled_condition_number_of(const DenseMatrix<Scalar>& E) {
     for (Eigen::Index c = 0; c < E.cols(); ++c) S(r, c) = E(r, c) / sqrt(E(r, r) * E(c, c));
   return condition_number_of<Scalar>(S);
 }
-
-template double condition_number_of<double>(const DenseMatrix<double>&);
-template double condition_number_of<long double>(const DenseMatrix<long double>&);
-template double condition_number_of<solver::Quad>(const DenseMatrix<solver::Quad>&);
-template double scaled_condition_number_of<double>(const DenseMatrix<double>&);
-template double scaled_condition_number_of<long double>(const DenseMatrix<long double>&);
-template double scaled_condition_number_of<solver::Quad>(const DenseMatrix<solver::Quad>&);
 
 }  // namespace sweepgen::oracle

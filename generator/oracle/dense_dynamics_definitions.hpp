@@ -1,5 +1,9 @@
 // DenseDynamics's members (oracle/dense_dynamics.hpp says what each computes and in which
-// conventions), instantiated here for double and long double.
+// conventions), included only by the files that instantiate them, one per scalar:
+// dense_dynamics_double.cpp (the report, the tests, bench/) and dense_dynamics_long_double.cpp (the
+// tests). Apart, the two compile side by side, and the report's build compiles only the first.
+#pragma once
+
 #include "oracle/dense_dynamics.hpp"
 
 #include <Eigen/Dense>
@@ -307,8 +311,5 @@ auto DenseDynamics<Scalar>::condition(const Mat& E) -> Scalar {
   if (!(lambda[0] > Scalar(0))) return std::numeric_limits<Scalar>::infinity();
   return lambda[lambda.size() - 1] / lambda[0];
 }
-
-template class DenseDynamics<double>;
-template class DenseDynamics<long double>;
 
 }  // namespace sweepgen::oracle

@@ -1,0 +1,13 @@
+// A URDF's XML syntax, checked before urdfdom reads it: urdfdom reports a syntax error without
+// its place ("Error reading end tag."), which in a 1000-line file leaves the user searching.
+// TinyXML, urdfdom's own XML reader, knows the line and column.
+#pragma once
+
+#include <string>
+
+namespace sweepgen::model {
+
+// Throws InputError("<file>:<line>:<column>", "XML", reason) when `text` is not well-formed XML.
+void check_xml_syntax(const std::string& text, const std::string& file);
+
+}  // namespace sweepgen::model
