@@ -8,10 +8,10 @@
 //   - states per second of each;
 // then the GPU's outputs against the host's (the same generated functions, compiled for the CPU by
 // nvcc's host compiler) on `check` states: the largest difference relative to max(1, |output|),
-// and the states whose status words differ; and `sample` states' inputs and GPU outputs written
-// (hexadecimal) for the binary128 check (bench/gpu/check_sample.sh). One line per entry and size,
-// "gpu: ...", the columns of bench/README.md, "GPU"; exit 1 on a CUDA error or a differing status.
-//   gpu_bench <check> <sample file> <n>...
+// and the states whose status words differ (the CPU's against binary128: the generated scenes'
+// tests). One line per entry and size, "gpu: ...", the columns of bench/README.md, "GPU"; exit 1
+// on a CUDA error or a differing status word.
+//   gpu_bench <check> <n>...
 #include <cuda_runtime.h>
 
 #include <algorithm>
@@ -89,7 +89,7 @@ float median_ms(cudaStream_t stream, Work&& work) {
 }
 
 template <class Scalar>
-bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check, std::FILE* sample, int sample_states) {
+bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check) {
   cudaStream_t stream;
   check_cuda(cudaStreamCreate(&stream), "cudaStreamCreate");
   bool ok = true;
@@ -124,12 +124,6 @@ bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check, std::
         worst = std::max(worst, std::abs(gpu - cpu) / std::max(1.0, std::abs(cpu)));
       }
       status_differs += host_out[static_cast<std::size_t>(e.out_size - 1) * n + s] != state_out[e.out_size - 1];
-      if (sample && s < sample_states) {  // inputs, then the GPU's outputs, of one state per line
-        std::fprintf(sample, "%s %s", e.name, e.scalar);
-        for (int k = 0; k < e.in_size; ++k) std::fprintf(sample, " %a", static_cast<double>(state_in[k]));
-        for (int k = 0; k < e.out_size; ++k) std::fprintf(sample, " %a", static_cast<double>(host_out[static_cast<std::size_t>(k) * n + s]));
-        std::fprintf(sample, "\n");
-      }
     }
     std::printf("gpu: %-28s %-4s n %8d  kernel %9.3f ms %10.3g states/s  with copies %9.3f ms %10.3g states/s",
                 e.name, e.scalar, n, kernel_ms, n / (kernel_ms * 1e-3), copies_ms, n / (copies_ms * 1e-3));
@@ -148,33 +142,26 @@ bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check, std::
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 4) {
-    std::fprintf(stderr, "usage: gpu_bench <check states> <sample file> <n>...\n");
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: gpu_bench <check states> <n>...\n");
     return 2;
   }
   const int check = std::atoi(argv[1]);
-  std::FILE* sample = std::fopen(argv[2], "w");
-  if (!sample) {
-    std::fprintf(stderr, "gpu_bench: cannot write %s\n", argv[2]);
-    return 1;
-  }
   std::vector<int> sizes;
-  for (int i = 3; i < argc; ++i) sizes.push_back(std::atoi(argv[i]));
+  for (int i = 2; i < argc; ++i) sizes.push_back(std::atoi(argv[i]));
   std::sort(sizes.begin(), sizes.end());
-  constexpr int kSample = 1000;
   bool ok = run(Entry<double>{"solve_original", "f64", scene::f64::flat_in_size, scene::f64::flat_out_size,
                               &scene::f64::solve_original_cuda, &scene::f64::solve_original_flat},
-                sizes, check, sample, kSample);
+                sizes, check);
 #if defined(SWEEPGEN_GPU_HAS_DERIVATIVES)
   ok = run(Entry<double>{"derivatives_original", "f64", scene::f64::flat_in_size, scene::f64::derivative_flat_out_size,
                          &scene::f64::derivatives_original_cuda, &scene::f64::derivatives_original_flat},
-           sizes, check, sample, kSample) && ok;
+           sizes, check) && ok;
 #endif
 #if defined(SWEEPGEN_GPU_HAS_F32)
   ok = run(Entry<float>{"solve_original", "f32", scene::f32::flat_in_size, scene::f32::flat_out_size,
                         &scene::f32::solve_original_cuda, &scene::f32::solve_original_flat},
-           sizes, check, nullptr, 0) && ok;
+           sizes, check) && ok;
 #endif
-  std::fclose(sample);
   return ok ? 0 : 1;
 }

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# The GPU figures of bench/README.md, "GPU", on a machine with an NVIDIA GPU and nvcc (CI has
+# neither). Needs only the committed generated/ files and nvcc, no other dependency:
+#   bash bench/gpu/run.sh [OUT]        (OUT: default build-gpu/; about 3-4 min on 16 cores)
+# 1. prints the device, driver and nvcc versions;
+# 2. compiles bench/gpu/gpu_bench.cu once per bundled scene with nvcc -O3 -arch=native (ARCH), warnings as
+#    errors, ptxas -v (registers, spill stores and loads, stack frame of each kernel), in parallel;
+# 3. runs each: the original policy's solve (and derivatives where the scene has them; float
+#    where it has float) at n = 128, 4 096, 65 536 and 1 048 576 states: the kernel alone, and with
+#    the copies from pinned memory and back, in states per second; then the GPU against the same
+#    generated code on the CPU on 100 000 states (largest relative difference, status words that
+#    differ: the run fails on one). The CPU's against binary128 is what every generated scene's
+#    tests assert.
+# Everything it prints is also in OUT/gpu.txt; ptxas's lines in OUT/<scene>.ptxas.
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(dirname "$(dirname "$here")")
+out=${1:-$root/build-gpu}
+nvcc=${NVCC:-$(command -v nvcc || echo /usr/local/cuda/bin/nvcc)}
+[ -x "$nvcc" ] || { echo "run.sh: nvcc not found (set NVCC)" >&2; exit 1; }
+mkdir -p "$out"
+exec > >(tee "$out/gpu.txt") 2>&1
+
+nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader || echo "nvidia-smi: not found"
+"$nvcc" --version | tail -2
+
+scenes=()
+for hpp in "$root"/generated/*.hpp; do scenes+=("$(basename "$hpp" .hpp)"); done
+
+build() {  # <scene>: the scene's benchmark, and its ptxas report
+  local stem=$1 header=$root/generated/$1.hpp flags=()
+  local ns
+  ns=$(sed -n 's/^namespace \([A-Za-z0-9_:]*\) {$/\1/p' "$header" | head -1)
+  grep -q '^namespace f32 {' "$header" && flags+=(-DSWEEPGEN_GPU_HAS_F32)
+  grep -q 'derivatives_original_flat' "$header" && flags+=(-DSWEEPGEN_GPU_HAS_DERIVATIVES)
+  "$nvcc" -std=c++17 -O3 -arch="${ARCH:-native}" -Werror all-warnings -Xptxas -v -I "$root/generated" \
+    -DSWEEPGEN_GPU_SOURCE="\"$stem.cu\"" -DSWEEPGEN_GPU_NAMESPACE="$ns" "${flags[@]}" \
+    "$here/gpu_bench.cu" -o "$out/bench_$stem" 2> "$out/$stem.ptxas" || { cat "$out/$stem.ptxas"; return 1; }
+}
+export -f build
+export nvcc root here out ARCH
+start=$SECONDS
+printf '%s\n' "${scenes[@]}" | xargs -P "$(nproc)" -I{} bash -c 'build {}'
+echo "nvcc: ${#scenes[@]} scenes in $((SECONDS - start)) s"
+
+status=0
+for stem in "${scenes[@]}"; do
+  echo "== $stem"
+  # ptxas: each kernel's registers, stack frame and spills
+  awk '/Compiling entry function/ { match($0, /_ZN[0-9A-Za-z_]*kernel/); kernel = substr($0, RSTART, RLENGTH) }
+       /bytes stack frame/ && kernel { frame = $0 }
+       /Used [0-9]+ registers/ && kernel { gsub(/^ +/, "", frame); print "ptxas: " kernel ": " $5 " registers, " frame; kernel = "" }' \
+    "$out/$stem.ptxas"
+  "$out/bench_$stem" 100000 128 4096 65536 1048576 || status=1
+done
+echo "total $((SECONDS - start)) s"
+exit $status
