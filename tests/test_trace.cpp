@@ -58,7 +58,7 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
     for (std::size_t nc : {0u, 3u, 6u}) {
       SCOPED_TRACE(robot.name + " Nc=" + std::to_string(nc));
       const solver::DriverLayout layout = full_layout(chain, nc);
-      symbolic::TraceRequest request{layout, policies, {}, std::numeric_limits<double>::epsilon()};
+      symbolic::TraceRequest request{layout, policies, {}, std::numeric_limits<double>::epsilon(), {}};
       const symbolic::Trace trace = symbolic::trace_solver(chain, request);
 
       for (int sample = 0; sample < 20; ++sample) {
@@ -183,7 +183,7 @@ TEST(Trace, ABranchWithoutConstraintsCarriesNoConstraintTerms) {
     layout.sets = std::move(sets);
     layout.decompose_all();
     const symbolic::Trace trace = symbolic::trace_solver(
-        chain, {layout, {solver::Policy::original}, {}, std::numeric_limits<double>::epsilon()});
+        chain, {layout, {solver::Policy::original}, {}, std::numeric_limits<double>::epsilon(), {}});
     int terms = 0;
     for (const auto& f : trace.fields)
       if ((f.array == "constraint_force" || f.array == "constraint_energy") && f.body > 0 && is_right_arm(f.body) == right &&

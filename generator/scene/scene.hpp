@@ -93,6 +93,13 @@
 //                                   #   all), or auto (default): the generator counts both and
 //                                   #   emits the cheaper, the columns' count weighted by 21/20
 //                                   #   past two directions (they spill; the header says which)
+//   outputs: [qdd, nu]              # optional: the results the solves return, a list of qdd,
+//                                   #   tau_cmd, tau_ctrl, nu, tip_acceleration, set_acceleration
+//                                   #   (default: all of them; nu only with constraint
+//                                   #   directions, set_acceleration only with constraint sets);
+//                                   #   what is not listed is not computed beyond what the listed
+//                                   #   ones need, and not in Solution nor the flat `out` (the
+//                                   #   status always is). Not with expose: all
 //   check_inputs: true              # optional: true (default) or false. When true, the generated
 //                                   #   code checks every input (q, qd, drivers, beta) and output
 //                                   #   for NaN/Inf and raises status_not_finite; false leaves the
@@ -143,6 +150,7 @@ struct Scene {
   bool refinement = true;      // (R1)
   std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (the cheaper)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
+  solver::SolveOutputs outputs{};  // the results the solves return (scene key outputs)
   bool derivatives = false;    // emit derivatives_<policy> (D1–D8)
   solver::DerivativeOutputs derivative_outputs{};  // their Jacobians (a list: those named; true: all)
 
