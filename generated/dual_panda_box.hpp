@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (13879 operations, 12763 counting two lanes as one), not the rows r_i outward (I6) (14245 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (13692 operations, 12576 counting two lanes as one), not the rows r_i outward (I6) (14057 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 540 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 15.
 //
@@ -51,13 +51,13 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 1733, mul 2242, div 13, neg 105, sin/cos 28, compare 0 (total 4121)
-//   f64::decompose: add 2363, mul 3343, div 12, neg 115, sin/cos 0, compare 37 (total 5870)
-//   f64::solve_original: add 1230, mul 1252, div 0, neg 30, sin/cos 0, compare 2 (total 2514)
-//   f64: outward + decompose + solve_original: add 5326, mul 6837, div 25, neg 250, sin/cos 28, compare 39 (total 12505)
-//   f64::solve_prioritize_external: add 642, mul 681, div 0, neg 17, sin/cos 0, compare 1 (total 1341)
-//   f64: outward + decompose + solve_prioritize_external: add 4738, mul 6266, div 25, neg 237, sin/cos 28, compare 38 (total 11332)
-//   f64, pivoted path: outward + decompose + solve_original: add 5635, mul 7311, div 37, neg 250, sin/cos 28, compare 1823 (total 15084)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 5047, mul 6740, div 37, neg 237, sin/cos 28, compare 1602 (total 13691)
+//   f64::decompose: add 2217, mul 3275, div 24, neg 115, sin/cos 0, compare 50 (total 5681)
+//   f64::solve_original: add 1230, mul 1252, div 0, neg 31, sin/cos 0, compare 2 (total 2515)
+//   f64: outward + decompose + solve_original: add 5180, mul 6769, div 37, neg 251, sin/cos 28, compare 52 (total 12317)
+//   f64::solve_prioritize_external: add 642, mul 681, div 0, neg 18, sin/cos 0, compare 1 (total 1342)
+//   f64: outward + decompose + solve_prioritize_external: add 4592, mul 6198, div 37, neg 238, sin/cos 28, compare 51 (total 11144)
+//   f64, pivoted path: outward + decompose + solve_original: add 5786, mul 7608, div 49, neg 251, sin/cos 28, compare 1836 (total 15558)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 5198, mul 7037, div 49, neg 238, sin/cos 28, compare 1615 (total 14165)
 #pragma once
 
 namespace dual_panda_box {
@@ -103,7 +103,6 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
-  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_acceleration_2_3_term;
   Scalar bias_acceleration_2_4_term;
@@ -157,6 +156,7 @@ struct State {
   Scalar bias_acceleration_10_1_term;
   Scalar bias_acceleration_10_3_term;
   Scalar bias_acceleration_10_4_term;
+  Scalar bias_acceleration_10_4;
   Scalar X_E_11_0;
   Scalar X_E_11_2;
   Scalar bias_acceleration_11_0;
@@ -626,8 +626,8 @@ struct State {
   Scalar original_nu_0_term_89;
   Scalar original_nu_0_term_90;
   Scalar original_nu_0_term_91;
-  Scalar prioritize_external_conf_energy_10;
-  Scalar original_conf_energy_10;
+  Scalar prioritize_external_conf_energy_11;
+  Scalar original_conf_energy_11;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
@@ -648,8 +648,8 @@ struct State {
   Scalar original_conf_energy_8;
   Scalar prioritize_external_conf_energy_9;
   Scalar original_conf_energy_9;
-  Scalar prioritize_external_conf_energy_11;
-  Scalar original_conf_energy_11;
+  Scalar prioritize_external_conf_energy_10;
+  Scalar original_conf_energy_10;
   Scalar original_nu_0_term_92;
   Scalar original_nu_0_term_93;
   Scalar original_nu_0_term_94;
