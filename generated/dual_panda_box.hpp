@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (13692 operations, 12576 counting two lanes as one), not the rows r_i outward (I6) (14057 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (13414 operations, 12298 counting two lanes as one), not the rows r_i outward (I6) (13779 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 540 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 15.
 //
@@ -50,14 +50,14 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1733, mul 2242, div 13, neg 105, sin/cos 28, compare 0 (total 4121)
-//   f64::decompose: add 2217, mul 3275, div 24, neg 115, sin/cos 0, compare 50 (total 5681)
-//   f64::solve_original: add 1230, mul 1252, div 0, neg 31, sin/cos 0, compare 2 (total 2515)
-//   f64: outward + decompose + solve_original: add 5180, mul 6769, div 37, neg 251, sin/cos 28, compare 52 (total 12317)
-//   f64::solve_prioritize_external: add 642, mul 681, div 0, neg 18, sin/cos 0, compare 1 (total 1342)
-//   f64: outward + decompose + solve_prioritize_external: add 4592, mul 6198, div 37, neg 238, sin/cos 28, compare 51 (total 11144)
-//   f64, pivoted path: outward + decompose + solve_original: add 5786, mul 7608, div 49, neg 251, sin/cos 28, compare 1836 (total 15558)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 5198, mul 7037, div 49, neg 238, sin/cos 28, compare 1615 (total 14165)
+//   f64::outward: add 1733, mul 2242, div 13, neg 106, sin/cos 28, compare 0 (total 4122)
+//   f64::decompose: add 2240, mul 3047, div 24, neg 115, sin/cos 0, compare 51 (total 5477)
+//   f64::solve_original: add 1230, mul 1204, div 0, neg 30, sin/cos 0, compare 2 (total 2466)
+//   f64: outward + decompose + solve_original: add 5203, mul 6493, div 37, neg 251, sin/cos 28, compare 53 (total 12065)
+//   f64::solve_prioritize_external: add 642, mul 657, div 0, neg 16, sin/cos 0, compare 1 (total 1316)
+//   f64: outward + decompose + solve_prioritize_external: add 4615, mul 5946, div 37, neg 237, sin/cos 28, compare 52 (total 10915)
+//   f64, pivoted path: outward + decompose + solve_original: add 5809, mul 7536, div 49, neg 251, sin/cos 28, compare 1849 (total 15522)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 5221, mul 6965, div 49, neg 237, sin/cos 28, compare 1628 (total 14128)
 #pragma once
 
 namespace dual_panda_box {
@@ -103,6 +103,7 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
+  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_acceleration_2_3_term;
   Scalar bias_acceleration_2_4_term;
@@ -615,17 +616,6 @@ struct State {
   Scalar original_nu_0_term_78;
   Scalar original_nu_0_term_79;
   Scalar original_nu_0_term_80;
-  Scalar original_nu_0_term_81;
-  Scalar original_nu_0_term_82;
-  Scalar original_nu_0_term_83;
-  Scalar original_nu_0_term_84;
-  Scalar original_nu_0_term_85;
-  Scalar original_nu_0_term_86;
-  Scalar original_nu_0_term_87;
-  Scalar original_nu_0_term_88;
-  Scalar original_nu_0_term_89;
-  Scalar original_nu_0_term_90;
-  Scalar original_nu_0_term_91;
   Scalar prioritize_external_conf_energy_11;
   Scalar original_conf_energy_11;
   Scalar prioritize_external_conf_energy_0;
@@ -650,6 +640,17 @@ struct State {
   Scalar original_conf_energy_9;
   Scalar prioritize_external_conf_energy_10;
   Scalar original_conf_energy_10;
+  Scalar original_nu_0_term_81;
+  Scalar original_nu_0_term_82;
+  Scalar original_nu_0_term_83;
+  Scalar original_nu_0_term_84;
+  Scalar original_nu_0_term_85;
+  Scalar original_nu_0_term_86;
+  Scalar original_nu_0_term_87;
+  Scalar original_nu_0_term_88;
+  Scalar original_nu_0_term_89;
+  Scalar original_nu_0_term_90;
+  Scalar original_nu_0_term_91;
   Scalar original_nu_0_term_92;
   Scalar original_nu_0_term_93;
   Scalar original_nu_0_term_94;

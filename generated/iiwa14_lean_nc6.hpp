@@ -6,8 +6,8 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (3873 operations, 3159 counting two lanes as one), not the rows r_i outward (I6) (3848 operations) (scene: constraint_rows: auto).
-// Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 270 vector expressions per scalar type).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (3825 operations, 3103 counting two lanes as one), not the rows r_i outward (I6) (3800 operations) (scene: constraint_rows: auto).
+// Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 275 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -40,10 +40,10 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 497, mul 734, div 6, neg 16, sin/cos 12, compare 0 (total 1265)
-//   f64::decompose: add 763, mul 1045, div 6, neg 12, sin/cos 0, compare 19 (total 1845)
-//   f64::solve_original: add 378, mul 370, div 0, neg 3, sin/cos 0, compare 2 (total 753)
-//   f64: outward + decompose + solve_original: add 1638, mul 2149, div 12, neg 31, sin/cos 12, compare 21 (total 3863)
-//   f64, pivoted path: outward + decompose + solve_original: add 1684, mul 2225, div 18, neg 31, sin/cos 12, compare 233 (total 4203)
+//   f64::decompose: add 774, mul 1009, div 6, neg 12, sin/cos 0, compare 20 (total 1821)
+//   f64::solve_original: add 378, mul 346, div 0, neg 3, sin/cos 0, compare 2 (total 729)
+//   f64: outward + decompose + solve_original: add 1649, mul 2089, div 12, neg 31, sin/cos 12, compare 22 (total 3815)
+//   f64, pivoted path: outward + decompose + solve_original: add 1695, mul 2231, div 18, neg 31, sin/cos 12, compare 240 (total 4227)
 #pragma once
 
 namespace iiwa14_lean_nc6 {
@@ -317,6 +317,7 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
@@ -367,7 +368,6 @@ struct State {
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_73;
   Scalar original_nu_0_term_74;
   Scalar original_nu_0_term_75;

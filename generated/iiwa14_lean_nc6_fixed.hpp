@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3227 operations), not the columns F^A_cstr,i inward (I2) (3084 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3179 operations), not the columns F^A_cstr,i inward (I2) (3045 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -38,11 +38,11 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 896, mul 1362, div 12, neg 48, sin/cos 12, compare 19 (total 2349)
+//   f64::outward: add 907, mul 1326, div 12, neg 48, sin/cos 12, compare 20 (total 2325)
 //   f64::decompose: add 128, mul 98, div 0, neg 1, sin/cos 0, compare 0 (total 227)
-//   f64::solve_original: add 320, mul 316, div 0, neg 3, sin/cos 0, compare 2 (total 641)
-//   f64: outward + decompose + solve_original: add 1344, mul 1776, div 12, neg 52, sin/cos 12, compare 21 (total 3217)
-//   f64, pivoted path: outward + decompose + solve_original: add 1390, mul 1852, div 18, neg 52, sin/cos 12, compare 233 (total 3557)
+//   f64::solve_original: add 320, mul 292, div 0, neg 3, sin/cos 0, compare 2 (total 617)
+//   f64: outward + decompose + solve_original: add 1355, mul 1716, div 12, neg 52, sin/cos 12, compare 22 (total 3169)
+//   f64, pivoted path: outward + decompose + solve_original: add 1401, mul 1858, div 18, neg 52, sin/cos 12, compare 240 (total 3581)
 #pragma once
 
 namespace iiwa14_lean_nc6_fixed {

@@ -7,7 +7,7 @@
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
 // Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (scene: expose: all lists the columns).
-// Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 378 vector expressions per scalar type).
+// Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 373 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on none.
 //
 // Call order (docs: README, "Generated code"):
@@ -40,33 +40,33 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 782, mul 1010, div 6, neg 45, sin/cos 14, compare 0 (total 1857)
-//   f64::decompose: add 1151, mul 1539, div 6, neg 30, sin/cos 0, compare 19 (total 2745)
-//   f64::solve_original: add 475, mul 464, div 0, neg 6, sin/cos 0, compare 2 (total 947)
-//   f64: outward + decompose + solve_original: add 2408, mul 3013, div 12, neg 81, sin/cos 14, compare 21 (total 5549)
-//   f64::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 1 (total 508)
-//   f64: outward + decompose + solve_prioritize_external: add 2182, mul 2803, div 12, neg 79, sin/cos 14, compare 20 (total 5110)
-//   f64::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 29 (total 697)
-//   f64: outward + decompose + solve_saturate: add 2281, mul 2867, div 12, neg 77, sin/cos 14, compare 48 (total 5299)
-//   f64::solve_saturate_exact: add 515, mul 512, div 0, neg 8, sin/cos 0, compare 30 (total 1065)
-//   f64: outward + decompose + solve_saturate_exact: add 2448, mul 3061, div 12, neg 83, sin/cos 14, compare 49 (total 5667)
-//   f64, pivoted path: outward + decompose + solve_original: add 2454, mul 3089, div 18, neg 81, sin/cos 14, compare 233 (total 5889)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 2228, mul 2879, div 18, neg 79, sin/cos 14, compare 192 (total 5410)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 2327, mul 2943, div 18, neg 77, sin/cos 14, compare 220 (total 5599)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2494, mul 3137, div 18, neg 83, sin/cos 14, compare 261 (total 6007)
+//   f64::decompose: add 1162, mul 1503, div 6, neg 30, sin/cos 0, compare 20 (total 2721)
+//   f64::solve_original: add 475, mul 440, div 0, neg 6, sin/cos 0, compare 2 (total 923)
+//   f64: outward + decompose + solve_original: add 2419, mul 2953, div 12, neg 81, sin/cos 14, compare 22 (total 5501)
+//   f64::solve_prioritize_external: add 249, mul 242, div 0, neg 4, sin/cos 0, compare 1 (total 496)
+//   f64: outward + decompose + solve_prioritize_external: add 2193, mul 2755, div 12, neg 79, sin/cos 14, compare 21 (total 5074)
+//   f64::solve_saturate: add 348, mul 306, div 0, neg 2, sin/cos 0, compare 29 (total 685)
+//   f64: outward + decompose + solve_saturate: add 2292, mul 2819, div 12, neg 77, sin/cos 14, compare 49 (total 5263)
+//   f64::solve_saturate_exact: add 515, mul 488, div 0, neg 8, sin/cos 0, compare 30 (total 1041)
+//   f64: outward + decompose + solve_saturate_exact: add 2459, mul 3001, div 12, neg 83, sin/cos 14, compare 50 (total 5619)
+//   f64, pivoted path: outward + decompose + solve_original: add 2465, mul 3095, div 18, neg 81, sin/cos 14, compare 240 (total 5913)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 2239, mul 2885, div 18, neg 79, sin/cos 14, compare 199 (total 5434)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 2338, mul 2949, div 18, neg 77, sin/cos 14, compare 227 (total 5623)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2505, mul 3143, div 18, neg 83, sin/cos 14, compare 268 (total 6031)
 //   f32::outward: add 782, mul 1010, div 6, neg 45, sin/cos 14, compare 0 (total 1857)
-//   f32::decompose: add 1151, mul 1539, div 6, neg 30, sin/cos 0, compare 19 (total 2745)
-//   f32::solve_original: add 475, mul 464, div 0, neg 6, sin/cos 0, compare 2 (total 947)
-//   f32: outward + decompose + solve_original: add 2408, mul 3013, div 12, neg 81, sin/cos 14, compare 21 (total 5549)
-//   f32::solve_prioritize_external: add 249, mul 254, div 0, neg 4, sin/cos 0, compare 1 (total 508)
-//   f32: outward + decompose + solve_prioritize_external: add 2182, mul 2803, div 12, neg 79, sin/cos 14, compare 20 (total 5110)
-//   f32::solve_saturate: add 348, mul 318, div 0, neg 2, sin/cos 0, compare 29 (total 697)
-//   f32: outward + decompose + solve_saturate: add 2281, mul 2867, div 12, neg 77, sin/cos 14, compare 48 (total 5299)
-//   f32::solve_saturate_exact: add 515, mul 512, div 0, neg 9, sin/cos 0, compare 30 (total 1066)
-//   f32: outward + decompose + solve_saturate_exact: add 2448, mul 3061, div 12, neg 84, sin/cos 14, compare 49 (total 5668)
-//   f32, pivoted path: outward + decompose + solve_original: add 2454, mul 3089, div 18, neg 81, sin/cos 14, compare 233 (total 5889)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 2228, mul 2879, div 18, neg 79, sin/cos 14, compare 192 (total 5410)
-//   f32, pivoted path: outward + decompose + solve_saturate: add 2327, mul 2943, div 18, neg 77, sin/cos 14, compare 220 (total 5599)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 2494, mul 3137, div 18, neg 84, sin/cos 14, compare 261 (total 6008)
+//   f32::decompose: add 1162, mul 1503, div 6, neg 30, sin/cos 0, compare 20 (total 2721)
+//   f32::solve_original: add 475, mul 440, div 0, neg 6, sin/cos 0, compare 2 (total 923)
+//   f32: outward + decompose + solve_original: add 2419, mul 2953, div 12, neg 81, sin/cos 14, compare 22 (total 5501)
+//   f32::solve_prioritize_external: add 249, mul 242, div 0, neg 4, sin/cos 0, compare 1 (total 496)
+//   f32: outward + decompose + solve_prioritize_external: add 2193, mul 2755, div 12, neg 79, sin/cos 14, compare 21 (total 5074)
+//   f32::solve_saturate: add 348, mul 306, div 0, neg 2, sin/cos 0, compare 29 (total 685)
+//   f32: outward + decompose + solve_saturate: add 2292, mul 2819, div 12, neg 77, sin/cos 14, compare 49 (total 5263)
+//   f32::solve_saturate_exact: add 515, mul 488, div 0, neg 9, sin/cos 0, compare 30 (total 1042)
+//   f32: outward + decompose + solve_saturate_exact: add 2459, mul 3001, div 12, neg 84, sin/cos 14, compare 50 (total 5620)
+//   f32, pivoted path: outward + decompose + solve_original: add 2465, mul 3095, div 18, neg 81, sin/cos 14, compare 240 (total 5913)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 2239, mul 2885, div 18, neg 79, sin/cos 14, compare 199 (total 5434)
+//   f32, pivoted path: outward + decompose + solve_saturate: add 2338, mul 2949, div 18, neg 77, sin/cos 14, compare 227 (total 5623)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 2505, mul 3143, div 18, neg 84, sin/cos 14, compare 268 (total 6032)
 #pragma once
 
 namespace iiwa14_nc6 {
@@ -196,14 +196,10 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
+  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
@@ -212,8 +208,13 @@ struct State {
   Scalar original_conf_energy_2;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -258,9 +259,8 @@ struct State {
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;
-  Scalar original_acceleration_2_3;
-  Scalar original_acceleration_2_4;
   Scalar original_nu_0_term_73;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_74;
   Scalar original_nu_0_term_75;
   Scalar original_nu_0_term_76;
@@ -449,12 +449,6 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
   Scalar prioritize_external_conf_energy_0;
@@ -467,6 +461,12 @@ struct State {
   Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
+  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;

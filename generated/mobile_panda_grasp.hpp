@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7588 operations, 6963 counting two lanes as one), not the rows r_i outward (I6) (9209 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7540 operations, 6915 counting two lanes as one), not the rows r_i outward (I6) (9161 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 625 vector expressions per scalar type).
 // Joint inertia: lock test (J1) on floating_base_rx, floating_base_ry, floating_base_rz, floating_base_px, floating_base_py (the others cannot lock, J2); S_i^T P_i^T = 0 written exactly on floating_base_pz, panda_joint1, panda_joint2, panda_joint3, panda_joint4, panda_joint5, panda_joint6, panda_joint7, panda_finger_joint1, panda_finger_joint2.
 //
@@ -54,15 +54,15 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 1181, mul 1490, div 13, neg 51, sin/cos 14, compare 15 (total 2764)
-//   f64::decompose: add 1364, mul 1824, div 6, neg 52, sin/cos 0, compare 19 (total 3265)
-//   f64::solve_original: add 778, mul 751, div 0, neg 18, sin/cos 0, compare 2 (total 1549)
-//   f64: outward + decompose + solve_original: add 3323, mul 4065, div 19, neg 121, sin/cos 14, compare 36 (total 7578)
-//   f64, pivoted path: outward + decompose + solve_original: add 3369, mul 4141, div 25, neg 121, sin/cos 14, compare 248 (total 7918)
+//   f64::decompose: add 1375, mul 1788, div 6, neg 52, sin/cos 0, compare 20 (total 3241)
+//   f64::solve_original: add 778, mul 727, div 0, neg 18, sin/cos 0, compare 2 (total 1525)
+//   f64: outward + decompose + solve_original: add 3334, mul 4005, div 19, neg 121, sin/cos 14, compare 37 (total 7530)
+//   f64, pivoted path: outward + decompose + solve_original: add 3380, mul 4147, div 25, neg 121, sin/cos 14, compare 255 (total 7942)
 //   f32::outward: add 1181, mul 1490, div 13, neg 51, sin/cos 14, compare 15 (total 2764)
-//   f32::decompose: add 1364, mul 1824, div 6, neg 52, sin/cos 0, compare 19 (total 3265)
-//   f32::solve_original: add 778, mul 751, div 0, neg 18, sin/cos 0, compare 2 (total 1549)
-//   f32: outward + decompose + solve_original: add 3323, mul 4065, div 19, neg 121, sin/cos 14, compare 36 (total 7578)
-//   f32, pivoted path: outward + decompose + solve_original: add 3369, mul 4141, div 25, neg 121, sin/cos 14, compare 248 (total 7918)
+//   f32::decompose: add 1375, mul 1788, div 6, neg 52, sin/cos 0, compare 20 (total 3241)
+//   f32::solve_original: add 778, mul 727, div 0, neg 18, sin/cos 0, compare 2 (total 1525)
+//   f32: outward + decompose + solve_original: add 3334, mul 4005, div 19, neg 121, sin/cos 14, compare 37 (total 7530)
+//   f32, pivoted path: outward + decompose + solve_original: add 3380, mul 4147, div 25, neg 121, sin/cos 14, compare 255 (total 7942)
 #pragma once
 
 namespace mobile_panda_grasp {
@@ -427,18 +427,18 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
+  Scalar original_conf_energy_5;
+  Scalar original_conf_energy_0;
+  Scalar original_conf_energy_1;
+  Scalar original_conf_energy_2;
+  Scalar original_conf_energy_3;
+  Scalar original_conf_energy_4;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
   Scalar original_nu_0_term_25;
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
-  Scalar original_conf_energy_0;
-  Scalar original_conf_energy_1;
-  Scalar original_conf_energy_2;
-  Scalar original_conf_energy_3;
-  Scalar original_conf_energy_4;
-  Scalar original_conf_energy_5;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -485,8 +485,8 @@ struct State {
   Scalar original_nu_0_term_72;
   Scalar original_nu_0_term_73;
   Scalar original_nu_0_term_74;
-  Scalar original_nu_0_term_75;
   Scalar original_acceleration_1_5;
+  Scalar original_nu_0_term_75;
   Scalar original_nu_0_term_76;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;
@@ -885,18 +885,18 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
   Scalar original_conf_energy_5;
   Scalar original_conf_energy_0;
   Scalar original_conf_energy_1;
   Scalar original_conf_energy_2;
   Scalar original_conf_energy_3;
   Scalar original_conf_energy_4;
+  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;

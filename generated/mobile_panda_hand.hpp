@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7903 operations, 7163 counting two lanes as one), not the rows r_i outward (I6) (9211 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7843 operations, 7103 counting two lanes as one), not the rows r_i outward (I6) (9151 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 414 vector expressions per scalar type).
 // Joint inertia: lock test (J1) on floating_base_rx, floating_base_ry, floating_base_rz, floating_base_px, floating_base_py (the others cannot lock, J2); S_i^T P_i^T = 0 written exactly on floating_base_pz, panda_joint1, panda_joint2, panda_joint3, panda_joint4, panda_joint5, panda_joint6, panda_joint7.
 //
@@ -48,21 +48,21 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 1056, mul 1347, div 12, neg 50, sin/cos 14, compare 15 (total 2494)
-//   f64::decompose: add 1355, mul 1812, div 6, neg 52, sin/cos 0, compare 19 (total 3244)
-//   f64::solve_original: add 705, mul 678, div 0, neg 15, sin/cos 0, compare 2 (total 1400)
-//   f64: outward + decompose + solve_original: add 3116, mul 3837, div 18, neg 117, sin/cos 14, compare 36 (total 7138)
-//   f64::solve_prioritize_external: add 371, mul 370, div 0, neg 8, sin/cos 0, compare 1 (total 750)
-//   f64: outward + decompose + solve_prioritize_external: add 2782, mul 3529, div 18, neg 110, sin/cos 14, compare 35 (total 6488)
-//   f64, pivoted path: outward + decompose + solve_original: add 3162, mul 3913, div 24, neg 117, sin/cos 14, compare 248 (total 7478)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 2828, mul 3605, div 24, neg 110, sin/cos 14, compare 207 (total 6788)
+//   f64::decompose: add 1366, mul 1776, div 6, neg 52, sin/cos 0, compare 20 (total 3220)
+//   f64::solve_original: add 705, mul 654, div 0, neg 15, sin/cos 0, compare 2 (total 1376)
+//   f64: outward + decompose + solve_original: add 3127, mul 3777, div 18, neg 117, sin/cos 14, compare 37 (total 7090)
+//   f64::solve_prioritize_external: add 371, mul 358, div 0, neg 8, sin/cos 0, compare 1 (total 738)
+//   f64: outward + decompose + solve_prioritize_external: add 2793, mul 3481, div 18, neg 110, sin/cos 14, compare 36 (total 6452)
+//   f64, pivoted path: outward + decompose + solve_original: add 3173, mul 3919, div 24, neg 117, sin/cos 14, compare 255 (total 7502)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 2839, mul 3611, div 24, neg 110, sin/cos 14, compare 214 (total 6812)
 //   f32::outward: add 1056, mul 1347, div 12, neg 50, sin/cos 14, compare 15 (total 2494)
-//   f32::decompose: add 1355, mul 1812, div 6, neg 52, sin/cos 0, compare 19 (total 3244)
-//   f32::solve_original: add 705, mul 678, div 0, neg 15, sin/cos 0, compare 2 (total 1400)
-//   f32: outward + decompose + solve_original: add 3116, mul 3837, div 18, neg 117, sin/cos 14, compare 36 (total 7138)
-//   f32::solve_prioritize_external: add 371, mul 370, div 0, neg 8, sin/cos 0, compare 1 (total 750)
-//   f32: outward + decompose + solve_prioritize_external: add 2782, mul 3529, div 18, neg 110, sin/cos 14, compare 35 (total 6488)
-//   f32, pivoted path: outward + decompose + solve_original: add 3162, mul 3913, div 24, neg 117, sin/cos 14, compare 248 (total 7478)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 2828, mul 3605, div 24, neg 110, sin/cos 14, compare 207 (total 6788)
+//   f32::decompose: add 1366, mul 1776, div 6, neg 52, sin/cos 0, compare 20 (total 3220)
+//   f32::solve_original: add 705, mul 654, div 0, neg 15, sin/cos 0, compare 2 (total 1376)
+//   f32: outward + decompose + solve_original: add 3127, mul 3777, div 18, neg 117, sin/cos 14, compare 37 (total 7090)
+//   f32::solve_prioritize_external: add 371, mul 358, div 0, neg 8, sin/cos 0, compare 1 (total 738)
+//   f32: outward + decompose + solve_prioritize_external: add 2793, mul 3481, div 18, neg 110, sin/cos 14, compare 36 (total 6452)
+//   f32, pivoted path: outward + decompose + solve_original: add 3173, mul 3919, div 24, neg 117, sin/cos 14, compare 255 (total 7502)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 2839, mul 3611, div 24, neg 110, sin/cos 14, compare 214 (total 6812)
 #pragma once
 
 namespace mobile_panda_hand {
@@ -431,14 +431,8 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
@@ -447,8 +441,14 @@ struct State {
   Scalar original_conf_energy_2;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
+  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -905,24 +905,24 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
+  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -968,10 +968,10 @@ struct State {
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;
   Scalar original_nu_0_term_73;
-  Scalar original_acceleration_1_5;
   Scalar original_nu_0_term_74;
   Scalar original_nu_0_term_75;
   Scalar original_nu_0_term_76;
+  Scalar original_acceleration_1_5;
   Scalar original_nu_0_term_77;
   Scalar original_dropped_pivots_0;
   Scalar original_locked_joints_0;

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3843 operations), not the columns F^A_cstr,i inward (I2) (4038 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3796 operations), not the columns F^A_cstr,i inward (I2) (3990 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -38,11 +38,11 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1204, mul 1687, div 12, neg 74, sin/cos 12, compare 19 (total 3008)
+//   f64::outward: add 1215, mul 1651, div 12, neg 73, sin/cos 12, compare 20 (total 2983)
 //   f64::decompose: add 0, mul 0, div 0, neg 0, sin/cos 0, compare 0 (total 0)
-//   f64::solve_original: add 385, mul 429, div 0, neg 9, sin/cos 0, compare 2 (total 825)
-//   f64: outward + decompose + solve_original: add 1589, mul 2116, div 12, neg 83, sin/cos 12, compare 21 (total 3833)
-//   f64, pivoted path: outward + decompose + solve_original: add 1635, mul 2192, div 18, neg 83, sin/cos 12, compare 233 (total 4173)
+//   f64::solve_original: add 385, mul 405, div 0, neg 11, sin/cos 0, compare 2 (total 803)
+//   f64: outward + decompose + solve_original: add 1600, mul 2056, div 12, neg 84, sin/cos 12, compare 22 (total 3786)
+//   f64, pivoted path: outward + decompose + solve_original: add 1646, mul 2198, div 18, neg 84, sin/cos 12, compare 240 (total 4198)
 #pragma once
 
 namespace panda_bias_only {
@@ -84,7 +84,7 @@ struct Drivers {
 struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
-  Scalar bias_acceleration_2_0;
+  Scalar bias_acceleration_2_0_term;
   Scalar bias_acceleration_2_1;
   Scalar X_E_3_0;
   Scalar X_E_3_2;

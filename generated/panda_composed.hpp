@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (6435 operations, 5838 counting two lanes as one), not the rows r_i outward (I6) (6507 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (6352 operations, 5755 counting two lanes as one), not the rows r_i outward (I6) (6421 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 297 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
@@ -40,16 +40,16 @@
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
 //   f64::outward: add 589, mul 830, div 6, neg 34, sin/cos 12, compare 0 (total 1471)
-//   f64::decompose: add 849, mul 1147, div 6, neg 51, sin/cos 0, compare 19 (total 2072)
-//   f64::solve_original: add 474, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 982)
-//   f64: outward + decompose + solve_original: add 1912, mul 2473, div 12, neg 95, sin/cos 12, compare 21 (total 4525)
-//   f64::solve_saturate: add 383, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 787)
-//   f64: outward + decompose + solve_saturate: add 1821, mul 2343, div 12, neg 94, sin/cos 12, compare 48 (total 4330)
-//   f64::solve_saturate_exact: add 513, mul 542, div 0, neg 13, sin/cos 0, compare 30 (total 1098)
-//   f64: outward + decompose + solve_saturate_exact: add 1951, mul 2519, div 12, neg 98, sin/cos 12, compare 49 (total 4641)
-//   f64, pivoted path: outward + decompose + solve_original: add 1958, mul 2549, div 18, neg 95, sin/cos 12, compare 233 (total 4865)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 1867, mul 2419, div 18, neg 94, sin/cos 12, compare 220 (total 4630)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1997, mul 2595, div 18, neg 98, sin/cos 12, compare 261 (total 4981)
+//   f64::decompose: add 860, mul 1111, div 6, neg 51, sin/cos 0, compare 20 (total 2048)
+//   f64::solve_original: add 474, mul 472, div 0, neg 10, sin/cos 0, compare 2 (total 958)
+//   f64: outward + decompose + solve_original: add 1923, mul 2413, div 12, neg 95, sin/cos 12, compare 22 (total 4477)
+//   f64::solve_saturate: add 383, mul 354, div 0, neg 9, sin/cos 0, compare 29 (total 775)
+//   f64: outward + decompose + solve_saturate: add 1832, mul 2295, div 12, neg 94, sin/cos 12, compare 49 (total 4294)
+//   f64::solve_saturate_exact: add 513, mul 518, div 0, neg 14, sin/cos 0, compare 30 (total 1075)
+//   f64: outward + decompose + solve_saturate_exact: add 1962, mul 2459, div 12, neg 99, sin/cos 12, compare 50 (total 4594)
+//   f64, pivoted path: outward + decompose + solve_original: add 1969, mul 2555, div 18, neg 95, sin/cos 12, compare 240 (total 4889)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 1878, mul 2425, div 18, neg 94, sin/cos 12, compare 227 (total 4654)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2008, mul 2601, div 18, neg 99, sin/cos 12, compare 268 (total 5006)
 #pragma once
 
 namespace panda_composed {
@@ -378,7 +378,6 @@ struct State {
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
   Scalar original_nu_0_term_28;
-  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -420,6 +419,7 @@ struct State {
   Scalar original_nu_0_term_67;
   Scalar original_nu_0_term_68;
   Scalar original_nu_0_term_69;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_acceleration_2_3;

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (4358 operations, 3792 counting two lanes as one), not the rows r_i outward (I6) (4352 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (4310 operations, 3744 counting two lanes as one), not the rows r_i outward (I6) (4304 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 279 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
@@ -39,11 +39,11 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 588, mul 824, div 6, neg 33, sin/cos 12, compare 0 (total 1463)
-//   f64::decompose: add 843, mul 1147, div 6, neg 51, sin/cos 0, compare 19 (total 2066)
-//   f64::solve_original: add 404, mul 403, div 0, neg 10, sin/cos 0, compare 2 (total 819)
-//   f64: outward + decompose + solve_original: add 1835, mul 2374, div 12, neg 94, sin/cos 12, compare 21 (total 4348)
-//   f64, pivoted path: outward + decompose + solve_original: add 1881, mul 2450, div 18, neg 94, sin/cos 12, compare 233 (total 4688)
+//   f64::outward: add 588, mul 824, div 6, neg 34, sin/cos 12, compare 0 (total 1464)
+//   f64::decompose: add 854, mul 1111, div 6, neg 51, sin/cos 0, compare 20 (total 2042)
+//   f64::solve_original: add 404, mul 379, div 0, neg 9, sin/cos 0, compare 2 (total 794)
+//   f64: outward + decompose + solve_original: add 1846, mul 2314, div 12, neg 94, sin/cos 12, compare 22 (total 4300)
+//   f64, pivoted path: outward + decompose + solve_original: add 1892, mul 2456, div 18, neg 94, sin/cos 12, compare 240 (total 4712)
 #pragma once
 
 namespace panda_lean_nc6 {
@@ -88,6 +88,7 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
+  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3744 operations), not the columns F^A_cstr,i inward (I2) (3942 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3696 operations), not the columns F^A_cstr,i inward (I2) (3894 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -38,11 +38,11 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1065, mul 1568, div 12, neg 67, sin/cos 12, compare 19 (total 2743)
+//   f64::outward: add 1076, mul 1532, div 12, neg 66, sin/cos 12, compare 20 (total 2718)
 //   f64::decompose: add 151, mul 119, div 0, neg 3, sin/cos 0, compare 0 (total 273)
-//   f64::solve_original: add 352, mul 355, div 0, neg 9, sin/cos 0, compare 2 (total 718)
-//   f64: outward + decompose + solve_original: add 1568, mul 2042, div 12, neg 79, sin/cos 12, compare 21 (total 3734)
-//   f64, pivoted path: outward + decompose + solve_original: add 1614, mul 2118, div 18, neg 79, sin/cos 12, compare 233 (total 4074)
+//   f64::solve_original: add 352, mul 331, div 0, neg 10, sin/cos 0, compare 2 (total 695)
+//   f64: outward + decompose + solve_original: add 1579, mul 1982, div 12, neg 79, sin/cos 12, compare 22 (total 3686)
+//   f64, pivoted path: outward + decompose + solve_original: add 1625, mul 2124, div 18, neg 79, sin/cos 12, compare 240 (total 4098)
 #pragma once
 
 namespace panda_lean_nc6_fixed {
@@ -86,7 +86,6 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
-  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;

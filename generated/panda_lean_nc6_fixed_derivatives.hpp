@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3872 operations), not the columns F^A_cstr,i inward (I2) (4070 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (3824 operations), not the columns F^A_cstr,i inward (I2) (4022 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -38,12 +38,12 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 1065, mul 1568, div 12, neg 67, sin/cos 12, compare 19 (total 2743)
+//   f64::outward: add 1076, mul 1532, div 12, neg 66, sin/cos 12, compare 20 (total 2718)
 //   f64::decompose: add 151, mul 119, div 0, neg 3, sin/cos 0, compare 0 (total 273)
-//   f64::solve_original: add 405, mul 429, div 0, neg 10, sin/cos 0, compare 2 (total 846)
-//   f64: outward + decompose + solve_original: add 1621, mul 2116, div 12, neg 80, sin/cos 12, compare 21 (total 3862)
-//   f64, pivoted path: outward + decompose + solve_original: add 1667, mul 2192, div 18, neg 80, sin/cos 12, compare 233 (total 4202)
-//   f64::derivatives_original: add 7211, mul 8485, div 12, neg 441, sin/cos 12, compare 20 (total 16181)
+//   f64::solve_original: add 405, mul 405, div 0, neg 11, sin/cos 0, compare 2 (total 823)
+//   f64: outward + decompose + solve_original: add 1632, mul 2056, div 12, neg 80, sin/cos 12, compare 22 (total 3814)
+//   f64, pivoted path: outward + decompose + solve_original: add 1678, mul 2198, div 18, neg 80, sin/cos 12, compare 240 (total 4226)
+//   f64::derivatives_original: add 7202, mul 8263, div 12, neg 441, sin/cos 12, compare 21 (total 15951)
 #pragma once
 
 namespace panda_lean_nc6_fixed_derivatives {
@@ -87,7 +87,6 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
-  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (5716 operations, 5437 counting two lanes as one), not the rows r_i outward (I6) (6129 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (5675 operations, 5396 counting two lanes as one), not the rows r_i outward (I6) (6091 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 279 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
@@ -39,34 +39,34 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 691, mul 913, div 6, neg 36, sin/cos 12, compare 0 (total 1658)
-//   f64::decompose: add 522, mul 745, div 3, neg 40, sin/cos 0, compare 10 (total 1320)
-//   f64::solve_original: add 366, mul 355, div 0, neg 11, sin/cos 0, compare 2 (total 734)
-//   f64: outward + decompose + solve_original: add 1579, mul 2013, div 9, neg 87, sin/cos 12, compare 12 (total 3712)
-//   f64::solve_prioritize_external: add 194, mul 202, div 0, neg 6, sin/cos 0, compare 1 (total 403)
-//   f64: outward + decompose + solve_prioritize_external: add 1407, mul 1860, div 9, neg 82, sin/cos 12, compare 11 (total 3381)
-//   f64::solve_saturate: add 353, mul 312, div 0, neg 9, sin/cos 0, compare 29 (total 703)
-//   f64: outward + decompose + solve_saturate: add 1566, mul 1970, div 9, neg 85, sin/cos 12, compare 39 (total 3681)
-//   f64::solve_saturate_exact: add 423, mul 419, div 0, neg 14, sin/cos 0, compare 30 (total 886)
-//   f64: outward + decompose + solve_saturate_exact: add 1636, mul 2077, div 9, neg 90, sin/cos 12, compare 40 (total 3864)
-//   f64, pivoted path: outward + decompose + solve_original: add 1588, mul 2025, div 12, neg 87, sin/cos 12, compare 32 (total 3756)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1416, mul 1872, div 12, neg 82, sin/cos 12, compare 27 (total 3421)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 1575, mul 1982, div 12, neg 85, sin/cos 12, compare 55 (total 3721)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1645, mul 2089, div 12, neg 90, sin/cos 12, compare 60 (total 3908)
+//   f64::outward: add 691, mul 913, div 6, neg 37, sin/cos 12, compare 0 (total 1659)
+//   f64::decompose: add 527, mul 736, div 3, neg 40, sin/cos 0, compare 11 (total 1317)
+//   f64::solve_original: add 366, mul 343, div 0, neg 10, sin/cos 0, compare 2 (total 721)
+//   f64: outward + decompose + solve_original: add 1584, mul 1992, div 9, neg 87, sin/cos 12, compare 13 (total 3697)
+//   f64::solve_prioritize_external: add 194, mul 196, div 0, neg 5, sin/cos 0, compare 1 (total 396)
+//   f64: outward + decompose + solve_prioritize_external: add 1412, mul 1845, div 9, neg 82, sin/cos 12, compare 12 (total 3372)
+//   f64::solve_saturate: add 353, mul 306, div 0, neg 9, sin/cos 0, compare 29 (total 697)
+//   f64: outward + decompose + solve_saturate: add 1571, mul 1955, div 9, neg 86, sin/cos 12, compare 40 (total 3673)
+//   f64::solve_saturate_exact: add 423, mul 407, div 0, neg 13, sin/cos 0, compare 30 (total 873)
+//   f64: outward + decompose + solve_saturate_exact: add 1641, mul 2056, div 9, neg 90, sin/cos 12, compare 41 (total 3849)
+//   f64, pivoted path: outward + decompose + solve_original: add 1593, mul 2028, div 12, neg 87, sin/cos 12, compare 36 (total 3768)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1421, mul 1875, div 12, neg 82, sin/cos 12, compare 31 (total 3433)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 1580, mul 1985, div 12, neg 86, sin/cos 12, compare 59 (total 3734)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1650, mul 2092, div 12, neg 90, sin/cos 12, compare 64 (total 3920)
 //   f32::outward: add 691, mul 913, div 6, neg 37, sin/cos 12, compare 0 (total 1659)
-//   f32::decompose: add 522, mul 745, div 3, neg 40, sin/cos 0, compare 10 (total 1320)
-//   f32::solve_original: add 366, mul 355, div 0, neg 9, sin/cos 0, compare 2 (total 732)
-//   f32: outward + decompose + solve_original: add 1579, mul 2013, div 9, neg 86, sin/cos 12, compare 12 (total 3711)
-//   f32::solve_prioritize_external: add 194, mul 202, div 0, neg 6, sin/cos 0, compare 1 (total 403)
-//   f32: outward + decompose + solve_prioritize_external: add 1407, mul 1860, div 9, neg 83, sin/cos 12, compare 11 (total 3382)
-//   f32::solve_saturate: add 353, mul 312, div 0, neg 9, sin/cos 0, compare 29 (total 703)
-//   f32: outward + decompose + solve_saturate: add 1566, mul 1970, div 9, neg 86, sin/cos 12, compare 39 (total 3682)
-//   f32::solve_saturate_exact: add 423, mul 419, div 0, neg 13, sin/cos 0, compare 30 (total 885)
-//   f32: outward + decompose + solve_saturate_exact: add 1636, mul 2077, div 9, neg 90, sin/cos 12, compare 40 (total 3864)
-//   f32, pivoted path: outward + decompose + solve_original: add 1588, mul 2025, div 12, neg 86, sin/cos 12, compare 32 (total 3755)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1416, mul 1872, div 12, neg 83, sin/cos 12, compare 27 (total 3422)
-//   f32, pivoted path: outward + decompose + solve_saturate: add 1575, mul 1982, div 12, neg 86, sin/cos 12, compare 55 (total 3722)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1645, mul 2089, div 12, neg 90, sin/cos 12, compare 60 (total 3908)
+//   f32::decompose: add 527, mul 736, div 3, neg 40, sin/cos 0, compare 11 (total 1317)
+//   f32::solve_original: add 366, mul 343, div 0, neg 10, sin/cos 0, compare 2 (total 721)
+//   f32: outward + decompose + solve_original: add 1584, mul 1992, div 9, neg 87, sin/cos 12, compare 13 (total 3697)
+//   f32::solve_prioritize_external: add 194, mul 196, div 0, neg 6, sin/cos 0, compare 1 (total 397)
+//   f32: outward + decompose + solve_prioritize_external: add 1412, mul 1845, div 9, neg 83, sin/cos 12, compare 12 (total 3373)
+//   f32::solve_saturate: add 353, mul 306, div 0, neg 9, sin/cos 0, compare 29 (total 697)
+//   f32: outward + decompose + solve_saturate: add 1571, mul 1955, div 9, neg 86, sin/cos 12, compare 40 (total 3673)
+//   f32::solve_saturate_exact: add 423, mul 407, div 0, neg 14, sin/cos 0, compare 30 (total 874)
+//   f32: outward + decompose + solve_saturate_exact: add 1641, mul 2056, div 9, neg 91, sin/cos 12, compare 41 (total 3850)
+//   f32, pivoted path: outward + decompose + solve_original: add 1593, mul 2028, div 12, neg 87, sin/cos 12, compare 36 (total 3768)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1421, mul 1875, div 12, neg 83, sin/cos 12, compare 31 (total 3434)
+//   f32, pivoted path: outward + decompose + solve_saturate: add 1580, mul 1985, div 12, neg 86, sin/cos 12, compare 59 (total 3734)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1650, mul 2092, div 12, neg 91, sin/cos 12, compare 64 (total 3921)
 #pragma once
 
 namespace panda_nc3 {
@@ -113,6 +113,7 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
+  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;
@@ -311,15 +312,16 @@ struct State {
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
-  Scalar original_nu_0_term_8;
-  Scalar original_nu_0_term_9;
-  Scalar original_nu_0_term_10;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
+  Scalar original_acceleration_3_5;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
+  Scalar original_nu_0_term_8;
+  Scalar original_nu_0_term_9;
+  Scalar original_nu_0_term_10;
   Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
@@ -328,11 +330,10 @@ struct State {
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
   Scalar original_nu_0_term_18;
-  Scalar original_acceleration_3_5;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_19;
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_dropped_pivots_0;
@@ -639,16 +640,15 @@ struct State {
   Scalar original_nu_0_term_5;
   Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
-  Scalar original_nu_0_term_8;
-  Scalar original_nu_0_term_9;
-  Scalar original_nu_0_term_10;
-  Scalar original_acceleration_3_5;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_8;
+  Scalar original_nu_0_term_9;
+  Scalar original_nu_0_term_10;
   Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
   Scalar original_nu_0_term_13;
@@ -662,6 +662,7 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_23;
   Scalar original_dropped_pivots_0;
   Scalar prioritize_external_qdd_0_term;

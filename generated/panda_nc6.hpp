@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7671 operations, 6898 counting two lanes as one), not the rows r_i outward (I6) (7738 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (7577 operations, 6804 counting two lanes as one), not the rows r_i outward (I6) (7642 operations) (scene: constraint_rows: auto).
 // Lanes: the columns of each set's run-time directions computed two directions at a time (Lanes2; 412 vector expressions per scalar type).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
@@ -39,34 +39,34 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 691, mul 913, div 6, neg 37, sin/cos 12, compare 0 (total 1659)
-//   f64::decompose: add 998, mul 1410, div 6, neg 64, sin/cos 0, compare 19 (total 2497)
-//   f64::solve_original: add 504, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 1012)
-//   f64: outward + decompose + solve_original: add 2193, mul 2819, div 12, neg 111, sin/cos 12, compare 21 (total 5168)
-//   f64::solve_prioritize_external: add 260, mul 271, div 0, neg 6, sin/cos 0, compare 1 (total 538)
-//   f64: outward + decompose + solve_prioritize_external: add 1949, mul 2594, div 12, neg 107, sin/cos 12, compare 20 (total 4694)
-//   f64::solve_saturate: add 404, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 808)
-//   f64: outward + decompose + solve_saturate: add 2093, mul 2689, div 12, neg 110, sin/cos 12, compare 48 (total 4964)
-//   f64::solve_saturate_exact: add 543, mul 542, div 0, neg 12, sin/cos 0, compare 30 (total 1127)
-//   f64: outward + decompose + solve_saturate_exact: add 2232, mul 2865, div 12, neg 113, sin/cos 12, compare 49 (total 5283)
-//   f64, pivoted path: outward + decompose + solve_original: add 2239, mul 2895, div 18, neg 111, sin/cos 12, compare 233 (total 5508)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1995, mul 2670, div 18, neg 107, sin/cos 12, compare 192 (total 4994)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 2139, mul 2765, div 18, neg 110, sin/cos 12, compare 220 (total 5264)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2278, mul 2941, div 18, neg 113, sin/cos 12, compare 261 (total 5623)
+//   f64::outward: add 691, mul 913, div 6, neg 36, sin/cos 12, compare 0 (total 1658)
+//   f64::decompose: add 1009, mul 1374, div 6, neg 64, sin/cos 0, compare 20 (total 2473)
+//   f64::solve_original: add 504, mul 472, div 0, neg 11, sin/cos 0, compare 2 (total 989)
+//   f64: outward + decompose + solve_original: add 2204, mul 2759, div 12, neg 111, sin/cos 12, compare 22 (total 5120)
+//   f64::solve_prioritize_external: add 260, mul 259, div 0, neg 6, sin/cos 0, compare 1 (total 526)
+//   f64: outward + decompose + solve_prioritize_external: add 1960, mul 2546, div 12, neg 106, sin/cos 12, compare 21 (total 4657)
+//   f64::solve_saturate: add 404, mul 354, div 0, neg 9, sin/cos 0, compare 29 (total 796)
+//   f64: outward + decompose + solve_saturate: add 2104, mul 2641, div 12, neg 109, sin/cos 12, compare 49 (total 4927)
+//   f64::solve_saturate_exact: add 543, mul 518, div 0, neg 14, sin/cos 0, compare 30 (total 1105)
+//   f64: outward + decompose + solve_saturate_exact: add 2243, mul 2805, div 12, neg 114, sin/cos 12, compare 50 (total 5236)
+//   f64, pivoted path: outward + decompose + solve_original: add 2250, mul 2901, div 18, neg 111, sin/cos 12, compare 240 (total 5532)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 2006, mul 2676, div 18, neg 106, sin/cos 12, compare 199 (total 5017)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 2150, mul 2771, div 18, neg 109, sin/cos 12, compare 227 (total 5287)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 2289, mul 2947, div 18, neg 114, sin/cos 12, compare 268 (total 5648)
 //   f32::outward: add 691, mul 913, div 6, neg 37, sin/cos 12, compare 0 (total 1659)
-//   f32::decompose: add 998, mul 1410, div 6, neg 64, sin/cos 0, compare 19 (total 2497)
-//   f32::solve_original: add 504, mul 496, div 0, neg 10, sin/cos 0, compare 2 (total 1012)
-//   f32: outward + decompose + solve_original: add 2193, mul 2819, div 12, neg 111, sin/cos 12, compare 21 (total 5168)
-//   f32::solve_prioritize_external: add 260, mul 271, div 0, neg 6, sin/cos 0, compare 1 (total 538)
-//   f32: outward + decompose + solve_prioritize_external: add 1949, mul 2594, div 12, neg 107, sin/cos 12, compare 20 (total 4694)
-//   f32::solve_saturate: add 404, mul 366, div 0, neg 9, sin/cos 0, compare 29 (total 808)
-//   f32: outward + decompose + solve_saturate: add 2093, mul 2689, div 12, neg 110, sin/cos 12, compare 48 (total 4964)
-//   f32::solve_saturate_exact: add 543, mul 542, div 0, neg 13, sin/cos 0, compare 30 (total 1128)
-//   f32: outward + decompose + solve_saturate_exact: add 2232, mul 2865, div 12, neg 114, sin/cos 12, compare 49 (total 5284)
-//   f32, pivoted path: outward + decompose + solve_original: add 2239, mul 2895, div 18, neg 111, sin/cos 12, compare 233 (total 5508)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1995, mul 2670, div 18, neg 107, sin/cos 12, compare 192 (total 4994)
-//   f32, pivoted path: outward + decompose + solve_saturate: add 2139, mul 2765, div 18, neg 110, sin/cos 12, compare 220 (total 5264)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 2278, mul 2941, div 18, neg 114, sin/cos 12, compare 261 (total 5624)
+//   f32::decompose: add 1009, mul 1374, div 6, neg 64, sin/cos 0, compare 20 (total 2473)
+//   f32::solve_original: add 504, mul 472, div 0, neg 10, sin/cos 0, compare 2 (total 988)
+//   f32: outward + decompose + solve_original: add 2204, mul 2759, div 12, neg 111, sin/cos 12, compare 22 (total 5120)
+//   f32::solve_prioritize_external: add 260, mul 259, div 0, neg 5, sin/cos 0, compare 1 (total 525)
+//   f32: outward + decompose + solve_prioritize_external: add 1960, mul 2546, div 12, neg 106, sin/cos 12, compare 21 (total 4657)
+//   f32::solve_saturate: add 404, mul 354, div 0, neg 8, sin/cos 0, compare 29 (total 795)
+//   f32: outward + decompose + solve_saturate: add 2104, mul 2641, div 12, neg 109, sin/cos 12, compare 49 (total 4927)
+//   f32::solve_saturate_exact: add 543, mul 518, div 0, neg 13, sin/cos 0, compare 30 (total 1104)
+//   f32: outward + decompose + solve_saturate_exact: add 2243, mul 2805, div 12, neg 114, sin/cos 12, compare 50 (total 5236)
+//   f32, pivoted path: outward + decompose + solve_original: add 2250, mul 2901, div 18, neg 111, sin/cos 12, compare 240 (total 5532)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 2006, mul 2676, div 18, neg 106, sin/cos 12, compare 199 (total 5017)
+//   f32, pivoted path: outward + decompose + solve_saturate: add 2150, mul 2771, div 18, neg 109, sin/cos 12, compare 227 (total 5287)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 2289, mul 2947, div 18, neg 114, sin/cos 12, compare 268 (total 5648)
 #pragma once
 
 namespace panda_nc6 {
@@ -113,7 +113,6 @@ struct State {
   Scalar X_E_2_0;
   Scalar sin_q_1;
   Scalar bias_acceleration_2_0_term;
-  Scalar bias_acceleration_2_0;
   Scalar bias_acceleration_2_1;
   Scalar bias_force_2_0;
   Scalar bias_force_2_1;
@@ -378,25 +377,24 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar original_acceleration_3_5;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
   Scalar prioritize_external_conf_energy_2;
   Scalar original_conf_energy_2;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
+  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -438,11 +436,12 @@ struct State {
   Scalar original_nu_0_term_67;
   Scalar original_nu_0_term_68;
   Scalar original_nu_0_term_69;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;
+  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_73;
+  Scalar original_acceleration_3_5;
   Scalar original_nu_0_term_74;
   Scalar original_dropped_pivots_0;
   Scalar prioritize_external_qdd_0_term;
@@ -814,14 +813,9 @@ struct State {
   Scalar original_nu_0_term_20;
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
+  Scalar original_acceleration_2_3;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
@@ -830,8 +824,14 @@ struct State {
   Scalar original_conf_energy_2;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
+  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
@@ -873,7 +873,6 @@ struct State {
   Scalar original_nu_0_term_67;
   Scalar original_nu_0_term_68;
   Scalar original_nu_0_term_69;
-  Scalar original_acceleration_2_3;
   Scalar original_nu_0_term_70;
   Scalar original_nu_0_term_71;
   Scalar original_nu_0_term_72;

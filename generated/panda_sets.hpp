@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (4902 operations), not the columns F^A_cstr,i inward (I2) (4810 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (4855 operations), not the columns F^A_cstr,i inward (I2) (4762 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 7.
 //
 // Call order (docs: README, "Generated code"):
@@ -41,28 +41,28 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 989, mul 1357, div 6, neg 66, sin/cos 12, compare 6 (total 2436)
-//   f64::decompose: add 197, mul 284, div 4, neg 10, sin/cos 0, compare 11 (total 506)
-//   f64::solve_original: add 346, mul 350, div 0, neg 9, sin/cos 0, compare 2 (total 707)
-//   f64: outward + decompose + solve_original: add 1532, mul 1991, div 10, neg 85, sin/cos 12, compare 19 (total 3649)
-//   f64::solve_prioritize_external: add 195, mul 209, div 0, neg 5, sin/cos 0, compare 1 (total 410)
-//   f64: outward + decompose + solve_prioritize_external: add 1381, mul 1850, div 10, neg 81, sin/cos 12, compare 18 (total 3352)
-//   f64::solve_saturate_exact: add 392, mul 398, div 0, neg 12, sin/cos 0, compare 26 (total 828)
-//   f64: outward + decompose + solve_saturate_exact: add 1578, mul 2039, div 10, neg 88, sin/cos 12, compare 43 (total 3770)
-//   f64, pivoted path: outward + decompose + solve_original: add 1549, mul 2017, div 14, neg 85, sin/cos 12, compare 75 (total 3752)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1398, mul 1876, div 14, neg 81, sin/cos 12, compare 62 (total 3443)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1595, mul 2065, div 14, neg 88, sin/cos 12, compare 99 (total 3873)
-//   f32::outward: add 989, mul 1357, div 6, neg 66, sin/cos 12, compare 6 (total 2436)
-//   f32::decompose: add 197, mul 284, div 4, neg 10, sin/cos 0, compare 11 (total 506)
-//   f32::solve_original: add 346, mul 350, div 0, neg 10, sin/cos 0, compare 2 (total 708)
-//   f32: outward + decompose + solve_original: add 1532, mul 1991, div 10, neg 86, sin/cos 12, compare 19 (total 3650)
-//   f32::solve_prioritize_external: add 195, mul 209, div 0, neg 6, sin/cos 0, compare 1 (total 411)
-//   f32: outward + decompose + solve_prioritize_external: add 1381, mul 1850, div 10, neg 82, sin/cos 12, compare 18 (total 3353)
-//   f32::solve_saturate_exact: add 392, mul 398, div 0, neg 13, sin/cos 0, compare 26 (total 829)
-//   f32: outward + decompose + solve_saturate_exact: add 1578, mul 2039, div 10, neg 89, sin/cos 12, compare 43 (total 3771)
-//   f32, pivoted path: outward + decompose + solve_original: add 1549, mul 2017, div 14, neg 86, sin/cos 12, compare 75 (total 3753)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1398, mul 1876, div 14, neg 82, sin/cos 12, compare 62 (total 3444)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1595, mul 2065, div 14, neg 89, sin/cos 12, compare 99 (total 3874)
+//   f64::outward: add 992, mul 1360, div 6, neg 66, sin/cos 12, compare 9 (total 2445)
+//   f64::decompose: add 201, mul 277, div 4, neg 10, sin/cos 0, compare 12 (total 504)
+//   f64::solve_original: add 346, mul 334, div 0, neg 10, sin/cos 0, compare 2 (total 692)
+//   f64: outward + decompose + solve_original: add 1539, mul 1971, div 10, neg 86, sin/cos 12, compare 23 (total 3641)
+//   f64::solve_prioritize_external: add 195, mul 201, div 0, neg 5, sin/cos 0, compare 1 (total 402)
+//   f64: outward + decompose + solve_prioritize_external: add 1388, mul 1838, div 10, neg 81, sin/cos 12, compare 22 (total 3351)
+//   f64::solve_saturate_exact: add 392, mul 382, div 0, neg 12, sin/cos 0, compare 26 (total 812)
+//   f64: outward + decompose + solve_saturate_exact: add 1585, mul 2019, div 10, neg 88, sin/cos 12, compare 47 (total 3761)
+//   f64, pivoted path: outward + decompose + solve_original: add 1556, mul 2021, div 14, neg 86, sin/cos 12, compare 80 (total 3769)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1405, mul 1880, div 14, neg 81, sin/cos 12, compare 67 (total 3459)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1602, mul 2069, div 14, neg 88, sin/cos 12, compare 104 (total 3889)
+//   f32::outward: add 992, mul 1360, div 6, neg 66, sin/cos 12, compare 9 (total 2445)
+//   f32::decompose: add 201, mul 277, div 4, neg 10, sin/cos 0, compare 12 (total 504)
+//   f32::solve_original: add 346, mul 334, div 0, neg 9, sin/cos 0, compare 2 (total 691)
+//   f32: outward + decompose + solve_original: add 1539, mul 1971, div 10, neg 85, sin/cos 12, compare 23 (total 3640)
+//   f32::solve_prioritize_external: add 195, mul 201, div 0, neg 5, sin/cos 0, compare 1 (total 402)
+//   f32: outward + decompose + solve_prioritize_external: add 1388, mul 1838, div 10, neg 81, sin/cos 12, compare 22 (total 3351)
+//   f32::solve_saturate_exact: add 392, mul 382, div 0, neg 12, sin/cos 0, compare 26 (total 812)
+//   f32: outward + decompose + solve_saturate_exact: add 1585, mul 2019, div 10, neg 88, sin/cos 12, compare 47 (total 3761)
+//   f32, pivoted path: outward + decompose + solve_original: add 1556, mul 2021, div 14, neg 85, sin/cos 12, compare 80 (total 3768)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1405, mul 1880, div 14, neg 81, sin/cos 12, compare 67 (total 3459)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1602, mul 2069, div 14, neg 88, sin/cos 12, compare 104 (total 3889)
 #pragma once
 
 namespace panda_sets {
@@ -92,294 +92,6 @@ enum Status : unsigned {
 namespace f64 {
 
 using Scalar = double;
-// How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
-constexpr bool outward_constraint_rows = true;
-
-// Driver values read by decompose().
-struct Drivers {
-  Scalar tau_ff[dof];  // feed-forward joint torques
-  Scalar contact[6];  // wrench [moment; force] on link panda_link5, in its frame
-  Scalar alpha[1][6];  // run-time constraint directions [moment; force], each in its set's link frame, unit norm (sets: see the file header)
-
-};
-
-// Results of outward() and decompose() that later calls read (expose: outputs; carried values only).
-struct State {
-  Scalar X_E_2_0;
-  Scalar sin_q_1;
-  Scalar bias_acceleration_2_0;
-  Scalar bias_acceleration_2_1;
-  Scalar X_E_3_0;
-  Scalar X_E_3_2;
-  Scalar bias_acceleration_3_0;
-  Scalar bias_acceleration_3_1_term;
-  Scalar bias_acceleration_3_3;
-  Scalar bias_acceleration_3_4_term;
-  Scalar X_E_4_0;
-  Scalar X_E_4_2;
-  Scalar bias_acceleration_4_0;
-  Scalar bias_acceleration_4_1_term;
-  Scalar bias_acceleration_4_3;
-  Scalar bias_acceleration_4_4_term;
-  Scalar X_E_5_0;
-  Scalar sin_q_4;
-  Scalar bias_acceleration_5_0;
-  Scalar bias_acceleration_5_1_term;
-  Scalar bias_acceleration_5_3;
-  Scalar bias_acceleration_5_4_term;
-  Scalar X_E_6_0;
-  Scalar X_E_6_2;
-  Scalar bias_acceleration_6_0;
-  Scalar bias_acceleration_6_1_term;
-  Scalar bias_acceleration_6_3;
-  Scalar bias_acceleration_6_4_term;
-  Scalar X_E_7_0;
-  Scalar X_E_7_2;
-  Scalar bias_acceleration_7_0;
-  Scalar bias_acceleration_7_1_term;
-  Scalar bias_acceleration_7_3;
-  Scalar bias_acceleration_7_4_term;
-  Scalar bias_force_7_2;
-  Scalar articulated_inertia_6_2;
-  Scalar articulated_inertia_6_17;
-  Scalar articulated_inertia_6_5;
-  Scalar articulated_inertia_6_8;
-  Scalar articulated_inertia_6_15;
-  Scalar articulated_inertia_6_16;
-  Scalar inverse_D_6_0;
-  Scalar constraint_row_6_1;
-  Scalar constraint_row_6_2;
-  Scalar articulated_force_bias_6_2;
-  Scalar original_tau_cmd_6;
-  Scalar articulated_force_tau_ff_6_2;
-  Scalar articulated_inertia_5_2;
-  Scalar articulated_inertia_5_8;
-  Scalar articulated_inertia_5_15;
-  Scalar articulated_inertia_5_16;
-  Scalar articulated_inertia_5_17;
-  Scalar inverse_D_5_0;
-  Scalar constraint_row_5_1;
-  Scalar constraint_row_5_2;
-  Scalar constraint_row_5_3;
-  Scalar articulated_force_bias_5_2;
-  Scalar articulated_force_tau_ff_5_0_term;
-  Scalar articulated_force_tau_ff_5_2;
-  Scalar articulated_force_contact_5_2_term;
-  Scalar articulated_inertia_4_2;
-  Scalar articulated_inertia_4_5;
-  Scalar articulated_inertia_4_8;
-  Scalar articulated_inertia_4_15;
-  Scalar articulated_inertia_4_16;
-  Scalar articulated_inertia_4_17;
-  Scalar inverse_D_4_0;
-  Scalar constraint_row_4_0;
-  Scalar constraint_row_4_1;
-  Scalar constraint_row_4_2;
-  Scalar constraint_row_4_3_term;
-  Scalar constraint_force_4_0;
-  Scalar constraint_force_4_1;
-  Scalar constraint_force_4_3;
-  Scalar constraint_force_4_4;
-  Scalar constraint_force_4_5;
-  Scalar articulated_force_bias_4_2;
-  Scalar articulated_force_tau_ff_4_0_term;
-  Scalar articulated_force_tau_ff_4_2;
-  Scalar articulated_force_contact_4_2;
-  Scalar articulated_inertia_3_2;
-  Scalar articulated_inertia_3_5;
-  Scalar articulated_inertia_3_8;
-  Scalar articulated_inertia_3_15;
-  Scalar articulated_inertia_3_16;
-  Scalar inverse_D_3_0;
-  Scalar constraint_row_3_0_term;
-  Scalar constraint_row_3_0;
-  Scalar constraint_row_3_1;
-  Scalar constraint_row_3_2;
-  Scalar constraint_row_3_3_term;
-  Scalar articulated_force_bias_3_0_term;
-  Scalar articulated_force_bias_3_2;
-  Scalar articulated_force_tau_ff_3_0_term;
-  Scalar articulated_force_tau_ff_3_2;
-  Scalar articulated_force_contact_3_2;
-  Scalar articulated_inertia_2_2;
-  Scalar inverse_D_2_0;
-  Scalar constraint_row_2_0_term;
-  Scalar constraint_row_2_0_term_2;
-  Scalar constraint_row_2_0_term_3;
-  Scalar constraint_row_2_0_term_4;
-  Scalar constraint_row_2_0_term_5;
-  Scalar constraint_row_2_0_term_6;
-  Scalar constraint_row_2_0;
-  Scalar constraint_row_2_1;
-  Scalar constraint_row_2_2;
-  Scalar constraint_row_2_3_term;
-  Scalar articulated_force_bias_2_0_term;
-  Scalar articulated_force_bias_2_2;
-  Scalar articulated_force_tau_ff_2_0_term;
-  Scalar articulated_force_tau_ff_2_2;
-  Scalar articulated_force_contact_2_2;
-  Scalar inverse_D_1_0;
-  Scalar constraint_row_1_0_term;
-  Scalar constraint_row_1_0_term_2;
-  Scalar constraint_row_1_0_term_3;
-  Scalar constraint_row_1_0_term_4;
-  Scalar constraint_row_1_0_term_5;
-  Scalar constraint_row_1_0_term_6;
-  Scalar constraint_row_1_0;
-  Scalar constraint_row_1_1;
-  Scalar constraint_row_1_2;
-  Scalar constraint_row_1_3_term;
-  Scalar articulated_force_bias_1_0_term;
-  Scalar articulated_force_tau_ff_1_1;
-  Scalar articulated_force_contact_1_2;
-  Scalar original_acceleration_2_3;
-  Scalar acceleration_energy_bias_0_0_term;
-  Scalar original_acceleration_3_5;
-  Scalar acceleration_energy_bias_0_0_term_2;
-  Scalar acceleration_energy_bias_0_0_term_3;
-  Scalar acceleration_energy_bias_0_0_term_4;
-  Scalar acceleration_energy_bias_0_0_term_5;
-  Scalar acceleration_energy_bias_0_0_term_6;
-  Scalar acceleration_energy_bias_0_0_term_7;
-  Scalar acceleration_energy_bias_0_0_term_8;
-  Scalar acceleration_energy_bias_0_0_term_9;
-  Scalar acceleration_energy_bias_0_1;
-  Scalar acceleration_energy_bias_0_2;
-  Scalar acceleration_energy_bias_0_3;
-  Scalar acceleration_energy_tau_ff_0_0_term;
-  Scalar original_nu_0_term;
-  Scalar original_nu_0_term_2;
-  Scalar original_nu_0_term_3;
-  Scalar original_nu_0_term_4;
-  Scalar original_nu_0_term_5;
-  Scalar original_nu_0_term_6;
-  Scalar original_nu_0_term_7;
-  Scalar original_nu_0_term_8;
-  Scalar original_nu_0_term_9;
-  Scalar original_nu_0_term_10;
-  Scalar original_nu_0_term_11;
-  Scalar original_nu_0_term_12;
-  Scalar original_nu_0_term_13;
-  Scalar original_nu_0_term_14;
-  Scalar original_nu_0_term_15;
-  Scalar original_nu_0_term_16;
-  Scalar original_nu_0_term_17;
-  Scalar original_nu_0_term_18;
-  Scalar original_nu_0_term_19;
-  Scalar original_nu_0_term_20;
-  Scalar original_nu_0_term_21;
-  Scalar original_nu_0_term_22;
-  Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar original_nu_0_term_29;
-  Scalar original_nu_0_term_30;
-  Scalar original_nu_0_term_31;
-  Scalar original_nu_0_term_32;
-  Scalar original_nu_0_term_33;
-  Scalar original_nu_0_term_34;
-  Scalar original_nu_0_term_35;
-  Scalar original_nu_0_term_36;
-  Scalar original_nu_0_term_37;
-  Scalar original_nu_0_term_38;
-  Scalar original_nu_0_term_39;
-  Scalar original_nu_0_term_40;
-  Scalar original_nu_0_term_41;
-  Scalar original_nu_0_term_42;
-  Scalar original_nu_0_term_43;
-  Scalar original_dropped_pivots_0;
-  Scalar saturate_exact_tau_cmd_6;
-  Scalar saturate_exact_tau_ctrl_6;
-  Scalar saturate_exact_correction_force_6_0;
-  Scalar saturate_exact_correction_force_6_2;
-  Scalar saturate_exact_correction_force_6_5;
-  Scalar saturate_exact_correction_force_6_1;
-  Scalar saturate_exact_correction_force_6_3;
-  Scalar saturate_exact_qdd_6_term;
-  Scalar saturate_exact_saturated_6;
-
-  unsigned kinematics_input_status;  // status_not_finite when q or qd held NaN/Inf (outward)
-  unsigned drivers_input_status;     // status_not_finite when a driver held NaN/Inf (decompose)
-};
-
-// Results of a solve_<policy>() call.
-struct Solution {
-  Scalar nu[4];  // constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  Scalar qdd[7];  // joint acceleration qdd_i (S4)
-  Scalar tau_ctrl[7];  // constraint torque tau_ctrl_i (S3)
-  Scalar tau_cmd[7];  // commanded torque tau_cmd (T1, T2, X1)
-  Scalar tip_acceleration[6];  // tip acceleration Xdd_tip (S5)
-  Scalar set_acceleration[12];  // acceleration of each constraint set's link, in its frame [set c: 6c..6c+5] (S5)
-  bool saturated[7];  // whether the policy clamped joint i's torque (S3, X1)
-  int dropped_pivots;  // number of constraint directions not enforced (status_constraint_rank_deficient) (C2, C3, C4)
-  int locked_joints;  // number of joints locked (status_joint_inertia_singular) (J1)
-
-  unsigned status;  // Status flags
-};
-
-// @pre q and qd point to dof values each.
-void outward(const Scalar* q, const Scalar* qd, State& state) noexcept;
-// @pre outward() ran for the current q, qd.
-void decompose(const Drivers& drivers, State& state) noexcept;
-// Alg. 3, the original composition of every driver.
-// @pre decompose() ran; beta points to `constraints` setpoints (may be null when 0).
-void solve_original(const State& state, const Scalar* beta, Solution& out) noexcept;
-// Alg. 4: the constraint does not react to external forces.
-// @pre decompose() ran; beta points to `constraints` setpoints (may be null when 0).
-void solve_prioritize_external(const State& state, const Scalar* beta, Solution& out) noexcept;
-// Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.
-// @pre decompose() ran; beta points to `constraints` setpoints (may be null when 0).
-void solve_saturate_exact(const State& state, const Scalar* beta, Solution& out) noexcept;
-
-// Flat-array entry points, for controllers that exchange plain arrays: outward, decompose and
-// solve in one call. in = [q (dof), qd (dof), tau_ff (dof), contact (6), alpha (1 x 6), beta (constraints)]
-// (37 values), out = [qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), set_acceleration (6 per constraint set), status] (44 values).
-constexpr int flat_in_size = 37;
-constexpr int flat_out_size = 44;
-// The driver part of `in` (after q and qd) as Drivers.
-Drivers drivers_from_flat(const Scalar* drivers_in) noexcept;
-void solve_original_flat(const Scalar* in, Scalar* out) noexcept;
-void solve_prioritize_external_flat(const Scalar* in, Scalar* out) noexcept;
-void solve_saturate_exact_flat(const Scalar* in, Scalar* out) noexcept;
-
-// Every solve of this scene by policy name, for selection at run time.
-struct Solve {
-  const char* policy;
-  void (*solve)(const State& state, const Scalar* beta, Solution& out) noexcept;
-};
-inline constexpr Solve solves[] = {
-    {"original", &solve_original},
-    {"prioritize_external", &solve_prioritize_external},
-    {"saturate_exact", &solve_saturate_exact},
-};
-struct FlatSolve {
-  const char* policy;
-  void (*solve)(const Scalar* in, Scalar* out) noexcept;
-};
-inline constexpr FlatSolve flat_solves[] = {
-    {"original", &solve_original_flat},
-    {"prioritize_external", &solve_prioritize_external_flat},
-    {"saturate_exact", &solve_saturate_exact_flat},
-};
-
-}  // namespace f64
-
-// ----------------------------------------------------------------------------------------
-// float arithmetic
-namespace f32 {
-
-using Scalar = float;
 // How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
 constexpr bool outward_constraint_rows = true;
 
@@ -521,6 +233,12 @@ struct State {
   Scalar articulated_force_bias_1_0_term;
   Scalar articulated_force_tau_ff_1_1;
   Scalar articulated_force_contact_1_2;
+  Scalar constraint_energy_0_5;
+  Scalar constraint_energy_0_9;
+  Scalar constraint_energy_0_10;
+  Scalar constraint_energy_0_13;
+  Scalar constraint_energy_0_14;
+  Scalar constraint_energy_0_15;
   Scalar original_acceleration_2_3;
   Scalar acceleration_energy_bias_0_0_term;
   Scalar original_acceleration_3_5;
@@ -553,6 +271,14 @@ struct State {
   Scalar original_nu_0_term_15;
   Scalar original_nu_0_term_16;
   Scalar original_nu_0_term_17;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_18;
   Scalar original_nu_0_term_19;
   Scalar original_nu_0_term_20;
@@ -560,14 +286,6 @@ struct State {
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
   Scalar original_nu_0_term_24;
-  Scalar prioritize_external_conf_energy_0;
-  Scalar original_conf_energy_0;
-  Scalar prioritize_external_conf_energy_1;
-  Scalar original_conf_energy_1;
-  Scalar prioritize_external_conf_energy_2;
-  Scalar original_conf_energy_2;
-  Scalar prioritize_external_conf_energy_3;
-  Scalar original_conf_energy_3;
   Scalar original_nu_0_term_25;
   Scalar original_nu_0_term_26;
   Scalar original_nu_0_term_27;
@@ -587,12 +305,312 @@ struct State {
   Scalar original_nu_0_term_41;
   Scalar original_nu_0_term_42;
   Scalar original_nu_0_term_43;
+  Scalar original_nu_0_term_44;
+  Scalar original_nu_0_term_45;
+  Scalar original_nu_0_term_46;
   Scalar original_dropped_pivots_0;
   Scalar saturate_exact_tau_cmd_6;
   Scalar saturate_exact_tau_ctrl_6;
   Scalar saturate_exact_correction_force_6_2;
+  Scalar saturate_exact_correction_force_6_3;
   Scalar saturate_exact_correction_force_6_5;
   Scalar saturate_exact_correction_force_6_1;
+  Scalar saturate_exact_correction_force_6_0;
+  Scalar saturate_exact_qdd_6_term;
+  Scalar saturate_exact_saturated_6;
+
+  unsigned kinematics_input_status;  // status_not_finite when q or qd held NaN/Inf (outward)
+  unsigned drivers_input_status;     // status_not_finite when a driver held NaN/Inf (decompose)
+};
+
+// Results of a solve_<policy>() call.
+struct Solution {
+  Scalar nu[4];  // constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
+  Scalar qdd[7];  // joint acceleration qdd_i (S4)
+  Scalar tau_ctrl[7];  // constraint torque tau_ctrl_i (S3)
+  Scalar tau_cmd[7];  // commanded torque tau_cmd (T1, T2, X1)
+  Scalar tip_acceleration[6];  // tip acceleration Xdd_tip (S5)
+  Scalar set_acceleration[12];  // acceleration of each constraint set's link, in its frame [set c: 6c..6c+5] (S5)
+  bool saturated[7];  // whether the policy clamped joint i's torque (S3, X1)
+  int dropped_pivots;  // number of constraint directions not enforced (status_constraint_rank_deficient) (C2, C3, C4)
+  int locked_joints;  // number of joints locked (status_joint_inertia_singular) (J1)
+
+  unsigned status;  // Status flags
+};
+
+// @pre q and qd point to dof values each.
+void outward(const Scalar* q, const Scalar* qd, State& state) noexcept;
+// @pre outward() ran for the current q, qd.
+void decompose(const Drivers& drivers, State& state) noexcept;
+// Alg. 3, the original composition of every driver.
+// @pre decompose() ran; beta points to `constraints` setpoints (may be null when 0).
+void solve_original(const State& state, const Scalar* beta, Solution& out) noexcept;
+// Alg. 4: the constraint does not react to external forces.
+// @pre decompose() ran; beta points to `constraints` setpoints (may be null when 0).
+void solve_prioritize_external(const State& state, const Scalar* beta, Solution& out) noexcept;
+// Exact saturation: tau_cmd clamped to the effort limits, forward dynamics with it.
+// @pre decompose() ran; beta points to `constraints` setpoints (may be null when 0).
+void solve_saturate_exact(const State& state, const Scalar* beta, Solution& out) noexcept;
+
+// Flat-array entry points, for controllers that exchange plain arrays: outward, decompose and
+// solve in one call. in = [q (dof), qd (dof), tau_ff (dof), contact (6), alpha (1 x 6), beta (constraints)]
+// (37 values), out = [qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), set_acceleration (6 per constraint set), status] (44 values).
+constexpr int flat_in_size = 37;
+constexpr int flat_out_size = 44;
+// The driver part of `in` (after q and qd) as Drivers.
+Drivers drivers_from_flat(const Scalar* drivers_in) noexcept;
+void solve_original_flat(const Scalar* in, Scalar* out) noexcept;
+void solve_prioritize_external_flat(const Scalar* in, Scalar* out) noexcept;
+void solve_saturate_exact_flat(const Scalar* in, Scalar* out) noexcept;
+
+// Every solve of this scene by policy name, for selection at run time.
+struct Solve {
+  const char* policy;
+  void (*solve)(const State& state, const Scalar* beta, Solution& out) noexcept;
+};
+inline constexpr Solve solves[] = {
+    {"original", &solve_original},
+    {"prioritize_external", &solve_prioritize_external},
+    {"saturate_exact", &solve_saturate_exact},
+};
+struct FlatSolve {
+  const char* policy;
+  void (*solve)(const Scalar* in, Scalar* out) noexcept;
+};
+inline constexpr FlatSolve flat_solves[] = {
+    {"original", &solve_original_flat},
+    {"prioritize_external", &solve_prioritize_external_flat},
+    {"saturate_exact", &solve_saturate_exact_flat},
+};
+
+}  // namespace f64
+
+// ----------------------------------------------------------------------------------------
+// float arithmetic
+namespace f32 {
+
+using Scalar = float;
+// How the inward sweep formed the rows S_i^T F^A_cstr,i: outward (I6) or through the columns (I2).
+constexpr bool outward_constraint_rows = true;
+
+// Driver values read by decompose().
+struct Drivers {
+  Scalar tau_ff[dof];  // feed-forward joint torques
+  Scalar contact[6];  // wrench [moment; force] on link panda_link5, in its frame
+  Scalar alpha[1][6];  // run-time constraint directions [moment; force], each in its set's link frame, unit norm (sets: see the file header)
+
+};
+
+// Results of outward() and decompose() that later calls read (expose: outputs; carried values only).
+struct State {
+  Scalar X_E_2_0;
+  Scalar sin_q_1;
+  Scalar bias_acceleration_2_0;
+  Scalar bias_acceleration_2_1;
+  Scalar X_E_3_0;
+  Scalar X_E_3_2;
+  Scalar bias_acceleration_3_0;
+  Scalar bias_acceleration_3_1_term;
+  Scalar bias_acceleration_3_3;
+  Scalar bias_acceleration_3_4_term;
+  Scalar X_E_4_0;
+  Scalar X_E_4_2;
+  Scalar bias_acceleration_4_0;
+  Scalar bias_acceleration_4_1_term;
+  Scalar bias_acceleration_4_3;
+  Scalar bias_acceleration_4_4_term;
+  Scalar X_E_5_0;
+  Scalar sin_q_4;
+  Scalar bias_acceleration_5_0;
+  Scalar bias_acceleration_5_1_term;
+  Scalar bias_acceleration_5_3;
+  Scalar bias_acceleration_5_4_term;
+  Scalar X_E_6_0;
+  Scalar X_E_6_2;
+  Scalar bias_acceleration_6_0;
+  Scalar bias_acceleration_6_1_term;
+  Scalar bias_acceleration_6_3;
+  Scalar bias_acceleration_6_4_term;
+  Scalar X_E_7_0;
+  Scalar X_E_7_2;
+  Scalar bias_acceleration_7_0;
+  Scalar bias_acceleration_7_1_term;
+  Scalar bias_acceleration_7_3;
+  Scalar bias_acceleration_7_4_term;
+  Scalar bias_force_7_2;
+  Scalar articulated_inertia_6_2;
+  Scalar articulated_inertia_6_17;
+  Scalar articulated_inertia_6_5;
+  Scalar articulated_inertia_6_8;
+  Scalar articulated_inertia_6_15;
+  Scalar articulated_inertia_6_16;
+  Scalar inverse_D_6_0;
+  Scalar constraint_row_6_1;
+  Scalar constraint_row_6_2;
+  Scalar articulated_force_bias_6_2;
+  Scalar original_tau_cmd_6;
+  Scalar articulated_force_tau_ff_6_2;
+  Scalar articulated_inertia_5_2;
+  Scalar articulated_inertia_5_8;
+  Scalar articulated_inertia_5_15;
+  Scalar articulated_inertia_5_16;
+  Scalar articulated_inertia_5_17;
+  Scalar inverse_D_5_0;
+  Scalar constraint_row_5_1;
+  Scalar constraint_row_5_2;
+  Scalar constraint_row_5_3;
+  Scalar articulated_force_bias_5_2;
+  Scalar articulated_force_tau_ff_5_0_term;
+  Scalar articulated_force_tau_ff_5_2;
+  Scalar articulated_force_contact_5_2_term;
+  Scalar articulated_inertia_4_2;
+  Scalar articulated_inertia_4_5;
+  Scalar articulated_inertia_4_8;
+  Scalar articulated_inertia_4_15;
+  Scalar articulated_inertia_4_16;
+  Scalar articulated_inertia_4_17;
+  Scalar inverse_D_4_0;
+  Scalar constraint_row_4_0;
+  Scalar constraint_row_4_1;
+  Scalar constraint_row_4_2;
+  Scalar constraint_row_4_3_term;
+  Scalar constraint_force_4_0;
+  Scalar constraint_force_4_1;
+  Scalar constraint_force_4_3;
+  Scalar constraint_force_4_4;
+  Scalar constraint_force_4_5;
+  Scalar articulated_force_bias_4_2;
+  Scalar articulated_force_tau_ff_4_0_term;
+  Scalar articulated_force_tau_ff_4_2;
+  Scalar articulated_force_contact_4_2;
+  Scalar articulated_inertia_3_2;
+  Scalar articulated_inertia_3_5;
+  Scalar articulated_inertia_3_8;
+  Scalar articulated_inertia_3_15;
+  Scalar articulated_inertia_3_16;
+  Scalar inverse_D_3_0;
+  Scalar constraint_row_3_0_term;
+  Scalar constraint_row_3_0;
+  Scalar constraint_row_3_1;
+  Scalar constraint_row_3_2;
+  Scalar constraint_row_3_3_term;
+  Scalar articulated_force_bias_3_0_term;
+  Scalar articulated_force_bias_3_2;
+  Scalar articulated_force_tau_ff_3_0_term;
+  Scalar articulated_force_tau_ff_3_2;
+  Scalar articulated_force_contact_3_2;
+  Scalar articulated_inertia_2_2;
+  Scalar inverse_D_2_0;
+  Scalar constraint_row_2_0_term;
+  Scalar constraint_row_2_0_term_2;
+  Scalar constraint_row_2_0_term_3;
+  Scalar constraint_row_2_0_term_4;
+  Scalar constraint_row_2_0_term_5;
+  Scalar constraint_row_2_0_term_6;
+  Scalar constraint_row_2_0;
+  Scalar constraint_row_2_1;
+  Scalar constraint_row_2_2;
+  Scalar constraint_row_2_3_term;
+  Scalar articulated_force_bias_2_0_term;
+  Scalar articulated_force_bias_2_2;
+  Scalar articulated_force_tau_ff_2_0_term;
+  Scalar articulated_force_tau_ff_2_2;
+  Scalar articulated_force_contact_2_2;
+  Scalar inverse_D_1_0;
+  Scalar constraint_row_1_0_term;
+  Scalar constraint_row_1_0_term_2;
+  Scalar constraint_row_1_0_term_3;
+  Scalar constraint_row_1_0_term_4;
+  Scalar constraint_row_1_0_term_5;
+  Scalar constraint_row_1_0_term_6;
+  Scalar constraint_row_1_0;
+  Scalar constraint_row_1_1;
+  Scalar constraint_row_1_2;
+  Scalar constraint_row_1_3_term;
+  Scalar articulated_force_bias_1_0_term;
+  Scalar articulated_force_tau_ff_1_1;
+  Scalar articulated_force_contact_1_2;
+  Scalar constraint_energy_0_5;
+  Scalar constraint_energy_0_9;
+  Scalar constraint_energy_0_10;
+  Scalar constraint_energy_0_13;
+  Scalar constraint_energy_0_14;
+  Scalar constraint_energy_0_15;
+  Scalar original_acceleration_2_3;
+  Scalar acceleration_energy_bias_0_0_term;
+  Scalar original_acceleration_3_5;
+  Scalar acceleration_energy_bias_0_0_term_2;
+  Scalar acceleration_energy_bias_0_0_term_3;
+  Scalar acceleration_energy_bias_0_0_term_4;
+  Scalar acceleration_energy_bias_0_0_term_5;
+  Scalar acceleration_energy_bias_0_0_term_6;
+  Scalar acceleration_energy_bias_0_0_term_7;
+  Scalar acceleration_energy_bias_0_0_term_8;
+  Scalar acceleration_energy_bias_0_0_term_9;
+  Scalar acceleration_energy_bias_0_1;
+  Scalar acceleration_energy_bias_0_2;
+  Scalar acceleration_energy_bias_0_3;
+  Scalar acceleration_energy_tau_ff_0_0_term;
+  Scalar original_nu_0_term;
+  Scalar original_nu_0_term_2;
+  Scalar original_nu_0_term_3;
+  Scalar original_nu_0_term_4;
+  Scalar original_nu_0_term_5;
+  Scalar original_nu_0_term_6;
+  Scalar original_nu_0_term_7;
+  Scalar original_nu_0_term_8;
+  Scalar original_nu_0_term_9;
+  Scalar original_nu_0_term_10;
+  Scalar original_nu_0_term_11;
+  Scalar original_nu_0_term_12;
+  Scalar original_nu_0_term_13;
+  Scalar original_nu_0_term_14;
+  Scalar original_nu_0_term_15;
+  Scalar original_nu_0_term_16;
+  Scalar original_nu_0_term_17;
+  Scalar prioritize_external_conf_energy_1;
+  Scalar original_conf_energy_1;
+  Scalar prioritize_external_conf_energy_0;
+  Scalar original_conf_energy_0;
+  Scalar prioritize_external_conf_energy_2;
+  Scalar original_conf_energy_2;
+  Scalar prioritize_external_conf_energy_3;
+  Scalar original_conf_energy_3;
+  Scalar original_nu_0_term_18;
+  Scalar original_nu_0_term_19;
+  Scalar original_nu_0_term_20;
+  Scalar original_nu_0_term_21;
+  Scalar original_nu_0_term_22;
+  Scalar original_nu_0_term_23;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
+  Scalar original_nu_0_term_29;
+  Scalar original_nu_0_term_30;
+  Scalar original_nu_0_term_31;
+  Scalar original_nu_0_term_32;
+  Scalar original_nu_0_term_33;
+  Scalar original_nu_0_term_34;
+  Scalar original_nu_0_term_35;
+  Scalar original_nu_0_term_36;
+  Scalar original_nu_0_term_37;
+  Scalar original_nu_0_term_38;
+  Scalar original_nu_0_term_39;
+  Scalar original_nu_0_term_40;
+  Scalar original_nu_0_term_41;
+  Scalar original_nu_0_term_42;
+  Scalar original_nu_0_term_43;
+  Scalar original_nu_0_term_44;
+  Scalar original_nu_0_term_45;
+  Scalar original_nu_0_term_46;
+  Scalar original_dropped_pivots_0;
+  Scalar saturate_exact_tau_cmd_6;
+  Scalar saturate_exact_tau_ctrl_6;
+  Scalar saturate_exact_correction_force_6_5;
+  Scalar saturate_exact_correction_force_6_1;
+  Scalar saturate_exact_correction_force_6_2;
   Scalar saturate_exact_correction_force_6_0;
   Scalar saturate_exact_correction_force_6_3;
   Scalar saturate_exact_qdd_6_term;

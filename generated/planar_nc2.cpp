@@ -21,7 +21,7 @@
 #endif
 // Each solve_<policy>_flat below is one function: outward, decompose and the solve are inlined
 // into it (GCC and clang: flatten), so the values they hand on stay in registers instead of
-// going through the State (4734 operations in this file, at most 12000 fused).
+// going through the State (4638 operations in this file, at most 12000 fused).
 #if defined(__GNUC__)
 #define SWEEPGEN_FLAT_SOLVE __attribute__((flatten))
 #else
@@ -226,41 +226,41 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
 
   // ==== solver sweep ====
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const double e26 = equilibration_scale(constraint_energy_0_0);
+  const double e26 = 1.0 / std::max<double>(constraint_energy_0_0, 1.1102230246251565e-13 * constraint_energy_0_0);
   state.original_nu_0_term = e26;
-  const double e27 = e26 * (e26 * constraint_energy_0_0);
-  const double e28 = equilibration_scale(constraint_energy_0_3);
+  const double e27 = e26 * constraint_energy_0_2;
+  state.original_nu_0_term_2 = e27;
+  const double e28 = 1.0 / std::max<double>(1.1102230246251565e-13 * constraint_energy_0_3, constraint_energy_0_3 - e27 * constraint_energy_0_2);
   state.original_nu_0_term_3 = e28;
-  const double e29 = constraint_energy_0_2 * e28 * e26;
-  const double e30 = e28 * constraint_energy_0_3 * e28;
-  const double e31 = 1.0 / std::max<double>(e27, 1.1102230246251565e-13);
-  state.original_nu_0_term_2 = e31;
-  const double e32 = e31 * e29;
-  state.original_nu_0_term_4 = e32;
-  const double e33 = 1.0 / std::max<double>(e30 - e32 * e29, 1.1102230246251565e-13);
-  state.original_nu_0_term_5 = e33;
-  const double e34 = 8.881784197001252e-13 * (std::max<double>(1.0, e27) * (e32 * e32 * e33 + e31) + std::max<double>(1.0, e30) * e33);
-  state.original_nu_0_term_6 = e34;
+  const double e29 = (constraint_energy_0_3 > 1.0947644252537633e-38 ? 0.0 : 1.0) + (9.134385233318144e+37 > constraint_energy_0_3 ? 0.0 : 1.0) + ((9.134385233318144e+37 > constraint_energy_0_0 ? 0.0 : 1.0) + (constraint_energy_0_0 > 1.0947644252537633e-38 ? 0.0 : 1.0)) > 0.5 ? 1.0 : 8.881784197001252e-13 * (constraint_energy_0_3 * e28 + constraint_energy_0_0 * (e26 + e27 * e27 * e28));
+  state.original_nu_0_term_4 = e29;
   // dropped_pivots: number of constraint directions not enforced (status_constraint_rank_deficient) (C2, C3, C4)
-  double e35;
-  if (1.0 > e34) {  // (C4): the path the condition picks
-    e35 = 0.0;
+  double e30;
+  if (1.0 > e29) {  // (C4): the path the condition picks
+    e30 = 0.0;
   } else {
     // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-    const double e36 = 2.220446049250313e-13 * e27;
-    const double e37 = e27 > e36 ? 1.0 : 0.0;
-    const double e38 = e37 / (e27 > e36 ? e27 : 1.0);
+    const double e31 = equilibration_scale(constraint_energy_0_3);
+    state.original_nu_0_term_5 = e31;
+    const double e32 = e31 * constraint_energy_0_3 * e31;
+    const double e33 = equilibration_scale(constraint_energy_0_0);
+    state.original_nu_0_term_6 = e33;
+    const double e34 = e33 * (e33 * constraint_energy_0_0);
+    const double e35 = constraint_energy_0_2 * e31 * e33;
+    const double e36 = 2.220446049250313e-13 * e34;
+    const double e37 = e34 > e36 ? 1.0 : 0.0;
+    const double e38 = e37 / (e34 > e36 ? e34 : 1.0);
     state.original_nu_0_term_7 = e38;
-    const double e39 = e38 * e29;
+    const double e39 = e38 * e35;
     state.original_nu_0_term_8 = e39;
-    const double e40 = e30 - e29 * e39;
-    const double e41 = 2.220446049250313e-13 * e30;
+    const double e40 = e32 - e35 * e39;
+    const double e41 = 2.220446049250313e-13 * e32;
     const double e42 = e40 > e41 ? 1.0 : 0.0;
     const double e43 = e42 / (e40 > e41 ? e40 : 1.0);
     state.original_nu_0_term_9 = e43;
-    e35 = 1.0 - e37 + (1.0 - e42);
+    e30 = 1.0 - e37 + (1.0 - e42);
   }
-  state.original_dropped_pivots_0 = e35;
+  state.original_dropped_pivots_0 = e30;
   const double e44 = 9.81 * X_E_1_1;
   state.original_acceleration_1_3 = e44;
   const double e45 = 9.81 * X_E_1_0;
@@ -400,104 +400,104 @@ void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const 
 
   // ==== solver sweep ====
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const double original_nu_0_term_3 = state.original_nu_0_term_3;
   const double beta_1 = beta[1];
   const double base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const double original_conf_energy_1 = state.original_conf_energy_1;
-  const double e0 = original_nu_0_term_3 * (beta_1 - base_acceleration_energy_1 - original_conf_energy_1);
+  const double e0 = beta_1 - base_acceleration_energy_1 - original_conf_energy_1;
   const double beta_0 = beta[0];
   const double base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const double original_conf_energy_0 = state.original_conf_energy_0;
-  const double original_nu_0_term = state.original_nu_0_term;
-  const double e1 = (beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
+  const double e1 = beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
   double e2;
   double e3;
-  const double original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0 > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const double original_nu_0_term_4 = state.original_nu_0_term_4;
-    const double original_nu_0_term_5 = state.original_nu_0_term_5;
-    const double e4 = (e0 - e1 * original_nu_0_term_4) * original_nu_0_term_5;
-    e2 = e4;
+  const double original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0 > original_nu_0_term_4) {  // (C4): the path the condition picks
     const double original_nu_0_term_2 = state.original_nu_0_term_2;
-    e3 = e1 * original_nu_0_term_2 - original_nu_0_term_4 * e4;
+    const double original_nu_0_term_3 = state.original_nu_0_term_3;
+    const double e4 = (e0 - e1 * original_nu_0_term_2) * original_nu_0_term_3;
+    e2 = e4;
+    const double original_nu_0_term = state.original_nu_0_term;
+    e3 = e1 * original_nu_0_term - original_nu_0_term_2 * e4;
   } else {
+    const double original_nu_0_term_6 = state.original_nu_0_term_6;
+    const double e5 = e1 * original_nu_0_term_6;
+    const double original_nu_0_term_5 = state.original_nu_0_term_5;
     const double original_nu_0_term_8 = state.original_nu_0_term_8;
     const double original_nu_0_term_9 = state.original_nu_0_term_9;
-    const double e5 = (e0 - e1 * original_nu_0_term_8) * original_nu_0_term_9;
-    e2 = e5;
+    const double e6 = (original_nu_0_term_5 * e0 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
+    e2 = original_nu_0_term_5 * e6;
     const double original_nu_0_term_7 = state.original_nu_0_term_7;
-    e3 = e1 * original_nu_0_term_7 - e5 * original_nu_0_term_8;
+    e3 = original_nu_0_term_6 * (e5 * original_nu_0_term_7 - e6 * original_nu_0_term_8);
   }
-  const double e6 = e2 * original_nu_0_term_3;
-  const double e7 = original_nu_0_term * e3;
   const double inverse_D_1_0 = state.inverse_D_1_0;
   const double acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
   const double constraint_row_1_1 = state.constraint_row_1_1;
   const double constraint_row_1_0 = state.constraint_row_1_0;
   const double original_nu_0_term_12 = state.original_nu_0_term_12;
-  const double e8 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (constraint_row_1_1 * e6 + constraint_row_1_0 * e7) - original_nu_0_term_12);
-  const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double X_r_2_0 = state.X_r_2_0;
+  const double e7 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (e2 * constraint_row_1_1 + constraint_row_1_0 * e3) - original_nu_0_term_12);
   const double original_acceleration_1_4 = state.original_acceleration_1_4;
-  const double e9 = bias_acceleration_2_4 + (e8 * X_r_2_0 + original_acceleration_1_4);
-  const double e10 = e9 + 0.4 * e8;
+  const double X_r_2_0 = state.X_r_2_0;
+  const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
+  const double e8 = original_acceleration_1_4 + X_r_2_0 * e7 + bias_acceleration_2_4;
+  const double e9 = e8 + 0.4 * e7;
+  const double inverse_D_2_0 = state.inverse_D_2_0;
   const double articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
   const double constraint_row_2_0 = state.constraint_row_2_0;
   const double X_E_3_0 = state.X_E_3_0;
   const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
   const double original_nu_0_term_13 = state.original_nu_0_term_13;
   const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
-  const double inverse_D_2_0 = state.inverse_D_2_0;
+  const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const double original_acceleration_1_3 = state.original_acceleration_1_3;
-  const double e11 = (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e7 - X_E_3_0 * e6) - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (e8 * articulated_inertia_2_15 + (e9 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3)))) * inverse_D_2_0 + original_acceleration_1_3;
+  const double e10 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e3 - e2 * X_E_3_0) - (articulated_force_tool_load_2_3 + (articulated_inertia_2_15 * e7 + (e8 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3))) + original_acceleration_1_3;
   const double X_E_3_1 = state.X_E_3_1;
   const double bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const double e12 = e10 * X_E_3_0 - X_E_3_1 * e11 - bias_acceleration_3_4_term;
+  const double e11 = e9 * X_E_3_0 - e10 * X_E_3_1 - bias_acceleration_3_4_term;
   const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const double e13 = X_E_3_1 * e10 + X_E_3_0 * e11 + bias_acceleration_3_3;
+  const double e12 = e10 * X_E_3_0 + X_E_3_1 * e9 + bias_acceleration_3_3;
   const double articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const double bias_force_3_2 = state.bias_force_3_2;
   const double articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const double e14 = (beta_0 + (beta_0 - (e12 + 0.3 * (e8 + 35.87658454915093 * (articulated_force_tau_ff_2_2_term + 0.3 * e7 - (bias_force_3_2 + (0.02787333333333333 * e8 + (0.125 * e12 - 0.004 * e13)) - articulated_force_tool_load_3_2_term_2))))) - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const double e15 = (beta_1 + e13 + beta_1 - base_acceleration_energy_1 - original_conf_energy_1) * original_nu_0_term_3;
-  double e16;
-  double e17;
-  if (1.0 > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const double original_nu_0_term_4 = state.original_nu_0_term_4;
-    const double original_nu_0_term_5 = state.original_nu_0_term_5;
-    const double e18 = (e15 - original_nu_0_term_4 * e14) * original_nu_0_term_5;
+  const double e13 = beta_0 + (beta_0 - (e11 + 0.3 * (35.87658454915093 * (0.3 * e3 + articulated_force_tau_ff_2_2_term - (0.02787333333333333 * e7 + (0.125 * e11 - 0.004 * e12) + bias_force_3_2 - articulated_force_tool_load_3_2_term_2)) + e7))) - base_acceleration_energy_0 - original_conf_energy_0;
+  const double e14 = beta_1 + (e12 + beta_1) - base_acceleration_energy_1 - original_conf_energy_1;
+  double nu_0;
+  double nu_1;
+  if (1.0 > original_nu_0_term_4) {  // (C4): the path the condition picks
     const double original_nu_0_term_2 = state.original_nu_0_term_2;
-    e16 = original_nu_0_term_2 * e14 - e18 * original_nu_0_term_4;
-    e17 = e18;
+    const double original_nu_0_term_3 = state.original_nu_0_term_3;
+    const double e17 = (e14 - original_nu_0_term_2 * e13) * original_nu_0_term_3;
+    const double original_nu_0_term = state.original_nu_0_term;
+    nu_0 = original_nu_0_term * e13 - original_nu_0_term_2 * e17;
+    nu_1 = e17;
   } else {
-    const double original_nu_0_term_9 = state.original_nu_0_term_9;
+    const double original_nu_0_term_6 = state.original_nu_0_term_6;
+    const double e18 = original_nu_0_term_6 * e13;
+    const double original_nu_0_term_5 = state.original_nu_0_term_5;
     const double original_nu_0_term_8 = state.original_nu_0_term_8;
-    const double e19 = original_nu_0_term_9 * (e15 - original_nu_0_term_8 * e14);
+    const double original_nu_0_term_9 = state.original_nu_0_term_9;
+    const double e19 = (original_nu_0_term_5 * e14 - e18 * original_nu_0_term_8) * original_nu_0_term_9;
     const double original_nu_0_term_7 = state.original_nu_0_term_7;
-    e16 = original_nu_0_term_7 * e14 - e19 * original_nu_0_term_8;
-    e17 = e19;
+    nu_0 = (e18 * original_nu_0_term_7 - e19 * original_nu_0_term_8) * original_nu_0_term_6;
+    nu_1 = original_nu_0_term_5 * e19;
   }
-  const double nu_0 = e16 * original_nu_0_term;
   out.nu[0] = nu_0;
-  const double nu_1 = e17 * original_nu_0_term_3;
   out.nu[1] = nu_1;
   // qdd: joint acceleration qdd_i (S4)
-  const double tau_ctrl_0 = nu_1 * constraint_row_1_1 + constraint_row_1_0 * nu_0;
+  const double tau_ctrl_0 = nu_0 * constraint_row_1_0 + nu_1 * constraint_row_1_1;
   out.tau_ctrl[0] = tau_ctrl_0;
   const double qdd_0 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + tau_ctrl_0 - original_nu_0_term_12);
   out.qdd[0] = qdd_0;
-  const double acceleration_2_4 = bias_acceleration_2_4 + (qdd_0 * X_r_2_0 + original_acceleration_1_4);
+  const double acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
   const double e20 = nu_1 * X_E_3_0;
-  const double tau_ctrl_1 = constraint_row_2_0 * nu_0 - e20;
+  const double tau_ctrl_1 = nu_0 * constraint_row_2_0 - e20;
   out.tau_ctrl[1] = tau_ctrl_1;
-  const double qdd_1 = inverse_D_2_0 * (tau_ctrl_1 + articulated_force_tau_ff_1_3 - (articulated_force_tau_ff_2_3 + (qdd_0 * articulated_inertia_2_15 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3) + articulated_force_tool_load_2_3));
+  const double qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3)));
   out.qdd[1] = qdd_1;
   const double e21 = acceleration_2_4 + 0.4 * qdd_0;
-  const double acceleration_2_3 = original_acceleration_1_3 + qdd_1;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e21 + acceleration_2_3 * X_E_3_0);
+  const double acceleration_2_3 = qdd_1 + original_acceleration_1_3;
+  const double acceleration_3_3 = bias_acceleration_3_3 + (acceleration_2_3 * X_E_3_0 + X_E_3_1 * e21);
   const double acceleration_3_4 = e21 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - bias_acceleration_3_4_term;
   const double tau_ctrl_2 = 0.3 * nu_0;
   out.tau_ctrl[2] = tau_ctrl_2;
@@ -506,10 +506,10 @@ void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const double qdd_2 = 35.87658454915093 * (tau_cmd_2 - (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3 + 0.02787333333333333 * qdd_0 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
   out.qdd[2] = qdd_2;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
-  const double e22 = X_E_3_0 * nu_0 - nu_1 * X_E_3_1;
+  const double e22 = nu_0 * X_E_3_0 - nu_1 * X_E_3_1;
   const double tau_cmd_0 = acceleration_energy_tau_ff_0_0_term + (0.4 * e22 + tau_ctrl_2 + e22 * X_r_2_0);
   out.tau_cmd[0] = tau_cmd_0;
-  const double tau_cmd_1 = articulated_force_tau_ff_1_3 + (-e20 - X_E_3_1 * nu_0);
+  const double tau_cmd_1 = articulated_force_tau_ff_1_3 + (-(nu_0 * X_E_3_1) - e20);
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
   const double tip_acceleration_2 = qdd_2 + qdd_0;
@@ -563,91 +563,90 @@ void solve_prioritize_external([[maybe_unused]] const State& state, [[maybe_unus
 
   // ==== solver sweep ====
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const double original_nu_0_term = state.original_nu_0_term;
   const double beta_0 = beta[0];
   const double base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const double prioritize_external_conf_energy_0 = state.prioritize_external_conf_energy_0;
-  const double e0 = original_nu_0_term * (beta_0 - base_acceleration_energy_0 - prioritize_external_conf_energy_0);
+  const double e0 = beta_0 - base_acceleration_energy_0 - prioritize_external_conf_energy_0;
   const double beta_1 = beta[1];
   const double base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const double prioritize_external_conf_energy_1 = state.prioritize_external_conf_energy_1;
-  const double original_nu_0_term_3 = state.original_nu_0_term_3;
-  const double e1 = (beta_1 - base_acceleration_energy_1 - prioritize_external_conf_energy_1) * original_nu_0_term_3;
-  double e2;
-  double e3;
-  const double original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0 > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const double original_nu_0_term_4 = state.original_nu_0_term_4;
-    const double original_nu_0_term_5 = state.original_nu_0_term_5;
-    const double e4 = (e1 - original_nu_0_term_4 * e0) * original_nu_0_term_5;
+  const double e1 = beta_1 - base_acceleration_energy_1 - prioritize_external_conf_energy_1;
+  double nu_0;
+  double nu_1;
+  const double original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0 > original_nu_0_term_4) {  // (C4): the path the condition picks
     const double original_nu_0_term_2 = state.original_nu_0_term_2;
-    e2 = original_nu_0_term_2 * e0 - e4 * original_nu_0_term_4;
-    e3 = e4;
+    const double original_nu_0_term_3 = state.original_nu_0_term_3;
+    const double e4 = (e1 - original_nu_0_term_2 * e0) * original_nu_0_term_3;
+    const double original_nu_0_term = state.original_nu_0_term;
+    nu_0 = original_nu_0_term * e0 - original_nu_0_term_2 * e4;
+    nu_1 = e4;
   } else {
+    const double original_nu_0_term_6 = state.original_nu_0_term_6;
+    const double e5 = original_nu_0_term_6 * e0;
+    const double original_nu_0_term_5 = state.original_nu_0_term_5;
     const double original_nu_0_term_8 = state.original_nu_0_term_8;
     const double original_nu_0_term_9 = state.original_nu_0_term_9;
-    const double e5 = (e1 - e0 * original_nu_0_term_8) * original_nu_0_term_9;
+    const double e6 = (e1 * original_nu_0_term_5 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
     const double original_nu_0_term_7 = state.original_nu_0_term_7;
-    e2 = original_nu_0_term_7 * e0 - e5 * original_nu_0_term_8;
-    e3 = e5;
+    nu_0 = (original_nu_0_term_7 * e5 - e6 * original_nu_0_term_8) * original_nu_0_term_6;
+    nu_1 = e6 * original_nu_0_term_5;
   }
-  const double nu_0 = original_nu_0_term * e2;
   out.nu[0] = nu_0;
-  const double nu_1 = original_nu_0_term_3 * e3;
   out.nu[1] = nu_1;
   // qdd: joint acceleration qdd_i (S4)
-  const double constraint_row_1_0 = state.constraint_row_1_0;
   const double constraint_row_1_1 = state.constraint_row_1_1;
+  const double constraint_row_1_0 = state.constraint_row_1_0;
   const double articulated_force_tool_load_1_2 = state.articulated_force_tool_load_1_2;
-  const double tau_ctrl_0 = constraint_row_1_0 * nu_0 + nu_1 * constraint_row_1_1 - articulated_force_tool_load_1_2;
+  const double tau_ctrl_0 = constraint_row_1_1 * nu_1 + constraint_row_1_0 * nu_0 - articulated_force_tool_load_1_2;
   out.tau_ctrl[0] = tau_ctrl_0;
   const double inverse_D_1_0 = state.inverse_D_1_0;
   const double acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
   const double original_nu_0_term_11 = state.original_nu_0_term_11;
   const double qdd_0 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + tau_ctrl_0 - original_nu_0_term_11);
   out.qdd[0] = qdd_0;
-  const double original_acceleration_1_4 = state.original_acceleration_1_4;
   const double X_r_2_0 = state.X_r_2_0;
+  const double original_acceleration_1_4 = state.original_acceleration_1_4;
   const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double acceleration_2_4 = original_acceleration_1_4 + qdd_0 * X_r_2_0 + bias_acceleration_2_4;
+  const double acceleration_2_4 = X_r_2_0 * qdd_0 + original_acceleration_1_4 + bias_acceleration_2_4;
   const double X_E_3_0 = state.X_E_3_0;
-  const double e6 = nu_1 * X_E_3_0;
+  const double e7 = nu_1 * X_E_3_0;
   const double constraint_row_2_0 = state.constraint_row_2_0;
   const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const double tau_ctrl_1 = nu_0 * constraint_row_2_0 - e6 - articulated_force_tool_load_2_3;
+  const double tau_ctrl_1 = constraint_row_2_0 * nu_0 - e7 - articulated_force_tool_load_2_3;
   out.tau_ctrl[1] = tau_ctrl_1;
   const double inverse_D_2_0 = state.inverse_D_2_0;
   const double articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
-  const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
   const double original_nu_0_term_13 = state.original_nu_0_term_13;
+  const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const double qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_inertia_2_15 * qdd_0 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3));
+  const double qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3));
   out.qdd[1] = qdd_1;
-  const double e7 = acceleration_2_4 + 0.4 * qdd_0;
+  const double e8 = acceleration_2_4 + 0.4 * qdd_0;
   const double original_acceleration_1_3 = state.original_acceleration_1_3;
   const double acceleration_2_3 = qdd_1 + original_acceleration_1_3;
-  const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
   const double X_E_3_1 = state.X_E_3_1;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e7 + acceleration_2_3 * X_E_3_0);
   const double bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const double acceleration_3_4 = e7 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - bias_acceleration_3_4_term;
-  const double e8 = 0.3 * nu_0;
+  const double acceleration_3_4 = e8 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - bias_acceleration_3_4_term;
+  const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
+  const double acceleration_3_3 = bias_acceleration_3_3 + (acceleration_2_3 * X_E_3_0 + e8 * X_E_3_1);
+  const double e9 = 0.3 * nu_0;
   const double articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const double tau_ctrl_2 = e8 + articulated_force_tool_load_3_2_term_2;
+  const double tau_ctrl_2 = e9 + articulated_force_tool_load_3_2_term_2;
   out.tau_ctrl[2] = tau_ctrl_2;
   const double articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const double bias_force_3_2 = state.bias_force_3_2;
-  const double qdd_2 = 35.87658454915093 * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3 + 0.02787333333333333 * qdd_0 + bias_force_3_2));
+  const double qdd_2 = 35.87658454915093 * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (0.02787333333333333 * qdd_0 + (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3) + bias_force_3_2));
   out.qdd[2] = qdd_2;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
-  const double e9 = nu_0 * X_E_3_0 - X_E_3_1 * nu_1;
-  const double tau_cmd_0 = e9 * X_r_2_0 + (e8 + 0.4 * e9) + acceleration_energy_tau_ff_0_0_term;
+  const double e10 = X_E_3_0 * nu_0 - X_E_3_1 * nu_1;
+  const double tau_cmd_0 = e9 + 0.4 * e10 + e10 * X_r_2_0 + acceleration_energy_tau_ff_0_0_term;
   out.tau_cmd[0] = tau_cmd_0;
-  const double tau_cmd_1 = articulated_force_tau_ff_1_3 + (-(nu_0 * X_E_3_1) - e6);
+  const double tau_cmd_1 = articulated_force_tau_ff_1_3 + (-e7 - X_E_3_1 * nu_0);
   out.tau_cmd[1] = tau_cmd_1;
-  const double tau_cmd_2 = e8 + articulated_force_tau_ff_2_2_term;
+  const double tau_cmd_2 = articulated_force_tau_ff_2_2_term + e9;
   out.tau_cmd[2] = tau_cmd_2;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
   const double tip_acceleration_2 = qdd_0 + qdd_2;
@@ -704,104 +703,103 @@ void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const double beta_0 = beta[0];
   const double base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const double original_conf_energy_0 = state.original_conf_energy_0;
-  const double original_nu_0_term = state.original_nu_0_term;
-  const double e0 = (beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const double original_nu_0_term_3 = state.original_nu_0_term_3;
+  const double e0 = beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
   const double beta_1 = beta[1];
   const double base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const double original_conf_energy_1 = state.original_conf_energy_1;
-  const double e1 = original_nu_0_term_3 * (beta_1 - base_acceleration_energy_1 - original_conf_energy_1);
-  double e2;
-  double e3;
-  const double original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0 > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const double original_nu_0_term_4 = state.original_nu_0_term_4;
-    const double original_nu_0_term_5 = state.original_nu_0_term_5;
-    const double e4 = (e1 - e0 * original_nu_0_term_4) * original_nu_0_term_5;
+  const double e1 = beta_1 - base_acceleration_energy_1 - original_conf_energy_1;
+  double nu_0;
+  double nu_1;
+  const double original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0 > original_nu_0_term_4) {  // (C4): the path the condition picks
     const double original_nu_0_term_2 = state.original_nu_0_term_2;
-    e2 = e0 * original_nu_0_term_2 - original_nu_0_term_4 * e4;
-    e3 = e4;
+    const double original_nu_0_term_3 = state.original_nu_0_term_3;
+    const double e4 = (e1 - e0 * original_nu_0_term_2) * original_nu_0_term_3;
+    const double original_nu_0_term = state.original_nu_0_term;
+    nu_0 = e0 * original_nu_0_term - original_nu_0_term_2 * e4;
+    nu_1 = e4;
   } else {
+    const double original_nu_0_term_6 = state.original_nu_0_term_6;
+    const double e5 = e0 * original_nu_0_term_6;
+    const double original_nu_0_term_5 = state.original_nu_0_term_5;
     const double original_nu_0_term_8 = state.original_nu_0_term_8;
     const double original_nu_0_term_9 = state.original_nu_0_term_9;
-    const double e5 = (e1 - e0 * original_nu_0_term_8) * original_nu_0_term_9;
+    const double e6 = (original_nu_0_term_5 * e1 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
     const double original_nu_0_term_7 = state.original_nu_0_term_7;
-    e2 = e0 * original_nu_0_term_7 - e5 * original_nu_0_term_8;
-    e3 = e5;
+    nu_0 = original_nu_0_term_6 * (e5 * original_nu_0_term_7 - e6 * original_nu_0_term_8);
+    nu_1 = original_nu_0_term_5 * e6;
   }
-  const double nu_0 = original_nu_0_term * e2;
   out.nu[0] = nu_0;
-  const double nu_1 = e3 * original_nu_0_term_3;
   out.nu[1] = nu_1;
   const double constraint_row_1_1 = state.constraint_row_1_1;
   const double constraint_row_1_0 = state.constraint_row_1_0;
-  const double e6 = constraint_row_1_1 * nu_1 + constraint_row_1_0 * nu_0;
+  const double e7 = nu_1 * constraint_row_1_1 + constraint_row_1_0 * nu_0;
   // qdd: joint acceleration qdd_i (S4)
-  const double tau_ctrl_0 = std::min<double>(50.0, std::max<double>(-50.0, e6));
+  const double tau_ctrl_0 = std::min<double>(50.0, std::max<double>(-50.0, e7));
   out.tau_ctrl[0] = tau_ctrl_0;
   const double inverse_D_1_0 = state.inverse_D_1_0;
   const double acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
   const double original_nu_0_term_12 = state.original_nu_0_term_12;
-  const double qdd_0 = inverse_D_1_0 * (tau_ctrl_0 + acceleration_energy_tau_ff_0_0_term - original_nu_0_term_12);
+  const double qdd_0 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + tau_ctrl_0 - original_nu_0_term_12);
   out.qdd[0] = qdd_0;
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
   const double constraint_row_2_0 = state.constraint_row_2_0;
   const double X_E_3_0 = state.X_E_3_0;
-  const double e7 = constraint_row_2_0 * nu_0 - X_E_3_0 * nu_1;
+  const double e8 = constraint_row_2_0 * nu_0 - nu_1 * X_E_3_0;
   // qdd: joint acceleration qdd_i (S4)
-  const double X_r_2_0 = state.X_r_2_0;
   const double original_acceleration_1_4 = state.original_acceleration_1_4;
+  const double X_r_2_0 = state.X_r_2_0;
   const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double acceleration_2_4 = X_r_2_0 * qdd_0 + original_acceleration_1_4 + bias_acceleration_2_4;
-  const double tau_ctrl_1 = std::min<double>(100.0, std::max<double>(-100.0, e7));
+  const double acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
+  const double tau_ctrl_1 = std::min<double>(100.0, std::max<double>(e8, -100.0));
   out.tau_ctrl[1] = tau_ctrl_1;
   const double inverse_D_2_0 = state.inverse_D_2_0;
   const double articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
+  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
   const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
   const double original_nu_0_term_13 = state.original_nu_0_term_13;
   const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const double qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_inertia_2_19 * acceleration_2_4 + original_nu_0_term_13 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3));
+  const double qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3)));
   out.qdd[1] = qdd_1;
-  const double e8 = acceleration_2_4 + 0.4 * qdd_0;
+  const double e9 = acceleration_2_4 + 0.4 * qdd_0;
   const double original_acceleration_1_3 = state.original_acceleration_1_3;
-  const double acceleration_2_3 = qdd_1 + original_acceleration_1_3;
-  const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
+  const double acceleration_2_3 = original_acceleration_1_3 + qdd_1;
   const double X_E_3_1 = state.X_E_3_1;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e8 + acceleration_2_3 * X_E_3_0);
   const double bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const double acceleration_3_4 = X_E_3_0 * e8 - acceleration_2_3 * X_E_3_1 - bias_acceleration_3_4_term;
-  const double e9 = 0.125 * acceleration_3_4 - 0.004 * acceleration_3_3;
+  const double acceleration_3_4 = e9 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - bias_acceleration_3_4_term;
+  const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
+  const double acceleration_3_3 = bias_acceleration_3_3 + (acceleration_2_3 * X_E_3_0 + e9 * X_E_3_1);
+  const double e10 = 0.125 * acceleration_3_4 - 0.004 * acceleration_3_3;
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const double e10 = 0.3 * nu_0;
+  const double e11 = 0.3 * nu_0;
   // qdd: joint acceleration qdd_i (S4)
-  const double tau_ctrl_2 = std::min<double>(20.0, std::max<double>(e10, -20.0));
+  const double tau_ctrl_2 = std::min<double>(20.0, std::max<double>(e11, -20.0));
   out.tau_ctrl[2] = tau_ctrl_2;
   const double articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const double bias_force_3_2 = state.bias_force_3_2;
   const double articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const double qdd_2 = 35.87658454915093 * (tau_ctrl_2 + articulated_force_tau_ff_2_2_term - (e9 + 0.02787333333333333 * qdd_0 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
+  const double qdd_2 = 35.87658454915093 * (tau_ctrl_2 + articulated_force_tau_ff_2_2_term - (0.02787333333333333 * qdd_0 + e10 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
   out.qdd[2] = qdd_2;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
-  const double tip_acceleration_2 = qdd_2 + qdd_0;
+  const double tip_acceleration_2 = qdd_0 + qdd_2;
   out.tip_acceleration[2] = tip_acceleration_2;
   const double bias_force_3_4 = state.bias_force_3_4;
   const double articulated_force_tool_load_3_2_term = state.articulated_force_tool_load_3_2_term;
-  const double e11 = bias_force_3_4 + (0.7 * acceleration_3_4 + 0.125 * tip_acceleration_2) - articulated_force_tool_load_3_2_term;
+  const double e12 = bias_force_3_4 + (0.7 * acceleration_3_4 + 0.125 * tip_acceleration_2) - articulated_force_tool_load_3_2_term;
   const double articulated_force_tool_load_3_3 = state.articulated_force_tool_load_3_3;
   const double bias_force_3_3_term = state.bias_force_3_3_term;
-  const double e12 = articulated_force_tool_load_3_3 + (0.7 * acceleration_3_3 - 0.004 * tip_acceleration_2 - bias_force_3_3_term);
-  const double e13 = e11 * X_E_3_0 + X_E_3_1 * e12;
-  const double tau_cmd_2 = 0.02787333333333333 * tip_acceleration_2 + e9 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2;
+  const double e13 = articulated_force_tool_load_3_3 + (0.7 * acceleration_3_3 - 0.004 * tip_acceleration_2 - bias_force_3_3_term);
+  const double e14 = e12 * X_E_3_0 + X_E_3_1 * e13;
+  const double tau_cmd_2 = e10 + 0.02787333333333333 * tip_acceleration_2 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2;
   out.tau_cmd[2] = tau_cmd_2;
-  const double saturate_tau_cmd_0_term = state.saturate_tau_cmd_0_term;
   const double bias_force_2_2 = state.bias_force_2_2;
-  const double tau_cmd_0 = 0.16708333333333333 * qdd_0 + saturate_tau_cmd_0_term + ((bias_acceleration_2_4 + (0.2 * qdd_0 + acceleration_2_4) + e13) * X_r_2_0 + (0.053466666666666676 * qdd_0 + 0.2 * acceleration_2_4 + bias_force_2_2 + (0.4 * e13 + tau_cmd_2))) + 0.01 * qdd_0;
+  const double saturate_tau_cmd_0_term = state.saturate_tau_cmd_0_term;
+  const double tau_cmd_0 = 0.01 * qdd_0 + (X_r_2_0 * (acceleration_2_4 + 0.2 * qdd_0 + bias_acceleration_2_4 + e14) + (0.2 * acceleration_2_4 + 0.053466666666666676 * qdd_0 + bias_force_2_2 + (0.4 * e14 + tau_cmd_2)) + (0.16708333333333333 * qdd_0 + saturate_tau_cmd_0_term));
   out.tau_cmd[0] = tau_cmd_0;
   const double bias_force_2_3_term = state.bias_force_2_3_term;
-  const double tau_cmd_1 = acceleration_2_3 - bias_force_2_3_term + (e12 * X_E_3_0 - X_E_3_1 * e11);
+  const double tau_cmd_1 = acceleration_2_3 - bias_force_2_3_term + (e13 * X_E_3_0 - X_E_3_1 * e12);
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
   const double tip_acceleration_3 = acceleration_3_4 + 0.3 * tip_acceleration_2;
@@ -809,11 +807,11 @@ void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const double tip_acceleration_4 = -acceleration_3_3;
   out.tip_acceleration[4] = tip_acceleration_4;
   // saturated: whether the policy clamped joint i's torque (S3, X1)
-  const double saturated_0 = std::abs(e6) > 50.0 ? 1.0 : 0.0;
+  const double saturated_0 = std::abs(e7) > 50.0 ? 1.0 : 0.0;
   out.saturated[0] = saturated_0 != 0;
-  const double saturated_1 = std::abs(e7) > 100.0 ? 1.0 : 0.0;
+  const double saturated_1 = std::abs(e8) > 100.0 ? 1.0 : 0.0;
   out.saturated[1] = saturated_1 != 0;
-  const double saturated_2 = std::abs(e10) > 20.0 ? 1.0 : 0.0;
+  const double saturated_2 = std::abs(e11) > 20.0 ? 1.0 : 0.0;
   out.saturated[2] = saturated_2 != 0;
 
   // Values computed before this function, and constants.
@@ -859,129 +857,129 @@ void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] 
 
   // ==== solver sweep ====
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const double original_nu_0_term_3 = state.original_nu_0_term_3;
   const double beta_1 = beta[1];
   const double base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const double original_conf_energy_1 = state.original_conf_energy_1;
-  const double e0 = original_nu_0_term_3 * (beta_1 - base_acceleration_energy_1 - original_conf_energy_1);
+  const double e0 = beta_1 - base_acceleration_energy_1 - original_conf_energy_1;
   const double beta_0 = beta[0];
   const double base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const double original_conf_energy_0 = state.original_conf_energy_0;
-  const double original_nu_0_term = state.original_nu_0_term;
-  const double e1 = (beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
+  const double e1 = beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
   double e2;
   double e3;
-  const double original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0 > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const double original_nu_0_term_4 = state.original_nu_0_term_4;
-    const double original_nu_0_term_5 = state.original_nu_0_term_5;
-    const double e4 = (e0 - e1 * original_nu_0_term_4) * original_nu_0_term_5;
-    e2 = e4;
+  const double original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0 > original_nu_0_term_4) {  // (C4): the path the condition picks
     const double original_nu_0_term_2 = state.original_nu_0_term_2;
-    e3 = e1 * original_nu_0_term_2 - original_nu_0_term_4 * e4;
+    const double original_nu_0_term_3 = state.original_nu_0_term_3;
+    const double e4 = (e0 - e1 * original_nu_0_term_2) * original_nu_0_term_3;
+    e2 = e4;
+    const double original_nu_0_term = state.original_nu_0_term;
+    e3 = e1 * original_nu_0_term - original_nu_0_term_2 * e4;
   } else {
+    const double original_nu_0_term_6 = state.original_nu_0_term_6;
+    const double e5 = e1 * original_nu_0_term_6;
+    const double original_nu_0_term_5 = state.original_nu_0_term_5;
     const double original_nu_0_term_8 = state.original_nu_0_term_8;
     const double original_nu_0_term_9 = state.original_nu_0_term_9;
-    const double e5 = (e0 - e1 * original_nu_0_term_8) * original_nu_0_term_9;
-    e2 = e5;
+    const double e6 = (original_nu_0_term_5 * e0 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
+    e2 = original_nu_0_term_5 * e6;
     const double original_nu_0_term_7 = state.original_nu_0_term_7;
-    e3 = e1 * original_nu_0_term_7 - e5 * original_nu_0_term_8;
+    e3 = original_nu_0_term_6 * (e5 * original_nu_0_term_7 - e6 * original_nu_0_term_8);
   }
-  const double e6 = e2 * original_nu_0_term_3;
-  const double e7 = original_nu_0_term * e3;
   const double inverse_D_1_0 = state.inverse_D_1_0;
   const double acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
   const double constraint_row_1_1 = state.constraint_row_1_1;
   const double constraint_row_1_0 = state.constraint_row_1_0;
   const double original_nu_0_term_12 = state.original_nu_0_term_12;
-  const double e8 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (constraint_row_1_1 * e6 + constraint_row_1_0 * e7) - original_nu_0_term_12);
-  const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const double X_r_2_0 = state.X_r_2_0;
+  const double e7 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (e2 * constraint_row_1_1 + constraint_row_1_0 * e3) - original_nu_0_term_12);
   const double original_acceleration_1_4 = state.original_acceleration_1_4;
-  const double e9 = bias_acceleration_2_4 + (e8 * X_r_2_0 + original_acceleration_1_4);
-  const double e10 = e9 + 0.4 * e8;
+  const double X_r_2_0 = state.X_r_2_0;
+  const double bias_acceleration_2_4 = state.bias_acceleration_2_4;
+  const double e8 = original_acceleration_1_4 + X_r_2_0 * e7 + bias_acceleration_2_4;
+  const double e9 = e8 + 0.4 * e7;
+  const double inverse_D_2_0 = state.inverse_D_2_0;
   const double articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
   const double constraint_row_2_0 = state.constraint_row_2_0;
   const double X_E_3_0 = state.X_E_3_0;
   const double articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const double articulated_inertia_2_15 = state.articulated_inertia_2_15;
   const double articulated_inertia_2_19 = state.articulated_inertia_2_19;
   const double original_nu_0_term_13 = state.original_nu_0_term_13;
   const double articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
-  const double inverse_D_2_0 = state.inverse_D_2_0;
+  const double articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const double original_acceleration_1_3 = state.original_acceleration_1_3;
-  const double e11 = (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e7 - X_E_3_0 * e6) - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (e8 * articulated_inertia_2_15 + (e9 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3)))) * inverse_D_2_0 + original_acceleration_1_3;
+  const double e10 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e3 - e2 * X_E_3_0) - (articulated_force_tool_load_2_3 + (articulated_inertia_2_15 * e7 + (e8 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3))) + original_acceleration_1_3;
   const double X_E_3_1 = state.X_E_3_1;
   const double bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const double e12 = e10 * X_E_3_0 - X_E_3_1 * e11 - bias_acceleration_3_4_term;
+  const double e11 = e9 * X_E_3_0 - e10 * X_E_3_1 - bias_acceleration_3_4_term;
   const double bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const double e13 = X_E_3_1 * e10 + X_E_3_0 * e11 + bias_acceleration_3_3;
+  const double e12 = e10 * X_E_3_0 + X_E_3_1 * e9 + bias_acceleration_3_3;
   const double articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const double bias_force_3_2 = state.bias_force_3_2;
   const double articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const double e14 = (beta_0 + (beta_0 - (e12 + 0.3 * (e8 + 35.87658454915093 * (articulated_force_tau_ff_2_2_term + 0.3 * e7 - (bias_force_3_2 + (0.02787333333333333 * e8 + (0.125 * e12 - 0.004 * e13)) - articulated_force_tool_load_3_2_term_2))))) - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const double e15 = (beta_1 + e13 + beta_1 - base_acceleration_energy_1 - original_conf_energy_1) * original_nu_0_term_3;
-  double e16;
-  double e17;
-  if (1.0 > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const double original_nu_0_term_4 = state.original_nu_0_term_4;
-    const double original_nu_0_term_5 = state.original_nu_0_term_5;
-    const double e18 = (e15 - original_nu_0_term_4 * e14) * original_nu_0_term_5;
+  const double e13 = beta_0 + (beta_0 - (e11 + 0.3 * (35.87658454915093 * (0.3 * e3 + articulated_force_tau_ff_2_2_term - (0.02787333333333333 * e7 + (0.125 * e11 - 0.004 * e12) + bias_force_3_2 - articulated_force_tool_load_3_2_term_2)) + e7))) - base_acceleration_energy_0 - original_conf_energy_0;
+  const double e14 = beta_1 + (e12 + beta_1) - base_acceleration_energy_1 - original_conf_energy_1;
+  double nu_0;
+  double nu_1;
+  if (1.0 > original_nu_0_term_4) {  // (C4): the path the condition picks
     const double original_nu_0_term_2 = state.original_nu_0_term_2;
-    e16 = original_nu_0_term_2 * e14 - e18 * original_nu_0_term_4;
-    e17 = e18;
+    const double original_nu_0_term_3 = state.original_nu_0_term_3;
+    const double e17 = (e14 - original_nu_0_term_2 * e13) * original_nu_0_term_3;
+    const double original_nu_0_term = state.original_nu_0_term;
+    nu_0 = original_nu_0_term * e13 - original_nu_0_term_2 * e17;
+    nu_1 = e17;
   } else {
-    const double original_nu_0_term_9 = state.original_nu_0_term_9;
+    const double original_nu_0_term_6 = state.original_nu_0_term_6;
+    const double e18 = original_nu_0_term_6 * e13;
+    const double original_nu_0_term_5 = state.original_nu_0_term_5;
     const double original_nu_0_term_8 = state.original_nu_0_term_8;
-    const double e19 = original_nu_0_term_9 * (e15 - original_nu_0_term_8 * e14);
+    const double original_nu_0_term_9 = state.original_nu_0_term_9;
+    const double e19 = (original_nu_0_term_5 * e14 - e18 * original_nu_0_term_8) * original_nu_0_term_9;
     const double original_nu_0_term_7 = state.original_nu_0_term_7;
-    e16 = original_nu_0_term_7 * e14 - e19 * original_nu_0_term_8;
-    e17 = e19;
+    nu_0 = (e18 * original_nu_0_term_7 - e19 * original_nu_0_term_8) * original_nu_0_term_6;
+    nu_1 = original_nu_0_term_5 * e19;
   }
-  const double nu_0 = e16 * original_nu_0_term;
   out.nu[0] = nu_0;
-  const double nu_1 = e17 * original_nu_0_term_3;
   out.nu[1] = nu_1;
   // qdd: joint acceleration qdd_i (S4)
   const double e20 = 0.3 * nu_0;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
-  const double e21 = X_E_3_0 * nu_0 - nu_1 * X_E_3_1;
+  const double e21 = nu_0 * X_E_3_0 - nu_1 * X_E_3_1;
   const double e22 = acceleration_energy_tau_ff_0_0_term + (0.4 * e21 + e20 + e21 * X_r_2_0);
-  const double e23 = articulated_force_tau_ff_1_3 + (-(nu_1 * X_E_3_0) - X_E_3_1 * nu_0);
+  const double e23 = articulated_force_tau_ff_1_3 + (-(nu_0 * X_E_3_1) - nu_1 * X_E_3_0);
   // qdd: joint acceleration qdd_i (S4)
   const double e24 = articulated_force_tau_ff_2_2_term + e20;
-  const double tau_cmd_2 = std::min<double>(20.0, std::max<double>(e24, -20.0));
+  const double tau_cmd_2 = std::min<double>(std::max<double>(e24, -20.0), 20.0);
   out.tau_cmd[2] = tau_cmd_2;
   const double tau_ctrl_2 = tau_cmd_2 - articulated_force_tau_ff_2_2_term;
   out.tau_ctrl[2] = tau_ctrl_2;
   const double e25 = 35.87658454915093 * tau_ctrl_2;
   const double e26 = -0.004 * e25;
   const double e27 = 0.125 * e25;
+  const double correction_force_2_4 = X_E_3_1 * e26 + X_E_3_0 * e27;
   const double correction_force_2_3 = e26 * X_E_3_0 - X_E_3_1 * e27;
-  const double correction_force_2_4 = e27 * X_E_3_0 + X_E_3_1 * e26;
   const double tau_cmd_1 = std::min<double>(100.0, std::max<double>(e23, -100.0));
   out.tau_cmd[1] = tau_cmd_1;
   const double tau_ctrl_1 = tau_cmd_1 - articulated_force_tau_ff_1_3;
   out.tau_ctrl[1] = tau_ctrl_1;
   const double e28 = inverse_D_2_0 * (tau_ctrl_1 - correction_force_2_3);
-  const double correction_force_1_4 = e28 * articulated_inertia_2_19 + correction_force_2_4;
+  const double correction_force_1_4 = correction_force_2_4 + articulated_inertia_2_19 * e28;
   const double correction_force_2_2 = tau_ctrl_2 + 0.4 * correction_force_2_4;
-  const double correction_force_1_2 = correction_force_1_4 * X_r_2_0 + (articulated_inertia_2_15 * e28 + correction_force_2_2);
-  const double tau_cmd_0 = std::min<double>(50.0, std::max<double>(e22, -50.0));
+  const double correction_force_1_2 = X_r_2_0 * correction_force_1_4 + (articulated_inertia_2_15 * e28 + correction_force_2_2);
+  const double tau_cmd_0 = std::min<double>(50.0, std::max<double>(-50.0, e22));
   out.tau_cmd[0] = tau_cmd_0;
   const double tau_ctrl_0 = tau_cmd_0 - acceleration_energy_tau_ff_0_0_term;
   out.tau_ctrl[0] = tau_ctrl_0;
   const double qdd_0 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + tau_ctrl_0 - (original_nu_0_term_12 + correction_force_1_2));
   out.qdd[0] = qdd_0;
-  const double acceleration_2_4 = qdd_0 * X_r_2_0 + original_acceleration_1_4 + bias_acceleration_2_4;
-  const double qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (correction_force_2_3 + (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (articulated_inertia_2_19 * acceleration_2_4 + original_nu_0_term_13)))))));
+  const double acceleration_2_4 = X_r_2_0 * qdd_0 + original_acceleration_1_4 + bias_acceleration_2_4;
+  const double qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3)) + correction_force_2_3));
   out.qdd[1] = qdd_1;
   const double e29 = acceleration_2_4 + 0.4 * qdd_0;
   const double acceleration_2_3 = qdd_1 + original_acceleration_1_3;
-  const double acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e29 + acceleration_2_3 * X_E_3_0);
   const double acceleration_3_4 = e29 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - bias_acceleration_3_4_term;
-  const double qdd_2 = 35.87658454915093 * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (0.02787333333333333 * qdd_0 + (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3) + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
+  const double acceleration_3_3 = X_E_3_1 * e29 + X_E_3_0 * acceleration_2_3 + bias_acceleration_3_3;
+  const double qdd_2 = 35.87658454915093 * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (0.125 * acceleration_3_4 - 0.004 * acceleration_3_3 + 0.02787333333333333 * qdd_0 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
   out.qdd[2] = qdd_2;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
   const double tip_acceleration_2 = qdd_2 + qdd_0;
@@ -1208,41 +1206,41 @@ void outward([[maybe_unused]] const Scalar* q, [[maybe_unused]] const Scalar* qd
 
   // ==== solver sweep ====
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const float e26 = equilibration_scale(constraint_energy_0_3);
-  state.original_nu_0_term_2 = e26;
-  const float e27 = e26 * constraint_energy_0_3 * e26;
-  const float e28 = equilibration_scale(constraint_energy_0_0);
-  state.original_nu_0_term = e28;
-  const float e29 = constraint_energy_0_2 * e26 * e28;
-  const float e30 = e28 * (e28 * constraint_energy_0_0);
-  const float e31 = 1.0f / std::max<float>(5.9604645e-05f, e30);
-  state.original_nu_0_term_3 = e31;
-  const float e32 = e29 * e31;
-  state.original_nu_0_term_4 = e32;
-  const float e33 = 1.0f / std::max<float>(5.9604645e-05f, e27 - e32 * e29);
-  state.original_nu_0_term_5 = e33;
-  const float e34 = 0.00047683716f * (std::max<float>(1.0f, e27) * e33 + (e32 * e32 * e33 + e31) * std::max<float>(1.0f, e30));
-  state.original_nu_0_term_6 = e34;
+  const float e26 = 1.0f / std::max<float>(constraint_energy_0_0, 5.9604645e-05f * constraint_energy_0_0);
+  state.original_nu_0_term = e26;
+  const float e27 = constraint_energy_0_2 * e26;
+  state.original_nu_0_term_2 = e27;
+  const float e28 = 1.0f / std::max<float>(5.9604645e-05f * constraint_energy_0_3, constraint_energy_0_3 - constraint_energy_0_2 * e27);
+  state.original_nu_0_term_3 = e28;
+  const float e29 = (constraint_energy_0_0 > 1.6940659e-12f ? 0.0f : 1.0f) + (590295793664.0f > constraint_energy_0_0 ? 0.0f : 1.0f) + ((590295793664.0f > constraint_energy_0_3 ? 0.0f : 1.0f) + (constraint_energy_0_3 > 1.6940659e-12f ? 0.0f : 1.0f)) > 0.5f ? 1.0f : 0.00047683716f * (e28 * constraint_energy_0_3 + constraint_energy_0_0 * (e28 * (e27 * e27) + e26));
+  state.original_nu_0_term_4 = e29;
   // dropped_pivots: number of constraint directions not enforced (status_constraint_rank_deficient) (C2, C3, C4)
-  float e35;
-  if (1.0f > e34) {  // (C4): the path the condition picks
-    e35 = 0.0f;
+  float e30;
+  if (1.0f > e29) {  // (C4): the path the condition picks
+    e30 = 0.0f;
   } else {
     // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-    const float e36 = 0.00011920929f * e30;
-    const float e37 = e30 > e36 ? 1.0f : 0.0f;
-    const float e38 = e37 / (e30 > e36 ? e30 : 1.0f);
-    state.original_nu_0_term_7 = e38;
-    const float e39 = e38 * e29;
+    const float e31 = equilibration_scale(constraint_energy_0_3);
+    state.original_nu_0_term_7 = e31;
+    const float e32 = e31 * constraint_energy_0_3 * e31;
+    const float e33 = equilibration_scale(constraint_energy_0_0);
+    state.original_nu_0_term_5 = e33;
+    const float e34 = e33 * (e33 * constraint_energy_0_0);
+    const float e35 = constraint_energy_0_2 * e31 * e33;
+    const float e36 = 0.00011920929f * e34;
+    const float e37 = e34 > e36 ? 1.0f : 0.0f;
+    const float e38 = e37 / (e34 > e36 ? e34 : 1.0f);
+    state.original_nu_0_term_6 = e38;
+    const float e39 = e38 * e35;
     state.original_nu_0_term_8 = e39;
-    const float e40 = e27 - e29 * e39;
-    const float e41 = 0.00011920929f * e27;
+    const float e40 = e32 - e35 * e39;
+    const float e41 = 0.00011920929f * e32;
     const float e42 = e40 > e41 ? 1.0f : 0.0f;
     const float e43 = e42 / (e40 > e41 ? e40 : 1.0f);
     state.original_nu_0_term_9 = e43;
-    e35 = 1.0f - e37 + (1.0f - e42);
+    e30 = 1.0f - e37 + (1.0f - e42);
   }
-  state.original_dropped_pivots_0 = e35;
+  state.original_dropped_pivots_0 = e30;
   const float e44 = 9.81f * X_E_1_1;
   state.original_acceleration_1_3 = e44;
   const float e45 = 9.81f * X_E_1_0;
@@ -1385,102 +1383,102 @@ void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const float beta_0 = beta[0];
   const float base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const float original_conf_energy_0 = state.original_conf_energy_0;
-  const float original_nu_0_term = state.original_nu_0_term;
-  const float e0 = (beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const float original_nu_0_term_2 = state.original_nu_0_term_2;
+  const float e0 = beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
   const float beta_1 = beta[1];
   const float base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const float original_conf_energy_1 = state.original_conf_energy_1;
-  const float e1 = original_nu_0_term_2 * (beta_1 - base_acceleration_energy_1 - original_conf_energy_1);
+  const float e1 = beta_1 - base_acceleration_energy_1 - original_conf_energy_1;
   float e2;
   float e3;
-  const float original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0f > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const float original_nu_0_term_5 = state.original_nu_0_term_5;
-    const float original_nu_0_term_4 = state.original_nu_0_term_4;
-    const float e4 = original_nu_0_term_5 * (e1 - original_nu_0_term_4 * e0);
+  const float original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0f > original_nu_0_term_4) {  // (C4): the path the condition picks
     const float original_nu_0_term_3 = state.original_nu_0_term_3;
-    e2 = e0 * original_nu_0_term_3 - original_nu_0_term_4 * e4;
+    const float original_nu_0_term_2 = state.original_nu_0_term_2;
+    const float e4 = original_nu_0_term_3 * (e1 - e0 * original_nu_0_term_2);
+    const float original_nu_0_term = state.original_nu_0_term;
+    e2 = e0 * original_nu_0_term - e4 * original_nu_0_term_2;
     e3 = e4;
   } else {
+    const float original_nu_0_term_5 = state.original_nu_0_term_5;
+    const float e5 = e0 * original_nu_0_term_5;
+    const float original_nu_0_term_7 = state.original_nu_0_term_7;
     const float original_nu_0_term_8 = state.original_nu_0_term_8;
     const float original_nu_0_term_9 = state.original_nu_0_term_9;
-    const float e5 = (e1 - e0 * original_nu_0_term_8) * original_nu_0_term_9;
-    const float original_nu_0_term_7 = state.original_nu_0_term_7;
-    e2 = original_nu_0_term_7 * e0 - e5 * original_nu_0_term_8;
-    e3 = e5;
+    const float e6 = (original_nu_0_term_7 * e1 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
+    const float original_nu_0_term_6 = state.original_nu_0_term_6;
+    e2 = (original_nu_0_term_6 * e5 - e6 * original_nu_0_term_8) * original_nu_0_term_5;
+    e3 = original_nu_0_term_7 * e6;
   }
-  const float e6 = original_nu_0_term * e2;
-  const float e7 = original_nu_0_term_2 * e3;
   const float inverse_D_1_0 = state.inverse_D_1_0;
   const float acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
   const float constraint_row_1_0 = state.constraint_row_1_0;
   const float constraint_row_1_1 = state.constraint_row_1_1;
   const float original_nu_0_term_12 = state.original_nu_0_term_12;
-  const float e8 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (constraint_row_1_0 * e6 + e7 * constraint_row_1_1) - original_nu_0_term_12);
+  const float e7 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (constraint_row_1_0 * e2 + constraint_row_1_1 * e3) - original_nu_0_term_12);
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
   const float X_r_2_0 = state.X_r_2_0;
   const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const float e9 = original_acceleration_1_4 + X_r_2_0 * e8 + bias_acceleration_2_4;
-  const float e10 = e9 + 0.4f * e8;
+  const float e8 = original_acceleration_1_4 + X_r_2_0 * e7 + bias_acceleration_2_4;
+  const float e9 = e8 + 0.4f * e7;
   const float inverse_D_2_0 = state.inverse_D_2_0;
   const float articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
   const float constraint_row_2_0 = state.constraint_row_2_0;
   const float X_E_3_0 = state.X_E_3_0;
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
-  const float original_nu_0_term_13 = state.original_nu_0_term_13;
   const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
+  const float original_nu_0_term_13 = state.original_nu_0_term_13;
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
-  const float e11 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e6 - e7 * X_E_3_0) - (articulated_inertia_2_15 * e8 + (original_nu_0_term_13 + e9 * articulated_inertia_2_19) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3)) + original_acceleration_1_3;
+  const float e10 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e2 - X_E_3_0 * e3) - (articulated_inertia_2_15 * e7 + (e8 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3)) + original_acceleration_1_3;
   const float X_E_3_1 = state.X_E_3_1;
   const float bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const float e12 = X_E_3_0 * e10 - X_E_3_1 * e11 - bias_acceleration_3_4_term;
+  const float e11 = e9 * X_E_3_0 - e10 * X_E_3_1 - bias_acceleration_3_4_term;
   const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const float e13 = X_E_3_1 * e10 + e11 * X_E_3_0 + bias_acceleration_3_3;
+  const float e12 = bias_acceleration_3_3 + (X_E_3_1 * e9 + e10 * X_E_3_0);
   const float articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const float bias_force_3_2 = state.bias_force_3_2;
   const float articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const float e14 = (beta_0 - (e12 + 0.3f * (e8 + 35.876583f * (0.3f * e6 + articulated_force_tau_ff_2_2_term - (0.027873334f * e8 + (0.125f * e12 - 0.004f * e13) + bias_force_3_2 - articulated_force_tool_load_3_2_term_2)))) + beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const float e15 = original_nu_0_term_2 * (beta_1 + (beta_1 + e13) - base_acceleration_energy_1 - original_conf_energy_1);
-  float e16;
-  float e17;
-  if (1.0f > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const float original_nu_0_term_4 = state.original_nu_0_term_4;
-    const float original_nu_0_term_5 = state.original_nu_0_term_5;
-    const float e18 = (e15 - original_nu_0_term_4 * e14) * original_nu_0_term_5;
+  const float e13 = beta_0 - (e11 + 0.3f * (35.876583f * (articulated_force_tau_ff_2_2_term + 0.3f * e2 - (0.125f * e11 - 0.004f * e12 + 0.027873334f * e7 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2)) + e7)) + beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
+  const float e14 = beta_1 + (e12 + beta_1) - base_acceleration_energy_1 - original_conf_energy_1;
+  float nu_0;
+  float nu_1;
+  if (1.0f > original_nu_0_term_4) {  // (C4): the path the condition picks
+    const float original_nu_0_term_2 = state.original_nu_0_term_2;
     const float original_nu_0_term_3 = state.original_nu_0_term_3;
-    e16 = e14 * original_nu_0_term_3 - original_nu_0_term_4 * e18;
-    e17 = e18;
+    const float e17 = (e14 - e13 * original_nu_0_term_2) * original_nu_0_term_3;
+    const float original_nu_0_term = state.original_nu_0_term;
+    nu_0 = original_nu_0_term * e13 - e17 * original_nu_0_term_2;
+    nu_1 = e17;
   } else {
+    const float original_nu_0_term_5 = state.original_nu_0_term_5;
+    const float e18 = original_nu_0_term_5 * e13;
+    const float original_nu_0_term_7 = state.original_nu_0_term_7;
     const float original_nu_0_term_8 = state.original_nu_0_term_8;
     const float original_nu_0_term_9 = state.original_nu_0_term_9;
-    const float e19 = (e15 - e14 * original_nu_0_term_8) * original_nu_0_term_9;
-    const float original_nu_0_term_7 = state.original_nu_0_term_7;
-    e16 = original_nu_0_term_7 * e14 - e19 * original_nu_0_term_8;
-    e17 = e19;
+    const float e19 = (e14 * original_nu_0_term_7 - original_nu_0_term_8 * e18) * original_nu_0_term_9;
+    const float original_nu_0_term_6 = state.original_nu_0_term_6;
+    nu_0 = original_nu_0_term_5 * (original_nu_0_term_6 * e18 - original_nu_0_term_8 * e19);
+    nu_1 = original_nu_0_term_7 * e19;
   }
-  const float nu_0 = original_nu_0_term * e16;
   out.nu[0] = nu_0;
-  const float nu_1 = original_nu_0_term_2 * e17;
   out.nu[1] = nu_1;
   // qdd: joint acceleration qdd_i (S4)
-  const float tau_ctrl_0 = nu_0 * constraint_row_1_0 + nu_1 * constraint_row_1_1;
+  const float tau_ctrl_0 = constraint_row_1_0 * nu_0 + nu_1 * constraint_row_1_1;
   out.tau_ctrl[0] = tau_ctrl_0;
   const float qdd_0 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + tau_ctrl_0 - original_nu_0_term_12);
   out.qdd[0] = qdd_0;
-  const float acceleration_2_4 = bias_acceleration_2_4 + (qdd_0 * X_r_2_0 + original_acceleration_1_4);
+  const float acceleration_2_4 = original_acceleration_1_4 + qdd_0 * X_r_2_0 + bias_acceleration_2_4;
   const float e20 = nu_1 * X_E_3_0;
-  const float tau_ctrl_1 = nu_0 * constraint_row_2_0 - e20;
+  const float tau_ctrl_1 = constraint_row_2_0 * nu_0 - e20;
   out.tau_ctrl[1] = tau_ctrl_1;
-  const float qdd_1 = (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_force_tau_ff_2_3 + (articulated_inertia_2_15 * qdd_0 + (articulated_inertia_2_19 * acceleration_2_4 + original_nu_0_term_13) + articulated_force_bias_2_3)))) * inverse_D_2_0;
+  const float qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tau_ff_2_3 + (articulated_inertia_2_15 * qdd_0 + (original_nu_0_term_13 + acceleration_2_4 * articulated_inertia_2_19) + articulated_force_bias_2_3) + articulated_force_tool_load_2_3));
   out.qdd[1] = qdd_1;
   const float e21 = acceleration_2_4 + 0.4f * qdd_0;
   const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
-  const float acceleration_3_4 = e21 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - bias_acceleration_3_4_term;
-  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e21 + acceleration_2_3 * X_E_3_0);
+  const float acceleration_3_4 = e21 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - bias_acceleration_3_4_term;
+  const float acceleration_3_3 = X_E_3_1 * e21 + acceleration_2_3 * X_E_3_0 + bias_acceleration_3_3;
   const float tau_ctrl_2 = 0.3f * nu_0;
   out.tau_ctrl[2] = tau_ctrl_2;
   const float tau_cmd_2 = articulated_force_tau_ff_2_2_term + tau_ctrl_2;
@@ -1489,9 +1487,9 @@ void solve_original([[maybe_unused]] const State& state, [[maybe_unused]] const 
   out.qdd[2] = qdd_2;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
   const float e22 = nu_0 * X_E_3_0 - nu_1 * X_E_3_1;
-  const float tau_cmd_0 = acceleration_energy_tau_ff_0_0_term + (e22 * X_r_2_0 + (0.4f * e22 + tau_ctrl_2));
+  const float tau_cmd_0 = acceleration_energy_tau_ff_0_0_term + (0.4f * e22 + tau_ctrl_2 + e22 * X_r_2_0);
   out.tau_cmd[0] = tau_cmd_0;
-  const float tau_cmd_1 = articulated_force_tau_ff_1_3 + (-e20 - nu_0 * X_E_3_1);
+  const float tau_cmd_1 = articulated_force_tau_ff_1_3 + (-e20 - X_E_3_1 * nu_0);
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
   const float tip_acceleration_2 = qdd_2 + qdd_0;
@@ -1545,43 +1543,42 @@ void solve_prioritize_external([[maybe_unused]] const State& state, [[maybe_unus
 
   // ==== solver sweep ====
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const float original_nu_0_term = state.original_nu_0_term;
   const float beta_0 = beta[0];
   const float base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const float prioritize_external_conf_energy_0 = state.prioritize_external_conf_energy_0;
-  const float e0 = original_nu_0_term * (beta_0 - base_acceleration_energy_0 - prioritize_external_conf_energy_0);
+  const float e0 = beta_0 - base_acceleration_energy_0 - prioritize_external_conf_energy_0;
   const float beta_1 = beta[1];
   const float base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const float prioritize_external_conf_energy_1 = state.prioritize_external_conf_energy_1;
-  const float original_nu_0_term_2 = state.original_nu_0_term_2;
-  const float e1 = (beta_1 - base_acceleration_energy_1 - prioritize_external_conf_energy_1) * original_nu_0_term_2;
-  float e2;
-  float e3;
-  const float original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0f > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const float original_nu_0_term_4 = state.original_nu_0_term_4;
-    const float original_nu_0_term_5 = state.original_nu_0_term_5;
-    const float e4 = (e1 - original_nu_0_term_4 * e0) * original_nu_0_term_5;
+  const float e1 = beta_1 - base_acceleration_energy_1 - prioritize_external_conf_energy_1;
+  float nu_0;
+  float nu_1;
+  const float original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0f > original_nu_0_term_4) {  // (C4): the path the condition picks
+    const float original_nu_0_term_2 = state.original_nu_0_term_2;
     const float original_nu_0_term_3 = state.original_nu_0_term_3;
-    e2 = e0 * original_nu_0_term_3 - e4 * original_nu_0_term_4;
-    e3 = e4;
+    const float e4 = (e1 - e0 * original_nu_0_term_2) * original_nu_0_term_3;
+    const float original_nu_0_term = state.original_nu_0_term;
+    nu_0 = original_nu_0_term * e0 - e4 * original_nu_0_term_2;
+    nu_1 = e4;
   } else {
+    const float original_nu_0_term_5 = state.original_nu_0_term_5;
+    const float e5 = original_nu_0_term_5 * e0;
+    const float original_nu_0_term_7 = state.original_nu_0_term_7;
     const float original_nu_0_term_8 = state.original_nu_0_term_8;
     const float original_nu_0_term_9 = state.original_nu_0_term_9;
-    const float e5 = (e1 - e0 * original_nu_0_term_8) * original_nu_0_term_9;
-    const float original_nu_0_term_7 = state.original_nu_0_term_7;
-    e2 = original_nu_0_term_7 * e0 - e5 * original_nu_0_term_8;
-    e3 = e5;
+    const float e6 = (e1 * original_nu_0_term_7 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
+    const float original_nu_0_term_6 = state.original_nu_0_term_6;
+    nu_0 = original_nu_0_term_5 * (original_nu_0_term_6 * e5 - e6 * original_nu_0_term_8);
+    nu_1 = e6 * original_nu_0_term_7;
   }
-  const float nu_0 = e2 * original_nu_0_term;
   out.nu[0] = nu_0;
-  const float nu_1 = e3 * original_nu_0_term_2;
   out.nu[1] = nu_1;
   // qdd: joint acceleration qdd_i (S4)
   const float constraint_row_1_0 = state.constraint_row_1_0;
   const float constraint_row_1_1 = state.constraint_row_1_1;
   const float articulated_force_tool_load_1_2 = state.articulated_force_tool_load_1_2;
-  const float tau_ctrl_0 = constraint_row_1_0 * nu_0 + constraint_row_1_1 * nu_1 - articulated_force_tool_load_1_2;
+  const float tau_ctrl_0 = constraint_row_1_0 * nu_0 + nu_1 * constraint_row_1_1 - articulated_force_tool_load_1_2;
   out.tau_ctrl[0] = tau_ctrl_0;
   const float inverse_D_1_0 = state.inverse_D_1_0;
   const float acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
@@ -1591,12 +1588,12 @@ void solve_prioritize_external([[maybe_unused]] const State& state, [[maybe_unus
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
   const float X_r_2_0 = state.X_r_2_0;
   const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const float acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
+  const float acceleration_2_4 = original_acceleration_1_4 + qdd_0 * X_r_2_0 + bias_acceleration_2_4;
   const float X_E_3_0 = state.X_E_3_0;
-  const float e6 = nu_1 * X_E_3_0;
+  const float e7 = nu_1 * X_E_3_0;
   const float constraint_row_2_0 = state.constraint_row_2_0;
   const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
-  const float tau_ctrl_1 = nu_0 * constraint_row_2_0 - e6 - articulated_force_tool_load_2_3;
+  const float tau_ctrl_1 = nu_0 * constraint_row_2_0 - e7 - articulated_force_tool_load_2_3;
   out.tau_ctrl[1] = tau_ctrl_1;
   const float inverse_D_2_0 = state.inverse_D_2_0;
   const float articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
@@ -1607,32 +1604,32 @@ void solve_prioritize_external([[maybe_unused]] const State& state, [[maybe_unus
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const float qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tau_ff_2_3 + (articulated_inertia_2_15 * qdd_0 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3)));
   out.qdd[1] = qdd_1;
-  const float e7 = acceleration_2_4 + 0.4f * qdd_0;
+  const float e8 = acceleration_2_4 + 0.4f * qdd_0;
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
-  const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
-  const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
+  const float acceleration_2_3 = original_acceleration_1_3 + qdd_1;
   const float X_E_3_1 = state.X_E_3_1;
-  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e7 + acceleration_2_3 * X_E_3_0);
   const float bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const float acceleration_3_4 = X_E_3_0 * e7 - X_E_3_1 * acceleration_2_3 - bias_acceleration_3_4_term;
-  const float e8 = 0.3f * nu_0;
+  const float acceleration_3_4 = e8 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - bias_acceleration_3_4_term;
+  const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
+  const float acceleration_3_3 = bias_acceleration_3_3 + (X_E_3_1 * e8 + acceleration_2_3 * X_E_3_0);
+  const float e9 = 0.3f * nu_0;
   const float articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const float tau_ctrl_2 = articulated_force_tool_load_3_2_term_2 + e8;
+  const float tau_ctrl_2 = articulated_force_tool_load_3_2_term_2 + e9;
   out.tau_ctrl[2] = tau_ctrl_2;
   const float articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const float bias_force_3_2 = state.bias_force_3_2;
-  const float qdd_2 = 35.876583f * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (0.027873334f * qdd_0 + (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3) + bias_force_3_2));
+  const float qdd_2 = 35.876583f * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3 + 0.027873334f * qdd_0 + bias_force_3_2));
   out.qdd[2] = qdd_2;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
-  const float e9 = nu_0 * X_E_3_0 - X_E_3_1 * nu_1;
-  const float tau_cmd_0 = acceleration_energy_tau_ff_0_0_term + (0.4f * e9 + e8 + e9 * X_r_2_0);
+  const float e10 = nu_0 * X_E_3_0 - nu_1 * X_E_3_1;
+  const float tau_cmd_0 = e9 + 0.4f * e10 + X_r_2_0 * e10 + acceleration_energy_tau_ff_0_0_term;
   out.tau_cmd[0] = tau_cmd_0;
-  const float tau_cmd_1 = -e6 - nu_0 * X_E_3_1 + articulated_force_tau_ff_1_3;
+  const float tau_cmd_1 = articulated_force_tau_ff_1_3 + (-e7 - nu_0 * X_E_3_1);
   out.tau_cmd[1] = tau_cmd_1;
-  const float tau_cmd_2 = articulated_force_tau_ff_2_2_term + e8;
+  const float tau_cmd_2 = articulated_force_tau_ff_2_2_term + e9;
   out.tau_cmd[2] = tau_cmd_2;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
-  const float tip_acceleration_2 = qdd_2 + qdd_0;
+  const float tip_acceleration_2 = qdd_0 + qdd_2;
   out.tip_acceleration[2] = tip_acceleration_2;
   const float tip_acceleration_3 = acceleration_3_4 + 0.3f * tip_acceleration_2;
   out.tip_acceleration[3] = tip_acceleration_3;
@@ -1686,40 +1683,39 @@ void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const float beta_0 = beta[0];
   const float base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const float original_conf_energy_0 = state.original_conf_energy_0;
-  const float original_nu_0_term = state.original_nu_0_term;
-  const float e0 = (beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const float original_nu_0_term_2 = state.original_nu_0_term_2;
+  const float e0 = beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
   const float beta_1 = beta[1];
   const float base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const float original_conf_energy_1 = state.original_conf_energy_1;
-  const float e1 = original_nu_0_term_2 * (beta_1 - base_acceleration_energy_1 - original_conf_energy_1);
-  float e2;
-  float e3;
-  const float original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0f > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const float original_nu_0_term_5 = state.original_nu_0_term_5;
-    const float original_nu_0_term_4 = state.original_nu_0_term_4;
-    const float e4 = original_nu_0_term_5 * (e1 - original_nu_0_term_4 * e0);
+  const float e1 = beta_1 - base_acceleration_energy_1 - original_conf_energy_1;
+  float nu_0;
+  float nu_1;
+  const float original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0f > original_nu_0_term_4) {  // (C4): the path the condition picks
     const float original_nu_0_term_3 = state.original_nu_0_term_3;
-    e2 = e0 * original_nu_0_term_3 - original_nu_0_term_4 * e4;
-    e3 = e4;
+    const float original_nu_0_term_2 = state.original_nu_0_term_2;
+    const float e4 = original_nu_0_term_3 * (e1 - e0 * original_nu_0_term_2);
+    const float original_nu_0_term = state.original_nu_0_term;
+    nu_0 = e0 * original_nu_0_term - e4 * original_nu_0_term_2;
+    nu_1 = e4;
   } else {
+    const float original_nu_0_term_5 = state.original_nu_0_term_5;
+    const float e5 = e0 * original_nu_0_term_5;
+    const float original_nu_0_term_7 = state.original_nu_0_term_7;
     const float original_nu_0_term_8 = state.original_nu_0_term_8;
     const float original_nu_0_term_9 = state.original_nu_0_term_9;
-    const float e5 = (e1 - e0 * original_nu_0_term_8) * original_nu_0_term_9;
-    const float original_nu_0_term_7 = state.original_nu_0_term_7;
-    e2 = original_nu_0_term_7 * e0 - e5 * original_nu_0_term_8;
-    e3 = e5;
+    const float e6 = (original_nu_0_term_7 * e1 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
+    const float original_nu_0_term_6 = state.original_nu_0_term_6;
+    nu_0 = (original_nu_0_term_6 * e5 - e6 * original_nu_0_term_8) * original_nu_0_term_5;
+    nu_1 = original_nu_0_term_7 * e6;
   }
-  const float nu_0 = original_nu_0_term * e2;
   out.nu[0] = nu_0;
-  const float nu_1 = original_nu_0_term_2 * e3;
   out.nu[1] = nu_1;
   const float constraint_row_1_0 = state.constraint_row_1_0;
   const float constraint_row_1_1 = state.constraint_row_1_1;
-  const float e6 = constraint_row_1_0 * nu_0 + nu_1 * constraint_row_1_1;
+  const float e7 = constraint_row_1_0 * nu_0 + constraint_row_1_1 * nu_1;
   // qdd: joint acceleration qdd_i (S4)
-  const float tau_ctrl_0 = std::min<float>(50.0f, std::max<float>(-50.0f, e6));
+  const float tau_ctrl_0 = std::min<float>(std::max<float>(-50.0f, e7), 50.0f);
   out.tau_ctrl[0] = tau_ctrl_0;
   const float inverse_D_1_0 = state.inverse_D_1_0;
   const float acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
@@ -1729,15 +1725,14 @@ void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const 
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
   const float constraint_row_2_0 = state.constraint_row_2_0;
   const float X_E_3_0 = state.X_E_3_0;
-  const float e7 = constraint_row_2_0 * nu_0 - nu_1 * X_E_3_0;
+  const float e8 = constraint_row_2_0 * nu_0 - X_E_3_0 * nu_1;
   // qdd: joint acceleration qdd_i (S4)
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
   const float X_r_2_0 = state.X_r_2_0;
   const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
   const float acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
-  const float tau_ctrl_1 = std::min<float>(100.0f, std::max<float>(e7, -100.0f));
+  const float tau_ctrl_1 = std::min<float>(100.0f, std::max<float>(e8, -100.0f));
   out.tau_ctrl[1] = tau_ctrl_1;
-  const float inverse_D_2_0 = state.inverse_D_2_0;
   const float articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
   const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
@@ -1745,45 +1740,46 @@ void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const float original_nu_0_term_13 = state.original_nu_0_term_13;
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
-  const float qdd_1 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_inertia_2_15 * qdd_0 + (articulated_inertia_2_19 * acceleration_2_4 + original_nu_0_term_13) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3)));
+  const float inverse_D_2_0 = state.inverse_D_2_0;
+  const float qdd_1 = (articulated_force_tau_ff_1_3 + tau_ctrl_1 - (articulated_force_tool_load_2_3 + (articulated_inertia_2_15 * qdd_0 + (articulated_inertia_2_19 * acceleration_2_4 + original_nu_0_term_13) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3))) * inverse_D_2_0;
   out.qdd[1] = qdd_1;
-  const float e8 = acceleration_2_4 + 0.4f * qdd_0;
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
   const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
+  const float e9 = acceleration_2_4 + 0.4f * qdd_0;
   const float X_E_3_1 = state.X_E_3_1;
   const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const float acceleration_3_3 = X_E_3_1 * e8 + acceleration_2_3 * X_E_3_0 + bias_acceleration_3_3;
+  const float acceleration_3_3 = acceleration_2_3 * X_E_3_0 + X_E_3_1 * e9 + bias_acceleration_3_3;
   const float bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const float acceleration_3_4 = e8 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - bias_acceleration_3_4_term;
-  const float e9 = 0.125f * acceleration_3_4 - 0.004f * acceleration_3_3;
+  const float acceleration_3_4 = e9 * X_E_3_0 - acceleration_2_3 * X_E_3_1 - bias_acceleration_3_4_term;
+  const float e10 = 0.125f * acceleration_3_4 - 0.004f * acceleration_3_3;
   // nu: constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says (S2, C1, C2, C3, C4)
-  const float e10 = 0.3f * nu_0;
+  const float e11 = 0.3f * nu_0;
   // qdd: joint acceleration qdd_i (S4)
-  const float tau_ctrl_2 = std::min<float>(std::max<float>(e10, -20.0f), 20.0f);
+  const float tau_ctrl_2 = std::min<float>(std::max<float>(e11, -20.0f), 20.0f);
   out.tau_ctrl[2] = tau_ctrl_2;
   const float articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const float bias_force_3_2 = state.bias_force_3_2;
   const float articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const float qdd_2 = 35.876583f * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (e9 + 0.027873334f * qdd_0 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
+  const float qdd_2 = 35.876583f * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (e10 + 0.027873334f * qdd_0 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
   out.qdd[2] = qdd_2;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
   const float tip_acceleration_2 = qdd_2 + qdd_0;
   out.tip_acceleration[2] = tip_acceleration_2;
   const float articulated_force_tool_load_3_3 = state.articulated_force_tool_load_3_3;
   const float bias_force_3_3_term = state.bias_force_3_3_term;
-  const float e11 = articulated_force_tool_load_3_3 + (0.7f * acceleration_3_3 - 0.004f * tip_acceleration_2 - bias_force_3_3_term);
+  const float e12 = articulated_force_tool_load_3_3 + (0.7f * acceleration_3_3 - 0.004f * tip_acceleration_2 - bias_force_3_3_term);
   const float bias_force_3_4 = state.bias_force_3_4;
   const float articulated_force_tool_load_3_2_term = state.articulated_force_tool_load_3_2_term;
-  const float e12 = bias_force_3_4 + (0.7f * acceleration_3_4 + 0.125f * tip_acceleration_2) - articulated_force_tool_load_3_2_term;
-  const float e13 = X_E_3_1 * e11 + e12 * X_E_3_0;
-  const float tau_cmd_2 = 0.027873334f * tip_acceleration_2 + e9 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2;
+  const float e13 = bias_force_3_4 + (0.125f * tip_acceleration_2 + 0.7f * acceleration_3_4) - articulated_force_tool_load_3_2_term;
+  const float e14 = e12 * X_E_3_1 + X_E_3_0 * e13;
+  const float tau_cmd_2 = bias_force_3_2 + (e10 + 0.027873334f * tip_acceleration_2) - articulated_force_tool_load_3_2_term_2;
   out.tau_cmd[2] = tau_cmd_2;
   const float saturate_tau_cmd_0_term = state.saturate_tau_cmd_0_term;
   const float bias_force_2_2 = state.bias_force_2_2;
-  const float tau_cmd_0 = 0.16708334f * qdd_0 + saturate_tau_cmd_0_term + (0.053466666f * qdd_0 + 0.2f * acceleration_2_4 + bias_force_2_2 + (0.4f * e13 + tau_cmd_2) + (e13 + (0.2f * qdd_0 + acceleration_2_4 + bias_acceleration_2_4)) * X_r_2_0) + 0.01f * qdd_0;
+  const float tau_cmd_0 = 0.16708334f * qdd_0 + saturate_tau_cmd_0_term + (0.2f * acceleration_2_4 + 0.053466666f * qdd_0 + bias_force_2_2 + (tau_cmd_2 + 0.4f * e14) + X_r_2_0 * (0.2f * qdd_0 + acceleration_2_4 + bias_acceleration_2_4 + e14)) + 0.01f * qdd_0;
   out.tau_cmd[0] = tau_cmd_0;
   const float bias_force_2_3_term = state.bias_force_2_3_term;
-  const float tau_cmd_1 = acceleration_2_3 - bias_force_2_3_term + (e11 * X_E_3_0 - X_E_3_1 * e12);
+  const float tau_cmd_1 = e12 * X_E_3_0 - X_E_3_1 * e13 + (acceleration_2_3 - bias_force_2_3_term);
   out.tau_cmd[1] = tau_cmd_1;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
   const float tip_acceleration_3 = acceleration_3_4 + 0.3f * tip_acceleration_2;
@@ -1791,11 +1787,11 @@ void solve_saturate([[maybe_unused]] const State& state, [[maybe_unused]] const 
   const float tip_acceleration_4 = -acceleration_3_3;
   out.tip_acceleration[4] = tip_acceleration_4;
   // saturated: whether the policy clamped joint i's torque (S3, X1)
-  const float saturated_0 = std::abs(e6) > 50.0f ? 1.0f : 0.0f;
+  const float saturated_0 = std::abs(e7) > 50.0f ? 1.0f : 0.0f;
   out.saturated[0] = saturated_0 != 0;
-  const float saturated_1 = std::abs(e7) > 100.0f ? 1.0f : 0.0f;
+  const float saturated_1 = std::abs(e8) > 100.0f ? 1.0f : 0.0f;
   out.saturated[1] = saturated_1 != 0;
-  const float saturated_2 = std::abs(e10) > 20.0f ? 1.0f : 0.0f;
+  const float saturated_2 = std::abs(e11) > 20.0f ? 1.0f : 0.0f;
   out.saturated[2] = saturated_2 != 0;
 
   // Values computed before this function, and constants.
@@ -1844,129 +1840,129 @@ void solve_saturate_exact([[maybe_unused]] const State& state, [[maybe_unused]] 
   const float beta_0 = beta[0];
   const float base_acceleration_energy_0 = state.base_acceleration_energy_0;
   const float original_conf_energy_0 = state.original_conf_energy_0;
-  const float original_nu_0_term = state.original_nu_0_term;
-  const float e0 = (beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const float original_nu_0_term_2 = state.original_nu_0_term_2;
+  const float e0 = beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
   const float beta_1 = beta[1];
   const float base_acceleration_energy_1 = state.base_acceleration_energy_1;
   const float original_conf_energy_1 = state.original_conf_energy_1;
-  const float e1 = original_nu_0_term_2 * (beta_1 - base_acceleration_energy_1 - original_conf_energy_1);
+  const float e1 = beta_1 - base_acceleration_energy_1 - original_conf_energy_1;
   float e2;
   float e3;
-  const float original_nu_0_term_6 = state.original_nu_0_term_6;
-  if (1.0f > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const float original_nu_0_term_5 = state.original_nu_0_term_5;
-    const float original_nu_0_term_4 = state.original_nu_0_term_4;
-    const float e4 = original_nu_0_term_5 * (e1 - original_nu_0_term_4 * e0);
+  const float original_nu_0_term_4 = state.original_nu_0_term_4;
+  if (1.0f > original_nu_0_term_4) {  // (C4): the path the condition picks
     const float original_nu_0_term_3 = state.original_nu_0_term_3;
-    e2 = e0 * original_nu_0_term_3 - original_nu_0_term_4 * e4;
+    const float original_nu_0_term_2 = state.original_nu_0_term_2;
+    const float e4 = original_nu_0_term_3 * (e1 - e0 * original_nu_0_term_2);
+    const float original_nu_0_term = state.original_nu_0_term;
+    e2 = e0 * original_nu_0_term - e4 * original_nu_0_term_2;
     e3 = e4;
   } else {
+    const float original_nu_0_term_5 = state.original_nu_0_term_5;
+    const float e5 = e0 * original_nu_0_term_5;
+    const float original_nu_0_term_7 = state.original_nu_0_term_7;
     const float original_nu_0_term_8 = state.original_nu_0_term_8;
     const float original_nu_0_term_9 = state.original_nu_0_term_9;
-    const float e5 = (e1 - e0 * original_nu_0_term_8) * original_nu_0_term_9;
-    const float original_nu_0_term_7 = state.original_nu_0_term_7;
-    e2 = original_nu_0_term_7 * e0 - e5 * original_nu_0_term_8;
-    e3 = e5;
+    const float e6 = (original_nu_0_term_7 * e1 - e5 * original_nu_0_term_8) * original_nu_0_term_9;
+    const float original_nu_0_term_6 = state.original_nu_0_term_6;
+    e2 = (original_nu_0_term_6 * e5 - e6 * original_nu_0_term_8) * original_nu_0_term_5;
+    e3 = original_nu_0_term_7 * e6;
   }
-  const float e6 = original_nu_0_term * e2;
-  const float e7 = original_nu_0_term_2 * e3;
   const float inverse_D_1_0 = state.inverse_D_1_0;
   const float acceleration_energy_tau_ff_0_0_term = state.acceleration_energy_tau_ff_0_0_term;
   const float constraint_row_1_0 = state.constraint_row_1_0;
   const float constraint_row_1_1 = state.constraint_row_1_1;
   const float original_nu_0_term_12 = state.original_nu_0_term_12;
-  const float e8 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (constraint_row_1_0 * e6 + e7 * constraint_row_1_1) - original_nu_0_term_12);
+  const float e7 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + (constraint_row_1_0 * e2 + constraint_row_1_1 * e3) - original_nu_0_term_12);
   const float original_acceleration_1_4 = state.original_acceleration_1_4;
   const float X_r_2_0 = state.X_r_2_0;
   const float bias_acceleration_2_4 = state.bias_acceleration_2_4;
-  const float e9 = original_acceleration_1_4 + X_r_2_0 * e8 + bias_acceleration_2_4;
-  const float e10 = e9 + 0.4f * e8;
+  const float e8 = original_acceleration_1_4 + X_r_2_0 * e7 + bias_acceleration_2_4;
+  const float e9 = e8 + 0.4f * e7;
   const float inverse_D_2_0 = state.inverse_D_2_0;
   const float articulated_force_tau_ff_1_3 = state.articulated_force_tau_ff_1_3;
   const float constraint_row_2_0 = state.constraint_row_2_0;
   const float X_E_3_0 = state.X_E_3_0;
   const float articulated_inertia_2_15 = state.articulated_inertia_2_15;
-  const float original_nu_0_term_13 = state.original_nu_0_term_13;
   const float articulated_inertia_2_19 = state.articulated_inertia_2_19;
+  const float original_nu_0_term_13 = state.original_nu_0_term_13;
   const float articulated_force_bias_2_3 = state.articulated_force_bias_2_3;
   const float articulated_force_tau_ff_2_3 = state.articulated_force_tau_ff_2_3;
   const float articulated_force_tool_load_2_3 = state.articulated_force_tool_load_2_3;
   const float original_acceleration_1_3 = state.original_acceleration_1_3;
-  const float e11 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e6 - e7 * X_E_3_0) - (articulated_inertia_2_15 * e8 + (original_nu_0_term_13 + e9 * articulated_inertia_2_19) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3)) + original_acceleration_1_3;
+  const float e10 = inverse_D_2_0 * (articulated_force_tau_ff_1_3 + (constraint_row_2_0 * e2 - X_E_3_0 * e3) - (articulated_inertia_2_15 * e7 + (e8 * articulated_inertia_2_19 + original_nu_0_term_13) + articulated_force_bias_2_3 + articulated_force_tau_ff_2_3 + articulated_force_tool_load_2_3)) + original_acceleration_1_3;
   const float X_E_3_1 = state.X_E_3_1;
   const float bias_acceleration_3_4_term = state.bias_acceleration_3_4_term;
-  const float e12 = X_E_3_0 * e10 - X_E_3_1 * e11 - bias_acceleration_3_4_term;
+  const float e11 = e9 * X_E_3_0 - e10 * X_E_3_1 - bias_acceleration_3_4_term;
   const float bias_acceleration_3_3 = state.bias_acceleration_3_3;
-  const float e13 = X_E_3_1 * e10 + e11 * X_E_3_0 + bias_acceleration_3_3;
+  const float e12 = bias_acceleration_3_3 + (X_E_3_1 * e9 + e10 * X_E_3_0);
   const float articulated_force_tau_ff_2_2_term = state.articulated_force_tau_ff_2_2_term;
   const float bias_force_3_2 = state.bias_force_3_2;
   const float articulated_force_tool_load_3_2_term_2 = state.articulated_force_tool_load_3_2_term_2;
-  const float e14 = (beta_0 - (e12 + 0.3f * (e8 + 35.876583f * (0.3f * e6 + articulated_force_tau_ff_2_2_term - (0.027873334f * e8 + (0.125f * e12 - 0.004f * e13) + bias_force_3_2 - articulated_force_tool_load_3_2_term_2)))) + beta_0 - base_acceleration_energy_0 - original_conf_energy_0) * original_nu_0_term;
-  const float e15 = original_nu_0_term_2 * (beta_1 + (beta_1 + e13) - base_acceleration_energy_1 - original_conf_energy_1);
-  float e16;
-  float e17;
-  if (1.0f > original_nu_0_term_6) {  // (C4): the path the condition picks
-    const float original_nu_0_term_4 = state.original_nu_0_term_4;
-    const float original_nu_0_term_5 = state.original_nu_0_term_5;
-    const float e18 = (e15 - original_nu_0_term_4 * e14) * original_nu_0_term_5;
+  const float e13 = beta_0 - (e11 + 0.3f * (35.876583f * (articulated_force_tau_ff_2_2_term + 0.3f * e2 - (0.125f * e11 - 0.004f * e12 + 0.027873334f * e7 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2)) + e7)) + beta_0 - base_acceleration_energy_0 - original_conf_energy_0;
+  const float e14 = beta_1 + (e12 + beta_1) - base_acceleration_energy_1 - original_conf_energy_1;
+  float nu_0;
+  float nu_1;
+  if (1.0f > original_nu_0_term_4) {  // (C4): the path the condition picks
+    const float original_nu_0_term_2 = state.original_nu_0_term_2;
     const float original_nu_0_term_3 = state.original_nu_0_term_3;
-    e16 = e14 * original_nu_0_term_3 - original_nu_0_term_4 * e18;
-    e17 = e18;
+    const float e17 = (e14 - e13 * original_nu_0_term_2) * original_nu_0_term_3;
+    const float original_nu_0_term = state.original_nu_0_term;
+    nu_0 = original_nu_0_term * e13 - e17 * original_nu_0_term_2;
+    nu_1 = e17;
   } else {
+    const float original_nu_0_term_5 = state.original_nu_0_term_5;
+    const float e18 = original_nu_0_term_5 * e13;
+    const float original_nu_0_term_7 = state.original_nu_0_term_7;
     const float original_nu_0_term_8 = state.original_nu_0_term_8;
     const float original_nu_0_term_9 = state.original_nu_0_term_9;
-    const float e19 = (e15 - e14 * original_nu_0_term_8) * original_nu_0_term_9;
-    const float original_nu_0_term_7 = state.original_nu_0_term_7;
-    e16 = original_nu_0_term_7 * e14 - e19 * original_nu_0_term_8;
-    e17 = e19;
+    const float e19 = (e14 * original_nu_0_term_7 - original_nu_0_term_8 * e18) * original_nu_0_term_9;
+    const float original_nu_0_term_6 = state.original_nu_0_term_6;
+    nu_0 = original_nu_0_term_5 * (original_nu_0_term_6 * e18 - original_nu_0_term_8 * e19);
+    nu_1 = original_nu_0_term_7 * e19;
   }
-  const float nu_0 = original_nu_0_term * e16;
   out.nu[0] = nu_0;
-  const float nu_1 = original_nu_0_term_2 * e17;
   out.nu[1] = nu_1;
   // qdd: joint acceleration qdd_i (S4)
   const float e20 = 0.3f * nu_0;
   // tau_cmd: commanded torque tau_cmd (T1, T2, X1)
   const float e21 = nu_0 * X_E_3_0 - nu_1 * X_E_3_1;
-  const float e22 = acceleration_energy_tau_ff_0_0_term + (e21 * X_r_2_0 + (0.4f * e21 + e20));
-  const float e23 = articulated_force_tau_ff_1_3 + (-(nu_1 * X_E_3_0) - nu_0 * X_E_3_1);
+  const float e22 = acceleration_energy_tau_ff_0_0_term + (0.4f * e21 + e20 + e21 * X_r_2_0);
+  const float e23 = articulated_force_tau_ff_1_3 + (-(nu_1 * X_E_3_0) - X_E_3_1 * nu_0);
   // qdd: joint acceleration qdd_i (S4)
   const float e24 = articulated_force_tau_ff_2_2_term + e20;
-  const float tau_cmd_2 = std::min<float>(std::max<float>(-20.0f, e24), 20.0f);
+  const float tau_cmd_2 = std::min<float>(20.0f, std::max<float>(e24, -20.0f));
   out.tau_cmd[2] = tau_cmd_2;
   const float tau_ctrl_2 = tau_cmd_2 - articulated_force_tau_ff_2_2_term;
   out.tau_ctrl[2] = tau_ctrl_2;
   const float e25 = 35.876583f * tau_ctrl_2;
   const float e26 = -0.004f * e25;
   const float e27 = 0.125f * e25;
-  const float correction_force_2_3 = X_E_3_0 * e26 - e27 * X_E_3_1;
+  const float correction_force_2_3 = e26 * X_E_3_0 - X_E_3_1 * e27;
   const float correction_force_2_4 = e27 * X_E_3_0 + X_E_3_1 * e26;
-  const float tau_cmd_1 = std::min<float>(100.0f, std::max<float>(-100.0f, e23));
+  const float tau_cmd_1 = std::min<float>(std::max<float>(-100.0f, e23), 100.0f);
   out.tau_cmd[1] = tau_cmd_1;
   const float tau_ctrl_1 = tau_cmd_1 - articulated_force_tau_ff_1_3;
   out.tau_ctrl[1] = tau_ctrl_1;
   const float e28 = (tau_ctrl_1 - correction_force_2_3) * inverse_D_2_0;
-  const float correction_force_2_2 = 0.4f * correction_force_2_4 + tau_ctrl_2;
   const float correction_force_1_4 = e28 * articulated_inertia_2_19 + correction_force_2_4;
-  const float correction_force_1_2 = e28 * articulated_inertia_2_15 + correction_force_2_2 + correction_force_1_4 * X_r_2_0;
-  const float tau_cmd_0 = std::min<float>(std::max<float>(-50.0f, e22), 50.0f);
+  const float correction_force_2_2 = 0.4f * correction_force_2_4 + tau_ctrl_2;
+  const float correction_force_1_2 = X_r_2_0 * correction_force_1_4 + (correction_force_2_2 + articulated_inertia_2_15 * e28);
+  const float tau_cmd_0 = std::min<float>(50.0f, std::max<float>(-50.0f, e22));
   out.tau_cmd[0] = tau_cmd_0;
   const float tau_ctrl_0 = tau_cmd_0 - acceleration_energy_tau_ff_0_0_term;
   out.tau_ctrl[0] = tau_ctrl_0;
-  const float qdd_0 = (acceleration_energy_tau_ff_0_0_term + tau_ctrl_0 - (original_nu_0_term_12 + correction_force_1_2)) * inverse_D_1_0;
+  const float qdd_0 = inverse_D_1_0 * (acceleration_energy_tau_ff_0_0_term + tau_ctrl_0 - (original_nu_0_term_12 + correction_force_1_2));
   out.qdd[0] = qdd_0;
   const float acceleration_2_4 = original_acceleration_1_4 + X_r_2_0 * qdd_0 + bias_acceleration_2_4;
-  const float qdd_1 = inverse_D_2_0 * (tau_ctrl_1 + articulated_force_tau_ff_1_3 - (correction_force_2_3 + (articulated_force_tau_ff_2_3 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13 + articulated_inertia_2_15 * qdd_0 + articulated_force_bias_2_3) + articulated_force_tool_load_2_3)));
+  const float qdd_1 = inverse_D_2_0 * (tau_ctrl_1 + articulated_force_tau_ff_1_3 - (articulated_force_tool_load_2_3 + (articulated_force_bias_2_3 + (articulated_inertia_2_15 * qdd_0 + (acceleration_2_4 * articulated_inertia_2_19 + original_nu_0_term_13)) + articulated_force_tau_ff_2_3) + correction_force_2_3));
   out.qdd[1] = qdd_1;
   const float e29 = acceleration_2_4 + 0.4f * qdd_0;
   const float acceleration_2_3 = qdd_1 + original_acceleration_1_3;
-  const float acceleration_3_3 = X_E_3_0 * acceleration_2_3 + e29 * X_E_3_1 + bias_acceleration_3_3;
+  const float acceleration_3_3 = acceleration_2_3 * X_E_3_0 + X_E_3_1 * e29 + bias_acceleration_3_3;
   const float acceleration_3_4 = e29 * X_E_3_0 - X_E_3_1 * acceleration_2_3 - bias_acceleration_3_4_term;
   const float qdd_2 = 35.876583f * (articulated_force_tau_ff_2_2_term + tau_ctrl_2 - (0.125f * acceleration_3_4 - 0.004f * acceleration_3_3 + 0.027873334f * qdd_0 + bias_force_3_2 - articulated_force_tool_load_3_2_term_2));
   out.qdd[2] = qdd_2;
   // tip_acceleration: tip acceleration Xdd_tip (S5)
-  const float tip_acceleration_2 = qdd_2 + qdd_0;
+  const float tip_acceleration_2 = qdd_0 + qdd_2;
   out.tip_acceleration[2] = tip_acceleration_2;
   const float tip_acceleration_3 = acceleration_3_4 + 0.3f * tip_acceleration_2;
   out.tip_acceleration[3] = tip_acceleration_3;

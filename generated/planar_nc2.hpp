@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (783 operations), not the rows r_i outward (I6) (796 operations) (scene: constraint_rows: auto).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (759 operations), not the rows r_i outward (I6) (772 operations) (scene: constraint_rows: auto).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on planar_joint2, planar_joint3.
 //
 // Call order (docs: README, "Generated code"):
@@ -34,34 +34,34 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 73, mul 118, div 4, neg 0, sin/cos 4, compare 7 (total 206)
+//   f64::outward: add 76, mul 114, div 4, neg 0, sin/cos 4, compare 8 (total 206)
 //   f64::decompose: add 28, mul 37, div 0, neg 0, sin/cos 0, compare 0 (total 65)
-//   f64::solve_original: add 76, mul 61, div 0, neg 2, sin/cos 0, compare 2 (total 141)
-//   f64: outward + decompose + solve_original: add 177, mul 216, div 4, neg 2, sin/cos 4, compare 9 (total 412)
-//   f64::solve_prioritize_external: add 41, mul 33, div 0, neg 2, sin/cos 0, compare 1 (total 77)
-//   f64: outward + decompose + solve_prioritize_external: add 142, mul 188, div 4, neg 2, sin/cos 4, compare 8 (total 348)
-//   f64::solve_saturate: add 57, mul 44, div 0, neg 1, sin/cos 0, compare 13 (total 115)
-//   f64: outward + decompose + solve_saturate: add 158, mul 199, div 4, neg 1, sin/cos 4, compare 20 (total 386)
-//   f64::solve_saturate_exact: add 87, mul 70, div 0, neg 2, sin/cos 0, compare 14 (total 173)
-//   f64: outward + decompose + solve_saturate_exact: add 188, mul 225, div 4, neg 2, sin/cos 4, compare 21 (total 444)
-//   f64, pivoted path: outward + decompose + solve_original: add 181, mul 220, div 6, neg 2, sin/cos 4, compare 13 (total 426)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 146, mul 192, div 6, neg 2, sin/cos 4, compare 12 (total 362)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 162, mul 203, div 6, neg 1, sin/cos 4, compare 24 (total 400)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 192, mul 229, div 6, neg 2, sin/cos 4, compare 25 (total 458)
-//   f32::outward: add 73, mul 118, div 4, neg 0, sin/cos 4, compare 7 (total 206)
+//   f64::solve_original: add 76, mul 53, div 0, neg 2, sin/cos 0, compare 2 (total 133)
+//   f64: outward + decompose + solve_original: add 180, mul 204, div 4, neg 2, sin/cos 4, compare 10 (total 404)
+//   f64::solve_prioritize_external: add 41, mul 29, div 0, neg 2, sin/cos 0, compare 1 (total 73)
+//   f64: outward + decompose + solve_prioritize_external: add 145, mul 180, div 4, neg 2, sin/cos 4, compare 9 (total 344)
+//   f64::solve_saturate: add 57, mul 40, div 0, neg 1, sin/cos 0, compare 13 (total 111)
+//   f64: outward + decompose + solve_saturate: add 161, mul 191, div 4, neg 1, sin/cos 4, compare 21 (total 382)
+//   f64::solve_saturate_exact: add 87, mul 62, div 0, neg 2, sin/cos 0, compare 14 (total 165)
+//   f64: outward + decompose + solve_saturate_exact: add 191, mul 213, div 4, neg 2, sin/cos 4, compare 22 (total 436)
+//   f64, pivoted path: outward + decompose + solve_original: add 184, mul 222, div 6, neg 2, sin/cos 4, compare 16 (total 434)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 149, mul 194, div 6, neg 2, sin/cos 4, compare 15 (total 370)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 165, mul 205, div 6, neg 1, sin/cos 4, compare 27 (total 408)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 195, mul 231, div 6, neg 2, sin/cos 4, compare 28 (total 466)
+//   f32::outward: add 76, mul 114, div 4, neg 0, sin/cos 4, compare 8 (total 206)
 //   f32::decompose: add 28, mul 37, div 0, neg 0, sin/cos 0, compare 0 (total 65)
-//   f32::solve_original: add 76, mul 61, div 0, neg 2, sin/cos 0, compare 2 (total 141)
-//   f32: outward + decompose + solve_original: add 177, mul 216, div 4, neg 2, sin/cos 4, compare 9 (total 412)
-//   f32::solve_prioritize_external: add 41, mul 33, div 0, neg 2, sin/cos 0, compare 1 (total 77)
-//   f32: outward + decompose + solve_prioritize_external: add 142, mul 188, div 4, neg 2, sin/cos 4, compare 8 (total 348)
-//   f32::solve_saturate: add 57, mul 44, div 0, neg 1, sin/cos 0, compare 13 (total 115)
-//   f32: outward + decompose + solve_saturate: add 158, mul 199, div 4, neg 1, sin/cos 4, compare 20 (total 386)
-//   f32::solve_saturate_exact: add 87, mul 70, div 0, neg 2, sin/cos 0, compare 14 (total 173)
-//   f32: outward + decompose + solve_saturate_exact: add 188, mul 225, div 4, neg 2, sin/cos 4, compare 21 (total 444)
-//   f32, pivoted path: outward + decompose + solve_original: add 181, mul 220, div 6, neg 2, sin/cos 4, compare 13 (total 426)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 146, mul 192, div 6, neg 2, sin/cos 4, compare 12 (total 362)
-//   f32, pivoted path: outward + decompose + solve_saturate: add 162, mul 203, div 6, neg 1, sin/cos 4, compare 24 (total 400)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 192, mul 229, div 6, neg 2, sin/cos 4, compare 25 (total 458)
+//   f32::solve_original: add 76, mul 53, div 0, neg 2, sin/cos 0, compare 2 (total 133)
+//   f32: outward + decompose + solve_original: add 180, mul 204, div 4, neg 2, sin/cos 4, compare 10 (total 404)
+//   f32::solve_prioritize_external: add 41, mul 29, div 0, neg 2, sin/cos 0, compare 1 (total 73)
+//   f32: outward + decompose + solve_prioritize_external: add 145, mul 180, div 4, neg 2, sin/cos 4, compare 9 (total 344)
+//   f32::solve_saturate: add 57, mul 40, div 0, neg 1, sin/cos 0, compare 13 (total 111)
+//   f32: outward + decompose + solve_saturate: add 161, mul 191, div 4, neg 1, sin/cos 4, compare 21 (total 382)
+//   f32::solve_saturate_exact: add 87, mul 62, div 0, neg 2, sin/cos 0, compare 14 (total 165)
+//   f32: outward + decompose + solve_saturate_exact: add 191, mul 213, div 4, neg 2, sin/cos 4, compare 22 (total 436)
+//   f32, pivoted path: outward + decompose + solve_original: add 184, mul 222, div 6, neg 2, sin/cos 4, compare 16 (total 434)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 149, mul 194, div 6, neg 2, sin/cos 4, compare 15 (total 370)
+//   f32, pivoted path: outward + decompose + solve_saturate: add 165, mul 205, div 6, neg 1, sin/cos 4, compare 27 (total 408)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 195, mul 231, div 6, neg 2, sin/cos 4, compare 28 (total 466)
 #pragma once
 
 namespace planar_nc2 {
@@ -139,16 +139,16 @@ struct State {
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
-  Scalar original_nu_0_term_5;
-  Scalar original_nu_0_term_6;
+  Scalar original_acceleration_1_4;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
+  Scalar original_nu_0_term_5;
+  Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
   Scalar original_nu_0_term_8;
   Scalar original_nu_0_term_9;
-  Scalar original_acceleration_1_4;
   Scalar original_nu_0_term_10;
   Scalar original_nu_0_term_11;
   Scalar original_nu_0_term_12;
@@ -281,13 +281,13 @@ struct State {
   Scalar original_nu_0_term_2;
   Scalar original_nu_0_term_3;
   Scalar original_nu_0_term_4;
-  Scalar original_nu_0_term_5;
-  Scalar original_nu_0_term_6;
   Scalar original_acceleration_1_4;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
   Scalar original_conf_energy_1;
+  Scalar original_nu_0_term_5;
+  Scalar original_nu_0_term_6;
   Scalar original_nu_0_term_7;
   Scalar original_nu_0_term_8;
   Scalar original_nu_0_term_9;

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (9113 operations), not the rows r_i outward (I6) (9945 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
+// Constraint rows r_i = S_i^T F^A_cstr,i: columns F^A_cstr,i inward (I2) (8897 operations), not the rows r_i outward (I6) (9729 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: lock test (J1) on floating_base_rx, floating_base_ry, floating_base_rz, floating_base_px, floating_base_py (the others cannot lock, J2); S_i^T P_i^T = 0 written exactly on floating_base_pz, FL_hip_joint, FL_thigh_joint, FL_calf_joint, FR_hip_joint, FR_thigh_joint, FR_calf_joint, RL_hip_joint, RL_thigh_joint, RL_calf_joint, RR_hip_joint, RR_thigh_joint, RR_calf_joint.
 //
 // Call order (docs: README, "Generated code"):
@@ -54,11 +54,11 @@
 //   the inertia tensors about their link origins of link 'trunk', link 'FL_calf', link 'FR_calf', link 'RL_calf', link 'RR_calf' made exactly symmetric (the upper triangle mirrored; the rounding of R I R^T - m c x c x had made them differ by at most 1.35525e-20 kg m^2)
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 2657, mul 3742, div 38, neg 36, sin/cos 24, compare 65 (total 6562)
+//   f64::outward: add 2680, mul 3550, div 38, neg 36, sin/cos 24, compare 66 (total 6394)
 //   f64::decompose: add 350, mul 281, div 0, neg 0, sin/cos 0, compare 0 (total 631)
-//   f64::solve_original: add 970, mul 926, div 0, neg 0, sin/cos 0, compare 2 (total 1898)
-//   f64: outward + decompose + solve_original: add 3977, mul 4949, div 38, neg 36, sin/cos 24, compare 67 (total 9091)
-//   f64, pivoted path: outward + decompose + solve_original: add 4583, mul 5788, div 50, neg 36, sin/cos 24, compare 1851 (total 12332)
+//   f64::solve_original: add 970, mul 878, div 0, neg 0, sin/cos 0, compare 2 (total 1850)
+//   f64: outward + decompose + solve_original: add 4000, mul 4709, div 38, neg 36, sin/cos 24, compare 68 (total 8875)
+//   f64, pivoted path: outward + decompose + solve_original: add 4606, mul 5752, div 50, neg 36, sin/cos 24, compare 1864 (total 12332)
 #pragma once
 
 namespace quadruped_lean_nc12_fixed {

@@ -6,7 +6,7 @@
 // E^A_cstr,0: equilibrated; LDL^T in the natural order where the diagonal of the inverse it
 // gives shows that the pivoted order would keep every direction (C4), else pivoted LDL^T (C2), relative
 // pivot tolerance 1000 epsilon of the scalar (scene: constraint_factorisation).
-// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (4725 operations), not the columns F^A_cstr,i inward (I2) (4590 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
+// Constraint rows r_i = S_i^T F^A_cstr,i: rows r_i outward (I6) (4629 operations), not the columns F^A_cstr,i inward (I2) (4503 operations) (scene: constraint_rows: auto, the columns' count weighted by 21/20).
 // Joint inertia: no joint can lock (J2), no lock test (J1); S_i^T P_i^T = 0 written exactly on all 6.
 //
 // Call order (docs: README, "Generated code"):
@@ -36,34 +36,34 @@
 //   the quarter-turn rule (docs/derivation.md, F2) takes angles within 1e-10 rad of a multiple of pi/2 as exact; scene key snap_quarter_turns: false (or --no-snap-quarter-turns) takes the URDF literally
 //
 // Floating-point operations (add/sub, mul, div, neg, sin/cos, compare):
-//   f64::outward: add 696, mul 1091, div 11, neg 31, sin/cos 10, compare 19 (total 1858)
+//   f64::outward: add 707, mul 1055, div 11, neg 31, sin/cos 10, compare 20 (total 1834)
 //   f64::decompose: add 243, mul 254, div 0, neg 4, sin/cos 0, compare 0 (total 501)
-//   f64::solve_original: add 336, mul 328, div 0, neg 9, sin/cos 0, compare 2 (total 675)
-//   f64: outward + decompose + solve_original: add 1275, mul 1673, div 11, neg 44, sin/cos 10, compare 21 (total 3034)
-//   f64::solve_prioritize_external: add 179, mul 184, div 0, neg 5, sin/cos 0, compare 1 (total 369)
-//   f64: outward + decompose + solve_prioritize_external: add 1118, mul 1529, div 11, neg 40, sin/cos 10, compare 20 (total 2728)
-//   f64::solve_saturate: add 267, mul 248, div 0, neg 6, sin/cos 0, compare 25 (total 546)
-//   f64: outward + decompose + solve_saturate: add 1206, mul 1593, div 11, neg 41, sin/cos 10, compare 44 (total 2905)
-//   f64::solve_saturate_exact: add 359, mul 352, div 0, neg 9, sin/cos 0, compare 26 (total 746)
-//   f64: outward + decompose + solve_saturate_exact: add 1298, mul 1697, div 11, neg 44, sin/cos 10, compare 45 (total 3105)
-//   f64, pivoted path: outward + decompose + solve_original: add 1321, mul 1749, div 17, neg 44, sin/cos 10, compare 233 (total 3374)
-//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1164, mul 1605, div 17, neg 40, sin/cos 10, compare 192 (total 3028)
-//   f64, pivoted path: outward + decompose + solve_saturate: add 1252, mul 1669, div 17, neg 41, sin/cos 10, compare 216 (total 3205)
-//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1344, mul 1773, div 17, neg 44, sin/cos 10, compare 257 (total 3445)
-//   f32::outward: add 696, mul 1091, div 11, neg 31, sin/cos 10, compare 19 (total 1858)
+//   f64::solve_original: add 336, mul 304, div 0, neg 9, sin/cos 0, compare 2 (total 651)
+//   f64: outward + decompose + solve_original: add 1286, mul 1613, div 11, neg 44, sin/cos 10, compare 22 (total 2986)
+//   f64::solve_prioritize_external: add 179, mul 172, div 0, neg 5, sin/cos 0, compare 1 (total 357)
+//   f64: outward + decompose + solve_prioritize_external: add 1129, mul 1481, div 11, neg 40, sin/cos 10, compare 21 (total 2692)
+//   f64::solve_saturate: add 267, mul 236, div 0, neg 6, sin/cos 0, compare 25 (total 534)
+//   f64: outward + decompose + solve_saturate: add 1217, mul 1545, div 11, neg 41, sin/cos 10, compare 45 (total 2869)
+//   f64::solve_saturate_exact: add 359, mul 328, div 0, neg 9, sin/cos 0, compare 26 (total 722)
+//   f64: outward + decompose + solve_saturate_exact: add 1309, mul 1637, div 11, neg 44, sin/cos 10, compare 46 (total 3057)
+//   f64, pivoted path: outward + decompose + solve_original: add 1332, mul 1755, div 17, neg 44, sin/cos 10, compare 240 (total 3398)
+//   f64, pivoted path: outward + decompose + solve_prioritize_external: add 1175, mul 1611, div 17, neg 40, sin/cos 10, compare 199 (total 3052)
+//   f64, pivoted path: outward + decompose + solve_saturate: add 1263, mul 1675, div 17, neg 41, sin/cos 10, compare 223 (total 3229)
+//   f64, pivoted path: outward + decompose + solve_saturate_exact: add 1355, mul 1779, div 17, neg 44, sin/cos 10, compare 264 (total 3469)
+//   f32::outward: add 707, mul 1055, div 11, neg 31, sin/cos 10, compare 20 (total 1834)
 //   f32::decompose: add 243, mul 254, div 0, neg 4, sin/cos 0, compare 0 (total 501)
-//   f32::solve_original: add 336, mul 328, div 0, neg 9, sin/cos 0, compare 2 (total 675)
-//   f32: outward + decompose + solve_original: add 1275, mul 1673, div 11, neg 44, sin/cos 10, compare 21 (total 3034)
-//   f32::solve_prioritize_external: add 179, mul 184, div 0, neg 5, sin/cos 0, compare 1 (total 369)
-//   f32: outward + decompose + solve_prioritize_external: add 1118, mul 1529, div 11, neg 40, sin/cos 10, compare 20 (total 2728)
-//   f32::solve_saturate: add 267, mul 248, div 0, neg 6, sin/cos 0, compare 25 (total 546)
-//   f32: outward + decompose + solve_saturate: add 1206, mul 1593, div 11, neg 41, sin/cos 10, compare 44 (total 2905)
-//   f32::solve_saturate_exact: add 359, mul 352, div 0, neg 9, sin/cos 0, compare 26 (total 746)
-//   f32: outward + decompose + solve_saturate_exact: add 1298, mul 1697, div 11, neg 44, sin/cos 10, compare 45 (total 3105)
-//   f32, pivoted path: outward + decompose + solve_original: add 1321, mul 1749, div 17, neg 44, sin/cos 10, compare 233 (total 3374)
-//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1164, mul 1605, div 17, neg 40, sin/cos 10, compare 192 (total 3028)
-//   f32, pivoted path: outward + decompose + solve_saturate: add 1252, mul 1669, div 17, neg 41, sin/cos 10, compare 216 (total 3205)
-//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1344, mul 1773, div 17, neg 44, sin/cos 10, compare 257 (total 3445)
+//   f32::solve_original: add 336, mul 304, div 0, neg 9, sin/cos 0, compare 2 (total 651)
+//   f32: outward + decompose + solve_original: add 1286, mul 1613, div 11, neg 44, sin/cos 10, compare 22 (total 2986)
+//   f32::solve_prioritize_external: add 179, mul 172, div 0, neg 5, sin/cos 0, compare 1 (total 357)
+//   f32: outward + decompose + solve_prioritize_external: add 1129, mul 1481, div 11, neg 40, sin/cos 10, compare 21 (total 2692)
+//   f32::solve_saturate: add 267, mul 236, div 0, neg 6, sin/cos 0, compare 25 (total 534)
+//   f32: outward + decompose + solve_saturate: add 1217, mul 1545, div 11, neg 41, sin/cos 10, compare 45 (total 2869)
+//   f32::solve_saturate_exact: add 359, mul 328, div 0, neg 9, sin/cos 0, compare 26 (total 722)
+//   f32: outward + decompose + solve_saturate_exact: add 1309, mul 1637, div 11, neg 44, sin/cos 10, compare 46 (total 3057)
+//   f32, pivoted path: outward + decompose + solve_original: add 1332, mul 1755, div 17, neg 44, sin/cos 10, compare 240 (total 3398)
+//   f32, pivoted path: outward + decompose + solve_prioritize_external: add 1175, mul 1611, div 17, neg 40, sin/cos 10, compare 199 (total 3052)
+//   f32, pivoted path: outward + decompose + solve_saturate: add 1263, mul 1675, div 17, neg 41, sin/cos 10, compare 223 (total 3229)
+//   f32, pivoted path: outward + decompose + solve_saturate_exact: add 1355, mul 1779, div 17, neg 44, sin/cos 10, compare 264 (total 3469)
 #pragma once
 
 namespace ur5_nc6 {
@@ -285,12 +285,6 @@ struct State {
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar original_nu_0_term_29;
   Scalar prioritize_external_conf_energy_4;
   Scalar original_conf_energy_4;
   Scalar prioritize_external_conf_energy_0;
@@ -303,6 +297,12 @@ struct State {
   Scalar original_conf_energy_3;
   Scalar prioritize_external_conf_energy_5;
   Scalar original_conf_energy_5;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
+  Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;
   Scalar original_nu_0_term_32;
@@ -624,13 +624,8 @@ struct State {
   Scalar original_nu_0_term_21;
   Scalar original_nu_0_term_22;
   Scalar original_nu_0_term_23;
-  Scalar original_nu_0_term_24;
-  Scalar original_nu_0_term_25;
-  Scalar original_nu_0_term_26;
-  Scalar original_nu_0_term_27;
-  Scalar original_nu_0_term_28;
-  Scalar prioritize_external_conf_energy_4;
-  Scalar original_conf_energy_4;
+  Scalar prioritize_external_conf_energy_5;
+  Scalar original_conf_energy_5;
   Scalar prioritize_external_conf_energy_0;
   Scalar original_conf_energy_0;
   Scalar prioritize_external_conf_energy_1;
@@ -639,8 +634,13 @@ struct State {
   Scalar original_conf_energy_2;
   Scalar prioritize_external_conf_energy_3;
   Scalar original_conf_energy_3;
-  Scalar prioritize_external_conf_energy_5;
-  Scalar original_conf_energy_5;
+  Scalar prioritize_external_conf_energy_4;
+  Scalar original_conf_energy_4;
+  Scalar original_nu_0_term_24;
+  Scalar original_nu_0_term_25;
+  Scalar original_nu_0_term_26;
+  Scalar original_nu_0_term_27;
+  Scalar original_nu_0_term_28;
   Scalar original_nu_0_term_29;
   Scalar original_nu_0_term_30;
   Scalar original_nu_0_term_31;

@@ -212,6 +212,37 @@ TEST(ConstraintFactorisation, NaturalOrderPathTakesCorrelatedWellConditionedSyst
   std::printf("[          ] natural-order path on %d of %d correlated systems\n", natural, systems);
 }
 
+// (C4) on E itself gives (C1)'s bits: within the range it checks, the natural path's factors,
+// rule and multipliers on E equal those on Ê = S E S scaled back (powers of two scale without
+// rounding), bit for bit, on matrices with diagonal entries eight orders of magnitude apart; and an
+// E_jj outside [tol³, tol⁻³] (here 1e-45, a subnormal-scale direction) sends the solve to the
+// pivoted path however well-conditioned the system.
+TEST(ConstraintFactorisation, NaturalPathOnEItselfHasTheEquilibratedBits) {
+  std::mt19937_64 random(19);
+  std::uniform_real_distribution<double> entry(-1, 1);
+  for (int trial = 0; trial < 500; ++trial) {
+    const int n = 1 + trial % 12;
+    const Matrix E = random_energy(random, n, n);
+    Vector r(n);
+    for (int i = 0; i < n; ++i) r[i] = entry(random) * std::sqrt(E(i, i));
+    const auto sys = solver::equilibrate(E, r);
+    double plain_rule = 0, scaled_rule = 0;
+    const Vector plain = solver::natural_order_solve(E, r, kTol, plain_rule);
+    const Vector scaled = solver::natural_order_solve(Matrix(sys.A), Vector(sys.y), kTol, scaled_rule);
+    ASSERT_EQ(plain_rule, scaled_rule) << "trial " << trial;
+    for (int j = 0; j < n; ++j) ASSERT_EQ(plain[j], scaled[j] * sys.scale[j]) << "trial " << trial << " direction " << j;
+  }
+  Matrix E = Matrix::Identity(3, 3);
+  E(2, 2) = 1e-45;
+  const Vector r = Vector::Ones(3);
+  double dropped = 0, path = 0;
+  const Vector nu = solver::solve_constraint_multipliers<double>(E, r, ConstraintFactorisation::pivoted_ldlt, kTol, dropped,
+                                                                 &path);
+  EXPECT_EQ(path, 1) << "an E_jj below tol³ took the natural path";
+  EXPECT_EQ(dropped, 0);
+  EXPECT_DOUBLE_EQ(nu[2], 1 / E(2, 2));  // the pivoted path on Ê
+}
+
 // (C5) on matrices shaped like a tree's: E = B + V Vᵀ with B block-diagonal (sets of 3 or 6
 // directions, each block the Gram matrix of its own random joints: full rank, or short of it like a
 // leg at its singularity) and V the joints the sets share (up to six: a floating base). With B as
@@ -261,10 +292,9 @@ TEST(ConstraintFactorisation, BlockLowerBoundDecidesAsTheNaturalOrderRule) {
     ASSERT_EQ(blocked.dropped, plain.dropped) << "trial " << trial;
     for (int j = 0; j < n; ++j) ASSERT_EQ(blocked.nu[j], plain.nu[j]) << "trial " << trial << " direction " << j;
 
-    const auto system = solver::equilibrate(E, r);
     double coupling = 0;
-    solver::natural_order_solve(system, kTol, coupling);
-    const double block_sum = solver::block_coupling(system, bound, kTol);
+    solver::natural_order_solve(E, r, kTol, coupling);
+    const double block_sum = solver::block_coupling(E, bound, kTol);
     // B ⪯ E: the block sum bounds (C4)'s, to the rounding of the two sums (a few ε relative), up to
     // ten times the rule's bound (beyond it, near-singular blocks and matrices are clamped
     // differently, and neither sum decides anything).
