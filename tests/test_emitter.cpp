@@ -205,6 +205,19 @@ TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
   EXPECT_GE(in_lanes, 1u);
 }
 
+// The operation count of `function` ("full solve_original", "derivatives_original", ...) and the
+// header's text, as emitted for `r` (namespace "scene").
+std::pair<std::size_t, std::string> operations_and_header(const model::Chain& chain, const emit::EmitRequest& r,
+                                                          const std::string& function) {
+  const emit::EmittedSolver solver = emit::emit_solver(chain, r);
+  std::size_t operations = 0;
+  for (const auto& cost : solver.costs)
+    if (cost.function == function) operations = cost.ops.total();
+  const auto header = std::find_if(solver.files.begin(), solver.files.end(),
+                                    [](const emit::EmittedFile& f) { return f.name == "scene.hpp"; });
+  return {operations, header == solver.files.end() ? std::string() : header->text};
+}
+
 // derivatives: [..] returns the Jacobians listed and computes nothing for the others: on the Panda
 // with six directions, the derivative function's operations fall with each Jacobian left out
 // (τcmd's needs its own tangent sweep of the constraint wrenches), its Derivatives has no member
@@ -217,13 +230,7 @@ TEST(Emitter, DerivativesLeftOutAreNotComputed) {
     r.trace.policies = {solver::Policy::original};
     r.derivatives = true;
     r.derivative_outputs = outputs;
-    const emit::EmittedSolver solver = emit::emit_solver(chain, r);
-    std::size_t operations = 0;
-    for (const auto& cost : solver.costs)
-      if (cost.function == "derivatives_original") operations = cost.ops.total();
-    const auto header = std::find_if(solver.files.begin(), solver.files.end(),
-                                      [](const emit::EmittedFile& f) { return f.name == "scene.hpp"; });
-    return std::pair{operations, header == solver.files.end() ? std::string() : header->text};
+    return operations_and_header(chain, r, "derivatives_original");
   };
   const auto [all, all_header] = emitted({true, true, true});
   const auto [without_tau_cmd, without_tau_cmd_header] = emitted({true, true, false});
@@ -255,13 +262,7 @@ TEST(Emitter, OutputsLeftOutAreNotComputed) {
     emit::EmitRequest r{"scene", {"double"}, false, request({}, nc), "test"};
     r.trace.policies = {solver::Policy::original};
     r.trace.outputs = outputs;
-    const emit::EmittedSolver solver = emit::emit_solver(chain, r);
-    std::size_t operations = 0;
-    for (const auto& cost : solver.costs)
-      if (cost.function == "full solve_original") operations = cost.ops.total();
-    const auto header = std::find_if(solver.files.begin(), solver.files.end(),
-                                      [](const emit::EmittedFile& f) { return f.name == "scene.hpp"; });
-    return std::pair{operations, header == solver.files.end() ? std::string() : header->text};
+    return operations_and_header(chain, r, "full solve_original");
   };
   const solver::SolveOutputs qdd_nu{true, false, false, true, false, false};
   const auto [all, all_header] = emitted({});
