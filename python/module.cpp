@@ -37,6 +37,8 @@ namespace scene = SWEEPGEN_MODULE_SCENE;
 
 namespace {
 
+static_assert(scene::returns_every_output,
+              "the Python module binds every result of a solve: leave the scene key 'outputs' out, or list them all");
 constexpr int dof = scene::dof;
 constexpr int nq = scene::nq;  // values of q: dof, or a floating base's world_R_base (9) and the joints'
 constexpr int constraints = scene::constraints;

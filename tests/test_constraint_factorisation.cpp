@@ -212,6 +212,105 @@ TEST(ConstraintFactorisation, NaturalOrderPathTakesCorrelatedWellConditionedSyst
   std::printf("[          ] natural-order path on %d of %d correlated systems\n", natural, systems);
 }
 
+// (C4) on E itself gives (C1)'s bits: within the range it checks, the natural path's factors,
+// rule and multipliers on E equal those on Ê = S E S scaled back (powers of two scale without
+// rounding), bit for bit, on matrices with diagonal entries eight orders of magnitude apart; and an
+// E_jj outside [tol³, tol⁻³] (here 1e-45, a subnormal-scale direction) sends the solve to the
+// pivoted path however well-conditioned the system.
+TEST(ConstraintFactorisation, NaturalPathOnEItselfHasTheEquilibratedBits) {
+  std::mt19937_64 random(19);
+  std::uniform_real_distribution<double> entry(-1, 1);
+  for (int trial = 0; trial < 500; ++trial) {
+    const int n = 1 + trial % 12;
+    const Matrix E = random_energy(random, n, n);
+    Vector r(n);
+    for (int i = 0; i < n; ++i) r[i] = entry(random) * std::sqrt(E(i, i));
+    const auto sys = solver::equilibrate(E, r);
+    double plain_rule = 0, scaled_rule = 0;
+    const Vector plain = solver::natural_order_solve(E, r, kTol, plain_rule);
+    const Vector scaled = solver::natural_order_solve(Matrix(sys.A), Vector(sys.y), kTol, scaled_rule);
+    ASSERT_EQ(plain_rule, scaled_rule) << "trial " << trial;
+    for (int j = 0; j < n; ++j) ASSERT_EQ(plain[j], scaled[j] * sys.scale[j]) << "trial " << trial << " direction " << j;
+  }
+  Matrix E = Matrix::Identity(3, 3);
+  E(2, 2) = 1e-45;
+  const Vector r = Vector::Ones(3);
+  double dropped = 0, path = 0;
+  const Vector nu = solver::solve_constraint_multipliers<double>(E, r, ConstraintFactorisation::pivoted_ldlt, kTol, dropped,
+                                                                 &path);
+  EXPECT_EQ(path, 1) << "an E_jj below tol³ took the natural path";
+  EXPECT_EQ(dropped, 0);
+  EXPECT_DOUBLE_EQ(nu[2], 1 / E(2, 2));  // the pivoted path on Ê
+}
+
+// (C5) on matrices shaped like a tree's: E = B + V Vᵀ with B block-diagonal (sets of 3 or 6
+// directions, each block the Gram matrix of its own random joints: full rank, or short of it like a
+// leg at its singularity) and V the joints the sets share (up to six: a floating base). With B as
+// the lower bound, the solve decides as without it (the same path and statuses, (C2)'s decision),
+// returns the same bits on the natural path (the same factors and substitutions), and its sum is at
+// least (C4)'s; the bound decides on most systems with nonsingular blocks.
+TEST(ConstraintFactorisation, BlockLowerBoundDecidesAsTheNaturalOrderRule) {
+  std::mt19937_64 random(17);
+  std::uniform_real_distribution<double> entry(-1, 1), exponent(-3, 3);
+  int systems = 0, decided_by_blocks = 0, nonsingular_blocks = 0;
+  constexpr int kTrials = 2000;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const int width = trial % 2 == 0 ? 3 : 6, sets = 2 + trial % 3;  // 6 .. 12 directions (the quadruped: 4 x 3)
+    const int n = std::min(width * sets, 12), shared = 1 + trial % 6;
+    if (width * sets > 12) continue;
+    solver::BlockLowerBound<double> bound{Matrix::Zero(n, n), {}};
+    bool singular = false;
+    for (int first = 0; first < n; first += width) {
+      // A block of rank `width` (own joints enough) or one short (a leg at its singularity).
+      const int own = trial % 7 == 3 ? width - 1 : width + trial % 2;
+      singular = singular || own < width;
+      Eigen::MatrixXd J(width, own);
+      for (int i = 0; i < width; ++i)
+        for (int j = 0; j < own; ++j) J(i, j) = entry(random);
+      bound.energy.block(first, first, width, width) = J * J.transpose();
+      bound.blocks.emplace_back(first, width);
+    }
+    Eigen::MatrixXd V(n, shared);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < shared; ++j) V(i, j) = entry(random);
+    Eigen::VectorXd units(n);
+    for (int i = 0; i < n; ++i) units[i] = std::pow(10.0, exponent(random));
+    bound.energy = units.asDiagonal() * bound.energy * units.asDiagonal();
+    const Matrix E = bound.energy + units.asDiagonal() * (V * V.transpose()) * units.asDiagonal();
+    Vector r(n);
+    for (int i = 0; i < n; ++i) r[i] = entry(random) * units[i];
+    ++systems;
+    nonsingular_blocks += !singular;
+
+    Solved plain, blocked;
+    double plain_path = 0, blocked_path = 0;
+    plain.nu = solver::solve_constraint_multipliers<double>(E, r, ConstraintFactorisation::pivoted_ldlt, kTol,
+                                                            plain.dropped, &plain_path);
+    blocked.nu = solver::solve_constraint_multipliers<double>(E, r, ConstraintFactorisation::pivoted_ldlt, kTol,
+                                                              blocked.dropped, &blocked_path, &bound);
+    ASSERT_EQ(blocked_path, plain_path) << "trial " << trial;
+    ASSERT_EQ(blocked.dropped, plain.dropped) << "trial " << trial;
+    for (int j = 0; j < n; ++j) ASSERT_EQ(blocked.nu[j], plain.nu[j]) << "trial " << trial << " direction " << j;
+
+    double coupling = 0;
+    solver::natural_order_solve(E, r, kTol, coupling);
+    const double block_sum = solver::block_coupling(E, bound, kTol);
+    // B ⪯ E: the block sum bounds (C4)'s, to the rounding of the two sums (a few ε relative), up to
+    // ten times the rule's bound (beyond it, near-singular blocks and matrices are clamped
+    // differently, and neither sum decides anything).
+    if (solver::kNaturalOrderMargin * kTol * block_sum < 10) {
+      EXPECT_GE(block_sum, coupling * (1 - 1e-12)) << "trial " << trial;
+    }
+    decided_by_blocks += solver::kNaturalOrderMargin * kTol * block_sum < 1;
+  }
+  std::printf("[          ] block bound decides %d of %d systems (%d with nonsingular blocks)\n", decided_by_blocks,
+              systems, nonsingular_blocks);
+  // Nonsingular random blocks of unit-order entries: cond_s of B's blocks is far below 1/(M tol)
+  // (1.1e12) on all but a handful; a singular block decides nothing.
+  EXPECT_GE(decided_by_blocks, 9 * nonsingular_blocks / 10);
+  EXPECT_LE(decided_by_blocks, nonsingular_blocks);
+}
+
 TEST(ConstraintFactorisation, ScalingTheDirectionsScalesTheMultipliersOnly) {
   // Units: direction j in other units is direction j times c_j, so E -> C E C, r -> C r and
   // ν -> C^-1 ν, with any c_j (not only powers of two). Same decisions; full rank: the same ν to

@@ -205,6 +205,19 @@ TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
   EXPECT_GE(in_lanes, 1u);
 }
 
+// The operation count of `function` ("full solve_original", "derivatives_original", ...) and the
+// header's text, as emitted for `r` (namespace "scene").
+std::pair<std::size_t, std::string> operations_and_header(const model::Chain& chain, const emit::EmitRequest& r,
+                                                          const std::string& function) {
+  const emit::EmittedSolver solver = emit::emit_solver(chain, r);
+  std::size_t operations = 0;
+  for (const auto& cost : solver.costs)
+    if (cost.function == function) operations = cost.ops.total();
+  const auto header = std::find_if(solver.files.begin(), solver.files.end(),
+                                    [](const emit::EmittedFile& f) { return f.name == "scene.hpp"; });
+  return {operations, header == solver.files.end() ? std::string() : header->text};
+}
+
 // derivatives: [..] returns the Jacobians listed and computes nothing for the others: on the Panda
 // with six directions, the derivative function's operations fall with each Jacobian left out
 // (τcmd's needs its own tangent sweep of the constraint wrenches), its Derivatives has no member
@@ -217,13 +230,7 @@ TEST(Emitter, DerivativesLeftOutAreNotComputed) {
     r.trace.policies = {solver::Policy::original};
     r.derivatives = true;
     r.derivative_outputs = outputs;
-    const emit::EmittedSolver solver = emit::emit_solver(chain, r);
-    std::size_t operations = 0;
-    for (const auto& cost : solver.costs)
-      if (cost.function == "derivatives_original") operations = cost.ops.total();
-    const auto header = std::find_if(solver.files.begin(), solver.files.end(),
-                                      [](const emit::EmittedFile& f) { return f.name == "scene.hpp"; });
-    return std::pair{operations, header == solver.files.end() ? std::string() : header->text};
+    return operations_and_header(chain, r, "derivatives_original");
   };
   const auto [all, all_header] = emitted({true, true, true});
   const auto [without_tau_cmd, without_tau_cmd_header] = emitted({true, true, false});
@@ -242,6 +249,39 @@ TEST(Emitter, DerivativesLeftOutAreNotComputed) {
               std::string::npos);
   std::cout << "[derivative outputs] operations of derivatives_original, Panda Nc = 6: all " << all
             << ", qdd and nu " << without_tau_cmd << ", qdd " << qdd_only << std::endl;
+}
+
+// outputs: [..] (scene key): the solves return the results listed and compute nothing for the
+// others beyond what those need: on the Panda with six directions, leaving τcmd, τctrl and Ẍ_tip out
+// takes τcmd's inward sweep of the constraint wrenches and the second pass's Ẍ_tip (R1) out of the
+// full solve, its Solution has no member for them, and the header's flat size is the layout's.
+TEST(Emitter, OutputsLeftOutAreNotComputed) {
+  const model::Chain chain = panda();
+  const std::size_t n = chain.dof(), nc = 6;
+  const auto emitted = [&](const solver::SolveOutputs& outputs) {
+    emit::EmitRequest r{"scene", {"double"}, false, request({}, nc), "test"};
+    r.trace.policies = {solver::Policy::original};
+    r.trace.outputs = outputs;
+    return operations_and_header(chain, r, "full solve_original");
+  };
+  const solver::SolveOutputs qdd_nu{true, false, false, true, false, false};
+  const auto [all, all_header] = emitted({});
+  const auto [lean, lean_header] = emitted(qdd_nu);
+  EXPECT_LT(lean, all);
+  for (const char* member : {"Scalar tau_cmd[", "Scalar tau_ctrl[", "Scalar tip_acceleration["}) {
+    EXPECT_NE(all_header.find(member), std::string::npos) << member;
+    EXPECT_EQ(lean_header.find(member), std::string::npos) << member;
+  }
+  EXPECT_NE(lean_header.find("Scalar qdd["), std::string::npos);
+  EXPECT_NE(lean_header.find("Scalar nu["), std::string::npos);
+  EXPECT_NE(lean_header.find("constexpr bool returns_every_output = false;"), std::string::npos);
+  solver::DriverLayout layout = request({}, nc).layout;
+  for (const auto& [outputs, header] : {std::pair{solver::SolveOutputs{}, all_header}, {qdd_nu, lean_header}})
+    EXPECT_NE(header.find("constexpr int flat_out_size = " +
+                          std::to_string(solver::FlatLayout::of(layout, n, false, outputs).out_size()) + ";"),
+              std::string::npos);
+  std::cout << "[solve outputs] operations of the full solve_original, Panda Nc = 6: all " << all << ", qdd and nu "
+            << lean << std::endl;
 }
 
 TEST(Emitter, LiteralsRoundTrip) {

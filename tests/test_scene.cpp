@@ -223,6 +223,42 @@ TEST(Scene, DerivativesListTheOutputsWhoseJacobiansAreReturned) {
                "nu has no entries: the scene has no constraint directions");
 }
 
+// outputs: the results the solves return; left out, all of them. The flat `out` holds only those
+// listed, in the order of solver::FlatLayout, then the status.
+TEST(Scene, OutputsListTheResultsTheSolvesReturn) {
+  test::TempDir dir;
+  const std::string base = replace(kFullScene, "expose: all\n", "expose: outputs\n");
+  const Scene all = scene::load_scene(dir.write("all.yaml", with_urdf(base)));
+  EXPECT_TRUE(all.outputs.all());
+  const Scene listed = scene::load_scene(dir.write("listed.yaml", with_urdf(base + "outputs: [nu, qdd]\n")));
+  EXPECT_TRUE(listed.outputs.qdd && listed.outputs.nu);
+  EXPECT_FALSE(listed.outputs.tau_cmd || listed.outputs.tau_ctrl || listed.outputs.tip_acceleration);
+  const model::Chain chain = scene::load_scene_chain(listed);
+  const solver::FlatLayout flat = listed.flat_layout(chain.dof());
+  EXPECT_EQ(flat.qdd(), 0u);
+  EXPECT_EQ(flat.nu(), chain.dof());
+  EXPECT_EQ(flat.status(), chain.dof() + 6);
+  EXPECT_EQ(flat.out_size(), chain.dof() + 6 + 1);
+  EXPECT_FALSE(flat.has_link_acceleration());
+  EXPECT_EQ(all.flat_layout(chain.dof()).out_size(), 3 * chain.dof() + 6 + 6 + 1);
+
+  const int line = static_cast<int>(std::count(base.begin(), base.end(), '\n')) + 1;
+  const std::string unknown = base + "outputs: [qdd, tau]\n";
+  expect_error(with_urdf(unknown), position(unknown, line, "tau"), "outputs[1]", "unknown output 'tau'", "nu");
+  const std::string twice = base + "outputs: [qdd, nu, qdd]\n";
+  expect_error(with_urdf(twice), position(twice, line, "qdd", 2), "outputs[2]", "duplicate output 'qdd'");
+  const std::string empty = base + "outputs: []\n";
+  expect_error(with_urdf(empty), position(empty, line, "["), "outputs", "at least one output is needed");
+  const std::string unconstrained = replace(base, "  constraints: 6\n", "") + "outputs: [qdd, nu]\n";
+  expect_error(with_urdf(unconstrained), position(unconstrained, line - 1, "nu"), "outputs[1]",
+               "nu has no entries: the scene has no constraint directions");
+  const std::string no_sets = base + "outputs: [qdd, set_acceleration]\n";
+  expect_error(with_urdf(no_sets), position(no_sets, line, "set_acceleration"), "outputs[1]",
+               "set_acceleration has no entries: the scene lists no constraint sets");
+  const std::string exposed = kFullScene + "outputs: [qdd]\n";
+  expect_error(with_urdf(exposed), position(exposed, line, "["), "outputs", "'expose: all' returns every intermediate");
+}
+
 TEST(Scene, RelativeUrdfPathIsResolvedAgainstTheSceneDirectory) {
   test::TempDir dir;
   std::filesystem::create_directories(dir.path() / "scenes");

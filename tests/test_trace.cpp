@@ -15,6 +15,7 @@
 
 #include "oracle/condition_number.hpp"
 #include "report/measure.hpp"
+#include "scene/scene.hpp"
 #include "solver/derivative_seeds.hpp"
 #include "solver/flat_layout.hpp"
 #include "solver/outward_sweep.hpp"
@@ -58,7 +59,7 @@ TEST(Trace, GraphEvaluationReproducesTheReferenceSolver) {
     for (std::size_t nc : {0u, 3u, 6u}) {
       SCOPED_TRACE(robot.name + " Nc=" + std::to_string(nc));
       const solver::DriverLayout layout = full_layout(chain, nc);
-      symbolic::TraceRequest request{layout, policies, {}, std::numeric_limits<double>::epsilon()};
+      symbolic::TraceRequest request{layout, policies, {}, std::numeric_limits<double>::epsilon(), {}};
       const symbolic::Trace trace = symbolic::trace_solver(chain, request);
 
       for (int sample = 0; sample < 20; ++sample) {
@@ -183,7 +184,7 @@ TEST(Trace, ABranchWithoutConstraintsCarriesNoConstraintTerms) {
     layout.sets = std::move(sets);
     layout.decompose_all();
     const symbolic::Trace trace = symbolic::trace_solver(
-        chain, {layout, {solver::Policy::original}, {}, std::numeric_limits<double>::epsilon()});
+        chain, {layout, {solver::Policy::original}, {}, std::numeric_limits<double>::epsilon(), {}});
     int terms = 0;
     for (const auto& f : trace.fields)
       if ((f.array == "constraint_force" || f.array == "constraint_energy") && f.body > 0 && is_right_arm(f.body) == right &&
@@ -194,6 +195,45 @@ TEST(Trace, ABranchWithoutConstraintsCarriesNoConstraintTerms) {
   EXPECT_EQ(computed_terms({{"left_panda_hand", 6, {}}}, true), 0) << "the right arm computes constraint terms";
   EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}}, false), 0);
   EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}, {"right_panda_hand", 6, {}}}, true), 0);
+}
+
+// Finer: each direction only along its own path. On the quadruped (four feet, fixed directions) and
+// the dual Panda (two hands, run-time directions), in the columns (I2) and in the rows (I6), every
+// quantity of direction k on a body that does not carry k's set (a body on another leg or arm: k's
+// link is neither on it nor beyond it) is the constant 0 in the trace, so nothing of a foot's
+// constraint is propagated through the other legs: the unit-force column (I2), the row r_i,k, the
+// acceleration energy (I5) and every entry (k, l) of the constraint-space matrix (I3).
+TEST(Trace, ADirectionReachesOnlyTheJointsThatMoveItsLink) {
+  for (const char* path : {"robots/quadruped/quadruped_stance.yaml", "robots/dual_panda/dual_panda_box.yaml"})
+    for (const auto rows : {solver::ConstraintRows::inward_columns, solver::ConstraintRows::outward_rows}) {
+      const scene::Scene s = scene::load_scene(std::string(SWEEPGEN_SOURCE_DIR) + "/" + path);
+      const model::Chain chain = scene::load_scene_chain(s);
+      solver::SolverOptions options = s.solver_options();
+      options.constraint_rows = rows;
+      const symbolic::Trace trace =
+          symbolic::trace_solver(chain, {s.layout, s.policies, options, std::numeric_limits<double>::epsilon(), {}});
+      const solver::SolverModel<double> model(chain, s.layout, options, std::numeric_limits<double>::epsilon());
+      const int nc = static_cast<int>(model.constraints());
+      // Whether body b carries direction k's set (the base, body 0, carries every set).
+      const auto carries = [&](int b, int k) { return model::supports(chain.parent, b, model.set_of(k).body); };
+      int zeros = 0, computed = 0;
+      for (const auto& f : trace.fields) {
+        if (f.group != "articulated" || f.body <= 0) continue;
+        bool outside;
+        if (f.array == "constraint_force") outside = !carries(f.body, f.component / 6);
+        else if (f.array == "constraint_row" || f.array.rfind("acceleration_energy_", 0) == 0) outside = !carries(f.body, f.component);
+        else if (f.array == "constraint_energy") outside = !carries(f.body, f.component / nc) || !carries(f.body, f.component % nc);
+        else continue;
+        const bool constant_zero = trace.graph.is_constant(f.node, 0);
+        if (outside) {
+          EXPECT_TRUE(constant_zero) << path << ": " << f.array << " of body " << f.body << ", entry " << f.component;
+        }
+        zeros += outside;
+        computed += !constant_zero;
+      }
+      EXPECT_GT(zeros, 0) << path;
+      EXPECT_GT(computed, 0) << path;
+    }
 }
 
 // Tree sparsity of the derivatives (D1, D2): body i's velocity and bias force do not depend on

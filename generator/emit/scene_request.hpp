@@ -20,6 +20,7 @@ inline EmitRequest emit_request(const scene::Scene& s, const std::string& proven
   request.trace.layout = s.layout;
   request.trace.policies = s.policies;
   request.trace.options = s.solver_options();
+  request.trace.outputs = s.outputs;
   request.constraint_rows = s.constraint_rows;
   request.provenance = provenance;
   return request;

@@ -136,35 +136,47 @@ std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool 
   return text;
 }
 
-// The order of solver::FlatLayout's `out` (solver/flat_layout.hpp).
-std::string flat_out(std::size_t sets) {
-  return std::string("qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip_acceleration (6), ") +
-         (sets > 0 ? "set_acceleration (6 per constraint set), " : "") + "status";
-}
-
-// The Solution arrays of flat_out, in its order, with their loop headers.
-std::vector<std::pair<std::string, std::string>> solution_arrays(std::size_t nc, std::size_t sets) {
-  std::vector<std::pair<std::string, std::string>> arrays;
-  for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"}) arrays.emplace_back(name + std::string("[i]"), "for (int i = 0; i < dof; ++i)");
-  if (nc > 0) arrays.emplace_back("nu[k]", "for (int k = 0; k < constraints; ++k)");
-  arrays.emplace_back("tip_acceleration[i]", "for (int i = 0; i < 6; ++i)");
-  if (sets > 0) arrays.emplace_back("set_acceleration[i]", "for (int i = 0; i < " + std::to_string(6 * sets) + "; ++i)");
+// The Solution arrays the solves return (scene key outputs), in the order of solver::FlatLayout's
+// `out` (solver/flat_layout.hpp), with their extents and loop headers (ν without constraints:
+// named, with no entries).
+struct SolutionArray {
+  std::string name, extent, element, loop;
+};
+std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, std::size_t sets) {
+  std::vector<SolutionArray> arrays;
+  const std::string joints = "for (int i = 0; i < dof; ++i)";
+  for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"})
+    if (outputs.lists(name)) arrays.push_back({name, "dof", name + std::string("[i]"), joints});
+  if (outputs.nu) arrays.push_back({"nu", "constraints", "nu[k]", "for (int k = 0; k < constraints; ++k)"});
+  if (outputs.tip_acceleration) arrays.push_back({"tip_acceleration", "6", "tip_acceleration[i]", "for (int i = 0; i < 6; ++i)"});
+  if (sets > 0 && outputs.set_acceleration) {
+    const std::string n = std::to_string(6 * sets);
+    arrays.push_back({"set_acceleration", "6 per constraint set", "set_acceleration[i]", "for (int i = 0; i < " + n + "; ++i)"});
+  }
   return arrays;
 }
 
-std::string pack_solution(std::size_t nc, std::size_t sets) {
+// The order of solver::FlatLayout's `out`.
+std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets) {
+  std::string text;
+  for (const SolutionArray& a : solution_arrays(outputs, sets)) text += a.name + " (" + a.extent + "), ";
+  return text + "status";
+}
+
+std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets) {
   std::string text = "  S* cursor_out = out;\n";
-  for (const auto& [element, loop] : solution_arrays(nc, sets)) text += "  " + loop + " *cursor_out++ = solution." + element + ";\n";
+  for (const SolutionArray& a : solution_arrays(outputs, sets))
+    if (nc > 0 || a.name != "nu") text += "  " + a.loop + " *cursor_out++ = solution." + a.element + ";\n";
   text += "  *cursor_out = Lanes<S>::value(solution.status);";
   return text;
 }
 
 // solve_<policy>(): NaN/Inf among the setpoints and the results (scene: check_inputs).
-std::string check_solution(std::size_t nc, std::size_t sets) {
+std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets) {
   std::string text = "  S residue{};  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
   if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
-  for (const auto& [element, loop] : solution_arrays(nc, sets))
-    text += "  " + loop + " residue += out." + element + " - out." + element + ";\n";
+  for (const SolutionArray& a : solution_arrays(outputs, sets))
+    if (nc > 0 || a.name != "nu") text += "  " + a.loop + " residue += out." + a.element + " - out." + a.element + ";\n";
   text.pop_back();  // the template ends the line
   return text;
 }
@@ -444,7 +456,10 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
       solve.set("policy", f.group);
       solve.set("doc", policy_doc(f.group));
       solve.set("body", lanes_alias(text) + text.body);
-      solve.set("pack_solution", pack_solution(nc, sets));
+      // Only the saturating policies set a flag of `saturated` (the others write false).
+      solve.set("saturates", f.group == solver::name(solver::Policy::saturate) ||
+                                 f.group == solver::name(solver::Policy::saturate_exact));
+      solve.set("pack_solution", pack_solution(request.trace.outputs, nc, sets));
       solves.push_back(solve);
     }
     for (const std::string& line : worst_lines) op_lines.push_back(data("line", line));
@@ -476,13 +491,13 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     variant.set("lane_types", vector_expressions > 0 ? lane_type() : "");
     if (lanes_line.empty() && vector_expressions > 0) lanes_line = lanes_note(vector_expressions);
     variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
-    variant.set("flat_out", flat_out(sets));
-    const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base);
+    variant.set("flat_out", flat_out(request.trace.outputs, sets));
+    const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base, request.trace.outputs);
     variant.set("flat_in_size", std::to_string(flat.in_size()));
     variant.set("flat_out_size", std::to_string(flat.out_size()));
     variant.set("unpack_drivers", unpack_drivers(request.trace));
     variant.set("check_drivers", check_drivers(request.trace));
-    variant.set("check_solution", check_solution(nc, sets));
+    variant.set("check_solution", check_solution(request.trace.outputs, nc, sets));
     variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
                                                  : " (expose: outputs; carried values only)");
     variants.push_back(variant);
@@ -585,6 +600,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("derivative_of_tau_cmd", request.derivative_outputs.tau_cmd ? "true" : "false");
   values.set("check_inputs", request.check_inputs);
   values.set("check_inputs_value", request.check_inputs ? "true" : "false");
+  values.set("returns_every_output", request.trace.outputs.all() ? "true" : "false");
   values.set("op_counts", op_lines);
   values.set("variants", variants);
   values.set("header_name", stem + ".hpp");

@@ -18,7 +18,7 @@
 namespace sweepgen::report {
 
 // The scene as the report measures it: in double and float, with `policies` (original first: the
-// float entry point is the original policy's).
+// float entry point is the original policy's), returning every result (scene key outputs).
 scene::Scene report_scene(scene::Scene s, std::vector<solver::Policy> policies = {solver::Policy::original});
 
 // What each step says as it starts: `step` 1 generate, 2 compile, 3 load; `detail` for results.

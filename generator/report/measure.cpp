@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "oracle/condition_number.hpp"
 #include "oracle/relative_error.hpp"
@@ -194,6 +195,7 @@ namespace {
 // What a solve wrote to `out` (generated layout), widened.
 template <class Scalar>
 Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
+  if (!layout.outputs.all()) throw std::logic_error("the report judges every result of a solve (report_scene)");
   Outcome outcome;
   outcome.qdd.assign(o + layout.qdd(), o + layout.qdd() + layout.dof);
   outcome.tau_cmd.assign(o + layout.tau_cmd(), o + layout.tau_cmd() + layout.dof);

@@ -168,7 +168,9 @@ std::vector<Finding> findings(const VariantStudy& v, const std::string& family) 
 
 std::vector<Reason> study_reasons(const SceneStudy& study) {
   std::vector<Reason> reasons;
-  for (const auto& [family, count] : study.families)
+  for (const auto& family_count : study.families) {
+    // Not a structured binding: C++17 lambdas cannot capture one (clang refuses).
+    const auto& family = family_count.first;
     for (const VariantStudy& v : study.variants) {
       if (!v.note.empty() || v.referee) continue;
       for (const Finding& f : findings(v, family)) {
@@ -182,6 +184,7 @@ std::vector<Reason> study_reasons(const SceneStudy& study) {
         }
       }
     }
+  }
   return reasons;
 }
 

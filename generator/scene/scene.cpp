@@ -399,7 +399,7 @@ const std::vector<std::string>& scene_keys() {
       "drivers.external_forces[].name", "drivers.external_forces[].link", "drivers.constraints",
       "drivers.constraints.directions", "drivers.constraints[].link", "drivers.constraints[].count",
       "drivers.constraints[].directions", "decomposition", "policies", "scalars", "expose",
-      "constraint_factorisation", "pivot_tolerance", "refinement", "constraint_rows", "check_inputs", "derivatives"};
+      "constraint_factorisation", "pivot_tolerance", "refinement", "constraint_rows", "outputs", "check_inputs", "derivatives"};
   return keys;
 }
 
@@ -409,7 +409,7 @@ std::string Scene::location(const std::string& element) const {
 }
 
 solver::FlatLayout Scene::flat_layout(std::size_t dof) const {
-  return solver::FlatLayout::of(layout, dof, chain.floating_base);
+  return solver::FlatLayout::of(layout, dof, chain.floating_base, outputs);
 }
 
 solver::SolverOptions Scene::solver_options() const {
@@ -612,6 +612,25 @@ Scene load_scene(const std::string& path) {
       reader.fail(*item, "outward_rows does not form the columns F^A_cstr,i that 'expose: all' lists; use inward_columns or auto");
     if (rows != "auto")
       scene.constraint_rows = rows == "outward_rows" ? solver::ConstraintRows::outward_rows : solver::ConstraintRows::inward_columns;
+  }
+  if (const auto item = get("outputs")) {
+    const auto entries = reader.sequence(*item);
+    if (entries.empty()) reader.fail(*item, "at least one output is needed (leave the key out for all of them)");
+    if (scene.expose_all) reader.fail(*item, "'expose: all' returns every intermediate; 'outputs' lists what 'expose: outputs' returns");
+    scene.outputs = {false, false, false, false, false, false};
+    std::map<std::string, Item> seen;
+    for (const Item& entry : entries) {
+      const std::string name =
+          reader.choice(entry, {"qdd", "tau_cmd", "tau_ctrl", "nu", "tip_acceleration", "set_acceleration"}, "output");
+      if (const auto previous = seen.find(name); previous != seen.end())
+        reader.fail(entry, "duplicate output " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
+      if (name == "nu" && scene.layout.constraints == 0)
+        reader.fail(entry, "nu has no entries: the scene has no constraint directions");
+      if (name == "set_acceleration" && scene.layout.listed_sets() == 0)
+        reader.fail(entry, "set_acceleration has no entries: the scene lists no constraint sets");
+      seen.emplace(name, entry);
+      *scene.outputs.flag(name) = true;
+    }
   }
   if (const auto item = get("derivatives")) {
     if (item->node.IsSequence()) {  // the outputs whose Jacobians are returned

@@ -39,6 +39,7 @@ struct Scene {
   bool refinement = true;      // (R1)
   std::optional<solver::ConstraintRows> constraint_rows;  // (I2) or (I6); empty: auto (the cheaper)
   bool check_inputs = true;    // emit the NaN/Inf checks (status_not_finite)
+  solver::SolveOutputs outputs{};  // the results the solves return (scene key outputs)
   bool derivatives = false;    // emit derivatives_<policy> (D1–D8)
   solver::DerivativeOutputs derivative_outputs{};  // their Jacobians (a list: those named; true: all)
 

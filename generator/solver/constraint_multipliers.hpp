@@ -1,6 +1,6 @@
 // ν = (E^A_cstr,0)^-1 r  (S2) for the symmetric positive semi-definite Nc x Nc matrix E^A_cstr,0
 // (docs/derivation.md, section 4: equilibration (C1), pivoted LDL^T (C2), damped (C3), the
-// natural-order path (C4)).
+// natural-order path (C4) and its test by a block-diagonal lower bound (C5)).
 //
 // Paths (C4): the pivoted factorisation below is the fallback. First an LDL^T in the natural
 // order (no swaps) is formed; where the diagonal of Ê^-1 from its factors shows that the pivoted
@@ -18,10 +18,11 @@
 // no NaN/Inf can arise. Ratios and threshold are invariant under scaling each direction, so
 // moment and force directions and any unit system get the same rank decision. The number of
 // dropped pivots is returned (the caller raises status_constraint_rank_deficient).
-// Equilibration first: the factorisation works on Ê = S E S, r̂ = S r with s_j =
-// equilibration_scale(E_jj) (scalar_ops.hpp), the power of two that brings Ê_jj into [1, 4), and
-// returns ν = S x̂. Powers of two scale without rounding, so in exact arithmetic and in floating
-// point this is the same solve; what it removes is under- and overflow: in float a direction
+// Equilibration first (on the pivoted and the damped path; the natural path (C4) is the same solve
+// to the bit without it, within a range of E_jj it checks): the factorisation works on Ê = S E S,
+// r̂ = S r with s_j = equilibration_scale(E_jj) (scalar_ops.hpp), the power of two that brings Ê_jj
+// into [1, 4), and returns ν = S x̂. Powers of two scale without rounding, so in exact arithmetic
+// and in floating point this is the same solve; what it removes is under- and overflow: in float a direction
 // with E_jj ~ 1e-42 (subnormal) made the threshold tol · E_jj underflow to 0, kept a subnormal
 // pivot and overflowed 1/d to Inf (a thin rod spun about its own axis near a singularity,
 // tests/test_stability.cpp). After it, every kept pivot is > tol and every threshold is >= tol.
@@ -44,6 +45,9 @@
 // often far above the tolerance: the redundant constraint was then enforced with multipliers
 // of 1e16 and q̈ wrong by 100%, with no status raised (tests/test_dense_oracle.cpp).
 #pragma once
+
+#include <utility>
+#include <vector>
 
 #include "solver/scalar_ops.hpp"
 #include "solver/solver_model.hpp"
@@ -155,55 +159,115 @@ ConstraintVector<Scalar> pivoted_solve(EquilibratedSystem<Scalar> sys, bool damp
   return y;
 }
 
-// (C4): x̂ with Ê x̂ = r̂ by LDL^T in the natural order (no swaps), and `coupling` = Σ_j Ê_jj (Ê^-1)_jj,
-// (Ê^-1)_jj = Σ_{m>=j} (L^-1)_mj² / d_m from the same factors, what the rule of (C4) bounds: a sum of
-// positive terms (an Inf or NaN is never lost), each invariant under scaling its direction (tr Ê^-1
-// alone is not: Ê is (C1)'s up to a power of two per direction, and a robot scaled by powers of two
-// then crossed the threshold differently, tests/test_stability.cpp). A pivot below tol / 2 (the
-// natural order broke down) is read as tol / 2: its term Ê_mm / d_m >= 2 / tol is then far above
-// the rule's bound and (C2) decides; where the rule holds, every d_m > M tol Ê_mm >= M tol, so the
-// natural solution used the true pivots (and the clamp, the same in every unit system, decided
-// nothing).
+// (C4): LDL^T of the lower triangle of A in the natural order (no swaps). A pivot d_k below
+// floor_k (the natural order broke down; the caller passes tol / 2 times the direction's own
+// diagonal entry) is read as floor_k: its term in weighted_inverse_diagonal is then far above the
+// rule's bound and (C2) decides; where the rule holds, every d_k > M tol E_kk, so the natural
+// solution used the true pivots (and the floor, relative and so the same in every unit system,
+// decided nothing).
 template <class Scalar>
-ConstraintVector<Scalar> natural_order_solve(EquilibratedSystem<Scalar> sys, const Scalar& tolerance,
-                                             Scalar& coupling) {
-  const Eigen::Index nc = sys.y.size();
-  ConstraintMatrix<Scalar>& A = sys.A;
-  const ConstraintVector<Scalar> diagonal = A.diagonal();
-  ConstraintMatrix<Scalar> L = ConstraintMatrix<Scalar>::Identity(nc, nc);
-  ConstraintVector<Scalar> inverse_pivot(nc);
+struct NaturalFactors {
+  ConstraintMatrix<Scalar> L;             // unit lower triangular
+  ConstraintVector<Scalar> inverse_pivot;  // 1 / d_k
+};
+
+template <class Scalar>
+NaturalFactors<Scalar> natural_factors(ConstraintMatrix<Scalar> A, const ConstraintVector<Scalar>& floor) {
+  const Eigen::Index nc = A.rows();
+  NaturalFactors<Scalar> f{ConstraintMatrix<Scalar>::Identity(nc, nc), ConstraintVector<Scalar>(nc)};
+  ConstraintMatrix<Scalar>& L = f.L;
   for (Eigen::Index k = 0; k < nc; ++k) {
-    for (Eigen::Index j = 0; j < k; ++j) A(k, k) -= L(k, j) * A(k, j);  // d_k = Ê_kk − Σ_{j<k} L_kj (L_kj d_j)
-    inverse_pivot[k] = Scalar(1) / maximum(A(k, k), Scalar(0.5) * tolerance);
-    // Column k below the pivot: A(i, k) becomes L_ik d_k = Ê_ik − Σ_{j<k} L_ij (L_kj d_j) and stays
+    for (Eigen::Index j = 0; j < k; ++j) A(k, k) -= L(k, j) * A(k, j);  // d_k = E_kk − Σ_{j<k} L_kj (L_kj d_j)
+    f.inverse_pivot[k] = Scalar(1) / maximum(A(k, k), floor[k]);
+    // Column k below the pivot: A(i, k) becomes L_ik d_k = E_ik − Σ_{j<k} L_ij (L_kj d_j) and stays
     // so (the rows below read it as L_ik d_k: the left-looking form), L_ik = A(i, k) / d_k.
     for (Eigen::Index i = k + 1; i < nc; ++i)
       for (Eigen::Index j = 0; j < k; ++j) A(i, k) -= L(i, j) * A(k, j);
-    for (Eigen::Index i = k + 1; i < nc; ++i) L(i, k) = A(i, k) * inverse_pivot[k];
+    for (Eigen::Index i = k + 1; i < nc; ++i) L(i, k) = A(i, k) * f.inverse_pivot[k];
   }
+  return f;
+}
+
+// tol / 2 times each direction's own diagonal entry of E: natural_factors' floors.
+template <class Scalar>
+ConstraintVector<Scalar> pivot_floors(const ConstraintMatrix<Scalar>& E, const Scalar& tolerance) {
+  ConstraintVector<Scalar> floor(E.rows());
+  for (Eigen::Index k = 0; k < E.rows(); ++k) floor[k] = Scalar(0.5) * tolerance * E(k, k);
+  return floor;
+}
+
+// Σ_j w_j (A^-1)_jj, (A^-1)_jj = Σ_{m>=j} (L^-1)_mj² / d_m from A's natural factors, with w_j = E_jj:
+// what the rules of (C4) (A = E) and (C5) (A = B) bound. A sum of positive terms (an Inf or NaN is
+// never lost), each invariant under scaling its direction (tr E^-1 alone is not: a robot scaled by
+// powers of two crossed the threshold differently with it, tests/test_stability.cpp). A zero
+// direction (E_jj = 0) has the floor 0 and the term 0 · Inf, NaN: the rule fails, as it must (the
+// direction is dropped).
+template <class Scalar>
+Scalar weighted_inverse_diagonal(const NaturalFactors<Scalar>& f, const ConstraintVector<Scalar>& w) {
+  const Eigen::Index nc = w.size();
+  Scalar sum(0);
   // Column j of L^-1 (unit lower triangular): v_j = 1, v_m = −Σ_{j<=l<m} L_ml v_l for m > j.
-  coupling = Scalar(0);
   for (Eigen::Index j = 0; j < nc; ++j) {
     ConstraintVector<Scalar> v = ConstraintVector<Scalar>::Zero(nc);
     v[j] = Scalar(1);
-    Scalar inverse_diagonal = inverse_pivot[j];  // (Ê^-1)_jj
+    Scalar inverse_diagonal = f.inverse_pivot[j];  // (A^-1)_jj
     for (Eigen::Index m = j + 1; m < nc; ++m) {
-      for (Eigen::Index l = j; l < m; ++l) v[m] -= L(m, l) * v[l];
-      inverse_diagonal += v[m] * v[m] * inverse_pivot[m];
+      for (Eigen::Index l = j; l < m; ++l) v[m] -= f.L(m, l) * v[l];
+      inverse_diagonal += v[m] * v[m] * f.inverse_pivot[m];
     }
-    // Ê_jj is in [1, 4), or 0 for a zero direction (C1 scales it by 0), read as 1: its own term
-    // 1 / d_j >= 2 / tol then fails the rule, as the direction must (it is dropped).
-    coupling += maximum(diagonal[j], Scalar(1)) * inverse_diagonal;
+    sum += w[j] * inverse_diagonal;
   }
-  substitute(L, inverse_pivot, sys.y);
-  return sys.y;
+  return sum;
 }
 
+// (C4): ν with E ν = r from E's natural factors, and `coupling` = Σ_j E_jj (E^-1)_jj from the same
+// factors, what the rule of (C4) bounds. On E itself: within the range that the caller checks,
+// (C1)'s powers of two would scale every quantity here without rounding, so this is (C1)'s solve to
+// the bit, without forming Ê.
+template <class Scalar>
+ConstraintVector<Scalar> natural_order_solve(const ConstraintMatrix<Scalar>& E, ConstraintVector<Scalar> rhs,
+                                             const Scalar& tolerance, Scalar& coupling) {
+  const NaturalFactors<Scalar> f = natural_factors(E, pivot_floors(E, tolerance));
+  coupling = weighted_inverse_diagonal(f, ConstraintVector<Scalar>(E.diagonal()));
+  substitute(f.L, f.inverse_pivot, rhs);
+  return rhs;
+}
+
+// (C5): B, block-diagonal with B ⪯ E^A_cstr,0 (E − B positive semi-definite): per block, the
+// directions it holds (first, count) and, in `energy`, its lower triangle (the rest 0). The inward
+// sweep forms it where the constraint sets reach the base through joints of their own
+// (decomposition_sweep.hpp, SolverModel::private_top): each set's block is the sum of the terms
+// (I3) of the joints that carry that set alone, E the same sum plus the shared joints' terms.
+template <class Scalar>
+struct BlockLowerBound {
+  ConstraintMatrix<Scalar> energy;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> blocks;
+};
+
+// (C5): Σ_j E_jj (B^-1)_jj, block by block: at least (C4)'s sum, since B ⪯ E gives E^-1 ⪯ B^-1
+// and so (E^-1)_jj <= (B^-1)_jj. A block with fewer than its count of independent joints is
+// singular: its floored pivots (natural_factors) fail the rule.
+template <class Scalar>
+Scalar block_coupling(const ConstraintMatrix<Scalar>& E, const BlockLowerBound<Scalar>& bound,
+                      const Scalar& tolerance) {
+  const ConstraintVector<Scalar> floor = pivot_floors(E, tolerance), own = E.diagonal();
+  Scalar sum(0);
+  for (const auto& [first, count] : bound.blocks)
+    sum += weighted_inverse_diagonal(
+        natural_factors(ConstraintMatrix<Scalar>(bound.energy.block(first, first, count, count)),
+                        ConstraintVector<Scalar>(floor.segment(first, count))),
+        ConstraintVector<Scalar>(own.segment(first, count)));
+  return sum;
+}
+
+// `lower_bound`: (C5)'s B where the sweep formed one (the natural order is then first tested with
+// it, and (C4)'s own sum computed only where that test fails).
 template <class Scalar>
 ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Scalar>& E,
                                                       const ConstraintVector<Scalar>& rhs,
                                                       ConstraintFactorisation factorisation, const Scalar& tolerance,
-                                                      Scalar& dropped_pivots, Scalar* took_pivoted_path = nullptr) {
+                                                      Scalar& dropped_pivots, Scalar* took_pivoted_path = nullptr,
+                                                      const BlockLowerBound<Scalar>* lower_bound = nullptr) {
   const bool damped = factorisation == ConstraintFactorisation::damped;
   const Eigen::Index nc = rhs.size();
   dropped_pivots = Scalar(0);
@@ -211,16 +275,31 @@ ConstraintVector<Scalar> solve_constraint_multipliers(const ConstraintMatrix<Sca
   if (nc == 0) return ConstraintVector<Scalar>(0);
   const EquilibratedSystem<Scalar> sys = equilibrate(E, rhs);
   ConstraintVector<Scalar> x = pivoted_solve(sys, damped, tolerance, dropped_pivots);
+  for (Eigen::Index j = 0; j < nc; ++j) x[j] *= sys.scale[j];
   if (!damped) {
     // (C4): the natural order's pivots keep every direction by a margin: (C2) would drop none.
     Scalar coupling;
-    const ConstraintVector<Scalar> natural = natural_order_solve(sys, tolerance, coupling);
-    const Scalar one(1), bound = Scalar(kNaturalOrderMargin) * tolerance * coupling;
+    const ConstraintVector<Scalar> natural = natural_order_solve(E, rhs, tolerance, coupling);
+    const Scalar one(1), margin = Scalar(kNaturalOrderMargin) * tolerance;
+    Scalar bound = margin * coupling;
+    if (lower_bound != nullptr) {  // (C5): (C4)'s sum only where the block bound does not decide
+      const Scalar block_bound = margin * block_coupling(E, *lower_bound, tolerance);
+      bound = select_path(one, block_bound, block_bound, bound);
+    }
+    // The natural path runs on E itself (no C1) where every E_jj lies within [tol³, tol⁻³]: (C1)'s
+    // powers of two then scale each of its quantities by at most tol⁻⁶ (2^252 in double, 2^78 in
+    // float, against exponent ranges of 2^±1022 and 2^±126), so none under- or overflows where the
+    // scaled one would not, and the natural path's bits are (C1)'s scaled back. Elsewhere (a
+    // subnormal E_jj, a zero or NaN one) the pivoted path on Ê decides.
+    const Scalar floor = tolerance * tolerance * tolerance, ceiling = one / floor;
+    Scalar outside(0);
+    for (Eigen::Index j = 0; j < nc; ++j)
+      outside += select_greater(E(j, j), floor, Scalar(0), one) + select_greater(ceiling, E(j, j), Scalar(0), one);
+    bound = select_greater(outside, Scalar(0.5), one, bound);
     for (Eigen::Index j = 0; j < nc; ++j) x[j] = select_path(one, bound, natural[j], x[j]);
     dropped_pivots = select_path(one, bound, Scalar(0), dropped_pivots);
     if (took_pivoted_path != nullptr) *took_pivoted_path = select_greater(one, bound, Scalar(0), Scalar(1));
   }
-  for (Eigen::Index j = 0; j < nc; ++j) x[j] *= sys.scale[j];
   return x;
 }
 

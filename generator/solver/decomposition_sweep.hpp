@@ -17,6 +17,8 @@
 // (a set's columns start at its body: outboard of it they are exactly zero).
 // The bias track reproduces F^A_b/E^A_b, a torque track F^A/E^A, an external-force track
 // −F^A_ext/E^A_ext, and the single track of Alg. 1 the composed F^A_b/E^A_conf.
+// Where (C5) applies, each constraint set's block of the (I3) matrix handed on by the last body that
+// carries that set alone is kept (private_energy): the sum of the terms of its own joints.
 // The rows r_i = S_i^T F^A_cstr,i are kept (constraint_row, for (S3)). With outward rows (I6,
 // constraint_rows.hpp) the columns are not formed: r_i comes from outward propagation, and the
 // bias and base-acceleration terms F^A_cstr^T Ẍ of (I5) and (S2) go, summed, into the bias
@@ -140,7 +142,13 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
       }
     }
     a.constraint_row = s;
-    parent.constraint_energy = parent.constraint_energy + (a.constraint_energy + s * (a.inverse_D * s.transpose()));
+    const ConstraintMatrix<Scalar> handed = a.constraint_energy + s * (a.inverse_D * s.transpose());
+    parent.constraint_energy = parent.constraint_energy + handed;
+    for (std::size_t c = 0; c < model.private_top.size(); ++c) {  // (C5): set c's block, complete here
+      const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
+      const auto first = static_cast<Eigen::Index>(set.first), count = static_cast<Eigen::Index>(set.count);
+      if (model.private_top[c] == i) art.private_energy.block(first, first, count, count) = handed.block(first, first, count, count);
+    }
 
     // (I4), (I5)
     for (std::size_t t = 0; t < tracks.size(); ++t) {

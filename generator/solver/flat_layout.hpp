@@ -6,16 +6,44 @@
 //          (6 each, [moment; force]), α (6 per constraint direction whose set the scene does not
 //          fix, [moment; force], in its set's link frame), β = E_cstr (Nc)]
 //   out = [q̈ (n), τcmd (n), τctrl (n), ν (Nc), Ẍ_tip (6, [angular; linear]),
-//          Ẍ of each constraint set's link (6 each, only when the scene lists sets), status (1)]
+//          Ẍ of each constraint set's link (6 each, only when the scene lists sets), status (1)],
+//          each of the first six only where the scene's `outputs` lists it (SolveOutputs)
 #pragma once
 
 #include <cstddef>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "solver/drivers.hpp"
 #include "solver/solve_inputs.hpp"
 
 namespace sweepgen::solver {
+
+// The results a solve returns (scene key `outputs`, default all of them): the generated code
+// computes what the listed ones need and writes only them; status is always returned.
+struct SolveOutputs {
+ private:
+  template <class Self>
+  static auto* flag_of(Self& self, const std::string& array) {
+    for (auto [name, value] : {std::pair{"qdd", &self.qdd}, {"tau_cmd", &self.tau_cmd}, {"tau_ctrl", &self.tau_ctrl},
+                               {"nu", &self.nu}, {"tip_acceleration", &self.tip_acceleration},
+                               {"set_acceleration", &self.set_acceleration}})
+      if (array == name) return value;
+    return static_cast<decltype(&self.qdd)>(nullptr);
+  }
+
+ public:
+  bool qdd = true, tau_cmd = true, tau_ctrl = true, nu = true, tip_acceleration = true, set_acceleration = true;
+
+  // The flag of the Solution array `array` (state_fields.hpp), nullptr for one that is not listable.
+  bool* flag(const std::string& array) { return flag_of(*this, array); }
+  bool lists(const std::string& array) const {
+    const bool* value = flag_of(*this, array);
+    return value != nullptr && *value;
+  }
+  bool all() const { return qdd && tau_cmd && tau_ctrl && nu && tip_acceleration && set_acceleration; }
+};
 
 struct FlatLayout {
   std::size_t dof = 0, constraints = 0;  // all `out` needs, with `sets`
@@ -24,10 +52,12 @@ struct FlatLayout {
   std::vector<std::size_t> input_directions;  // the constraint directions whose α is an input, in order
   std::size_t sets = 0;  // constraint sets listed by the scene (each reports its link's Ẍ)
   std::vector<std::size_t> direction_set;  // per constraint direction, its set (when `sets` > 0)
+  SolveOutputs outputs;  // which of them `out` holds
 
-  static FlatLayout of(const DriverLayout& layout, std::size_t dof, bool floating_base) {
+  static FlatLayout of(const DriverLayout& layout, std::size_t dof, bool floating_base,
+                       const SolveOutputs& outputs = {}) {
     FlatLayout flat{dof, layout.constraints, floating_base, layout.torques.size(), layout.external_forces.size(), {},
-                    layout.listed_sets(), {}};
+                    layout.listed_sets(), {}, outputs};
     std::size_t k = 0;
     const auto sets = layout.constraint_sets();
     for (std::size_t c = 0; c < sets.size(); ++c)
@@ -47,18 +77,19 @@ struct FlatLayout {
   std::size_t alpha(std::size_t j) const { return external_force(external_forces) + 6 * j; }  // j-th input direction
   std::size_t beta() const { return alpha(input_directions.size()); }
   std::size_t in_size() const { return beta() + constraints; }
-  // Offsets in `out`.
+  // Offsets in `out` (of the outputs listed; an unlisted one takes no room).
   std::size_t qdd() const { return 0; }
-  std::size_t tau_cmd() const { return dof; }
-  std::size_t tau_ctrl() const { return 2 * dof; }
-  std::size_t nu() const { return 3 * dof; }
-  std::size_t tip_acceleration() const { return nu() + constraints; }
-  std::size_t set_acceleration(std::size_t c) const { return tip_acceleration() + 6 + 6 * c; }
-  // Where direction k's link acceleration is: its set's, or Ẍ_tip when no sets are listed.
+  std::size_t tau_cmd() const { return qdd() + (outputs.qdd ? dof : 0); }
+  std::size_t tau_ctrl() const { return tau_cmd() + (outputs.tau_cmd ? dof : 0); }
+  std::size_t nu() const { return tau_ctrl() + (outputs.tau_ctrl ? dof : 0); }
+  std::size_t tip_acceleration() const { return nu() + (outputs.nu ? constraints : 0); }
+  std::size_t set_acceleration(std::size_t c) const { return tip_acceleration() + (outputs.tip_acceleration ? 6 : 0) + 6 * c; }
+  // Whether `out` holds direction k's link acceleration: its set's, or Ẍ_tip when no sets are listed.
+  bool has_link_acceleration() const { return sets == 0 ? outputs.tip_acceleration : outputs.set_acceleration; }
   std::size_t link_acceleration(std::size_t k) const {
     return sets == 0 ? tip_acceleration() : set_acceleration(direction_set.at(k));
   }
-  std::size_t status() const { return set_acceleration(sets); }
+  std::size_t status() const { return set_acceleration(outputs.set_acceleration ? sets : 0); }
   std::size_t out_size() const { return status() + 1; }
 };
 
@@ -73,18 +104,20 @@ std::vector<double> flat_input(const SolveInputs<double>& inputs, const FlatLayo
 // A reference solution and its status written where a generated solver writes them in `out`.
 template <class Scalar>
 void flat_output(const Solution<Scalar>& solution, unsigned status, const FlatLayout& layout, Scalar* out) {
+  const SolveOutputs& listed = layout.outputs;
   for (std::size_t i = 0; i < layout.dof; ++i) {
     const auto at = static_cast<Eigen::Index>(i);
-    out[layout.qdd() + i] = solution.qdd[at];
-    out[layout.tau_cmd() + i] = solution.tau_cmd[at];
-    out[layout.tau_ctrl() + i] = solution.tau_ctrl[at];
+    if (listed.qdd) out[layout.qdd() + i] = solution.qdd[at];
+    if (listed.tau_cmd) out[layout.tau_cmd() + i] = solution.tau_cmd[at];
+    if (listed.tau_ctrl) out[layout.tau_ctrl() + i] = solution.tau_ctrl[at];
   }
-  for (std::size_t k = 0; k < layout.constraints; ++k) out[layout.nu() + k] = solution.nu[static_cast<Eigen::Index>(k)];
-  for (int c = 0; c < 3; ++c) {
+  for (std::size_t k = 0; listed.nu && k < layout.constraints; ++k)
+    out[layout.nu() + k] = solution.nu[static_cast<Eigen::Index>(k)];
+  for (int c = 0; listed.tip_acceleration && c < 3; ++c) {
     out[layout.tip_acceleration() + c] = solution.tip_acceleration.angular[c];
     out[layout.tip_acceleration() + 3 + c] = solution.tip_acceleration.linear[c];
   }
-  for (std::size_t c = 0; c < layout.sets; ++c)
+  for (std::size_t c = 0; listed.set_acceleration && c < layout.sets; ++c)
     for (int i = 0; i < 3; ++i) {
       out[layout.set_acceleration(c) + i] = solution.set_acceleration[c].angular[i];
       out[layout.set_acceleration(c) + 3 + i] = solution.set_acceleration[c].linear[i];

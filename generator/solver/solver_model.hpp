@@ -124,6 +124,10 @@ struct SolverModel {
   bool refinement = true;
   ConstraintRows constraint_rows = ConstraintRows::inward_columns;
   DriverLayout layout;
+  // (C5): per constraint set, the body nearest the base that carries it and no other set, where its
+  // block of E^A_cstr,0's lower bound is complete; empty where (C5) does not apply
+  // (private_blocks_tops).
+  std::vector<std::size_t> private_top;
 
   std::size_t dof() const { return joints.size() - 1; }
   std::size_t base_coordinates() const { return floating_base ? 6 : 0; }
@@ -187,6 +191,30 @@ struct SolverModel {
     }
     refinement = options.refinement;
     constraint_rows = options.constraint_rows;
+    if (constraint_factorisation == ConstraintFactorisation::pivoted_ldlt) private_top = private_blocks_tops(chain);
+  }
+
+  // (C5) applies where there are two constraint sets or more and each reaches the base through at
+  // least as many joints of its own (joints that carry no other set) as it has directions: only
+  // then can every block of B be nonsingular (the quadruped's feet: three leg joints each; the
+  // dual Panda's hands: seven). Per set, the last of those joints' bodies towards the base.
+  std::vector<std::size_t> private_blocks_tops(const model::Chain& chain) const {
+    std::vector<std::size_t> tops;
+    if (constraint_sets.size() < 2) return tops;
+    for (std::size_t c = 0; c < constraint_sets.size(); ++c) {
+      std::size_t top = 0, own_joints = 0;
+      for (std::size_t b = constraint_sets[c].body; b != 0; b = chain.parent[b]) {
+        bool alone = true;
+        for (std::size_t d = 0; d < constraint_sets.size(); ++d)
+          if (d != c && model::supports(chain.parent, b, constraint_sets[d].body)) alone = false;
+        if (!alone) break;
+        top = b;
+        ++own_joints;
+      }
+      if (own_joints < constraint_sets[c].count) return {};
+      tops.push_back(top);
+    }
+    return tops;
   }
 };
 

@@ -32,8 +32,12 @@ void constraint_multipliers(const SolverModel<Scalar>& model, const ArticulatedS
   ConstraintVector<Scalar> rhs(nc);
   for (std::size_t k = 0; k < nc; ++k)
     rhs[k] = setpoints[k] - art.base_acceleration_energy[k] - sol.conf_energy[k];
+  BlockLowerBound<Scalar> lower_bound{art.private_energy, {}};  // (C5)
+  for (std::size_t c = 0; c < model.private_top.size(); ++c)
+    lower_bound.blocks.emplace_back(model.constraint_sets[c].first, model.constraint_sets[c].count);
   sol.nu = solve_constraint_multipliers(art.body[0].constraint_energy, rhs, model.constraint_factorisation,
-                                        model.pivot_tolerance, sol.dropped_pivots, &sol.pivoted_path);
+                                        model.pivot_tolerance, sol.dropped_pivots, &sol.pivoted_path,
+                                        model.private_top.empty() ? nullptr : &lower_bound);
 }
 
 // τctrl for the policies that keep the constraint (original, prioritize_external, saturate).

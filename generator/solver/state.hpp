@@ -77,11 +77,15 @@ struct ArticulatedState {
   // F^A_cstr,0^T Ẍ_0, what the base's acceleration (gravity) adds to the constraint's
   // acceleration energy (S2); with outward rows (I6) it is in the bias track's E^A_t,0 and 0 here.
   ConstraintVector<Scalar> base_acceleration_energy;
+  // (C5): the block-diagonal lower bound B of E^A_cstr,0, each set's block where it is formed
+  // (SolverModel::private_top), 0 elsewhere.
+  ConstraintMatrix<Scalar> private_energy;
 
   static ArticulatedState sized(std::size_t n, std::size_t nc, std::size_t tracks) {
     ArticulatedState s;
     s.body.resize(n + 1);
     for (auto& body : s.body) body.constraint_energy.setZero(nc, nc);
+    s.private_energy.setZero(nc, nc);
     TrackBody<Scalar> zero;
     zero.acceleration_energy.setZero(nc);
     s.track.assign(tracks, std::vector<TrackBody<Scalar>>(n + 1, zero));

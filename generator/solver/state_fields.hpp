@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "solver/flat_layout.hpp"
 #include "solver/policy.hpp"
 #include "solver/residual_jacobians.hpp"
 #include "solver/state.hpp"
@@ -141,11 +142,10 @@ void visit_fields(const ResidualJacobians<Scalar>& J, Visit&& visit) {
   rows("d_r", J.r_q, J.r_qd);
 }
 
-// The arrays of a Solution that are outputs of every solve (the rest are intermediates).
-inline bool is_solution_output(const std::string& array) {
-  return array == "nu" || array == "qdd" || array == "tau_ctrl" || array == "tau_cmd" || array == "tip_acceleration" ||
-         array == "set_acceleration" ||
-         array == "saturated" || array == "dropped_pivots" || array == "locked_joints";
+// The arrays of a Solution that a solve returns: those `outputs` lists, and what the status is made
+// of (the rest are intermediates).
+inline bool is_solution_output(const std::string& array, const SolveOutputs& outputs) {
+  return outputs.lists(array) || array == "saturated" || array == "dropped_pivots" || array == "locked_joints";
 }
 
 }  // namespace sweepgen::solver

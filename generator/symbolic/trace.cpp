@@ -111,10 +111,10 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
 
   const solver::ConstraintVector<Symbol> beta = traced_setpoints(trace, nc);
 
-  const auto record = [&trace](const std::string& group, bool solution) {
-    return [&trace, group, solution](const std::string& array, int body, int component, const Symbol& value) {
-      trace.fields.push_back(
-          {group, array, body, component, value.id(), solution && solver::is_solution_output(array)});
+  const auto record = [&trace, &request](const std::string& group, bool solution) {
+    return [&trace, &request, group, solution](const std::string& array, int body, int component, const Symbol& value) {
+      trace.fields.push_back({group, array, body, component, value.id(),
+                              solution && solver::is_solution_output(array, request.outputs)});
     };
   };
   solver::visit_fields(kin, record("kinematics", false));

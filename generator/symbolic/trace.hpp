@@ -8,6 +8,7 @@
 
 #include "model/chain.hpp"
 #include "solver/drivers.hpp"
+#include "solver/flat_layout.hpp"
 #include "solver/policy.hpp"
 #include "solver/solver_model.hpp"
 #include "symbolic/graph.hpp"
@@ -69,6 +70,7 @@ struct TraceRequest {
   std::vector<solver::Policy> policies;
   solver::SolverOptions options;
   double epsilon = 0;  // of the scalar the code will run in
+  solver::SolveOutputs outputs;  // the Solution arrays returned (scene key outputs)
 };
 
 Trace trace_solver(const model::Chain& chain, const TraceRequest& request);

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "solver/flat_layout.hpp"
@@ -97,6 +98,17 @@ struct ResolveProblems {
 };
 ResolveProblems resolve_problems(const std::string& scene_path, int states);
 
+// The joint-space array `member` reads from a generated Solution, against its place in the flat
+// `out`: where the scene returns it (scene key outputs), and a member of Solution exactly there.
+template <class Solution, class Member, class Scalar>
+void expect_joint_array(const Solution& s, Member member, bool listed, const std::vector<Scalar>& out,
+                        std::size_t offset, std::size_t dof, const char* what) {
+  ASSERT_EQ((std::is_invocable_v<Member, const Solution&>), listed) << what << ": a Solution member exactly where listed";
+  if constexpr (std::is_invocable_v<Member, const Solution&>) {
+    for (std::size_t i = 0; i < dof; ++i) ASSERT_EQ(member(s)[i], out[offset + i]) << what << " joint " << i;
+  }
+}
+
 // outward + decompose once, then every policy's solve for one setpoint and again for a second:
 // the second equals (bit for bit) a full flat solve with the second setpoint.
 template <class Api>
@@ -118,11 +130,13 @@ void check_resolve_equals_full_solve(const std::string& scene_path, int states) 
       Api::solves[k].solve(st, beta1.data(), first);
       Api::solves[k].solve(st, beta2.data(), second);
       Api::flat_solves[k].solve(in.data(), out.data());
-      for (std::size_t i = 0; i < layout.dof; ++i) {
-        ASSERT_EQ(second.qdd[i], out[layout.qdd() + i]) << Api::solves[k].policy << " joint " << i;
-        ASSERT_EQ(second.tau_cmd[i], out[layout.tau_cmd() + i]);
-        ASSERT_EQ(second.tau_ctrl[i], out[layout.tau_ctrl() + i]);
-      }
+      const auto qdd = [](const auto& s) -> decltype((s.qdd)) { return s.qdd; };
+      const auto tau_cmd = [](const auto& s) -> decltype((s.tau_cmd)) { return s.tau_cmd; };
+      const auto tau_ctrl = [](const auto& s) -> decltype((s.tau_ctrl)) { return s.tau_ctrl; };
+      const std::size_t n = layout.dof;
+      expect_joint_array(second, qdd, layout.outputs.qdd, out, layout.qdd(), n, Api::solves[k].policy);
+      expect_joint_array(second, tau_cmd, layout.outputs.tau_cmd, out, layout.tau_cmd(), n, "tau_cmd");
+      expect_joint_array(second, tau_ctrl, layout.outputs.tau_ctrl, out, layout.tau_ctrl(), n, "tau_ctrl");
       ASSERT_EQ(static_cast<Scalar>(second.status), out[layout.status()]);
     }
   }
