@@ -32,6 +32,7 @@ class Writer {
     name_fields();
     count_uses();
     find_hoisted();
+    find_split();
     name_leaves();
     collect_stores();
     lanes_ = find_lane_groups(trace_, f_);
@@ -152,6 +153,27 @@ class Writer {
     }
   }
 
+  // A node used once is written inside its user's expression, and so on down: a sum over 10 000
+  // driver instances would be one expression nested 10 000 deep, as deep in this writer's calls
+  // (operand, expression) and beyond what compilers parse (clang: 256 brackets). A node whose
+  // inline operands nest more than kInlineDepth deep is declared as a local instead.
+  void find_split() {
+    constexpr int kInlineDepth = 64;
+    std::map<NodeId, int> depth;  // of the expression that writing the node inline would nest
+    for (NodeId id : f_.computed) {
+      const Node& n = graph_.node(id);
+      int d = 0;
+      for (int k = 0; k < symbolic::arity(n.op); ++k) {
+        const NodeId a = n.args[k];
+        const auto found = depth.find(a);
+        if (found != depth.end() && !local_.count(a) && uses_[a] == 1 && !hoisted_.count(a) && !split_.count(a))
+          d = std::max(d, found->second);
+      }
+      depth[id] = d + 1;
+      if (d + 1 > kInlineDepth) split_.insert(id);
+    }
+  }
+
   // Nodes computed inside a path block that a node of another block reads (a factorisation on one
   // path that two solves on that path use: the refinement, R1, in one function): declared before
   // their block and assigned in it, so that they outlive it.
@@ -175,7 +197,7 @@ class Writer {
       vector_locals(lane->second.first);  // at the group's first member: every lane's operands are ready
       return;
     }
-    if (local_.count(id) || uses_[id] != 1 || hoisted_.count(id)) declare(id);
+    if (local_.count(id) || uses_[id] != 1 || hoisted_.count(id) || split_.count(id)) declare(id);
   }
 
   // The locals holding group g's lanes (lane_groups.hpp), one per chunk (an empty string for a
@@ -451,6 +473,7 @@ class Writer {
   OpCount taken_extra_, worst_extra_;  // inside them: the taken branches, the costlier ones
   std::string indent_ = "  ";
   std::set<NodeId> hoisted_;  // find_hoisted
+  std::set<NodeId> split_;    // find_split
   LaneGroups lanes_;
   std::map<std::size_t, std::vector<std::string>> group_locals_;
   int next_vector_ = 0;
