@@ -12,6 +12,7 @@
 #include "emit/lane_groups.hpp"
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
+#include "model/inert_text.hpp"
 
 namespace sweepgen::emit {
 namespace {
@@ -138,12 +139,14 @@ class Writer {
       text_ << "\n" << indent_ << "// ==== " << eq.sweep << " sweep";
       if (field.body > 0) {
         const auto& joint = chain_.joints[field.body];
-        text_ << ", body " << field.body << ": link " << chain_.bodies[field.body].link << ", joint " << joint.name
-              << " (" << (joint.type == model::JointType::revolute ? "revolute" : "prismatic") << ")";
+        text_ << ", body " << field.body << ": link " << inert_text(chain_.bodies[field.body].link) << ", joint "
+              << inert_text(joint.name) << " (" << (joint.type == model::JointType::revolute ? "revolute" : "prismatic")
+              << ")";
         if (!chain_.is_chain())
-          text_ << ", on body " << chain_.parent[field.body] << " (" << chain_.bodies[chain_.parent[field.body]].link << ")";
+          text_ << ", on body " << chain_.parent[field.body] << " ("
+                << inert_text(chain_.bodies[chain_.parent[field.body]].link) << ")";
       } else if (field.body == 0) {
-        text_ << ", base: link " << chain_.bodies[0].link;
+        text_ << ", base: link " << inert_text(chain_.bodies[0].link);
       }
       text_ << " ====\n";
     }

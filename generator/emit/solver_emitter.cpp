@@ -17,6 +17,7 @@
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
 #include "emit/templates.hpp"
+#include "model/inert_text.hpp"
 #include "model/model_notes.hpp"
 #include "symbolic/trace_derivatives.hpp"
 #include "solver/constraint_row_steps.hpp"
@@ -86,7 +87,7 @@ std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
     arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques"});
   for (const auto& ext : request.layout.external_forces)
     arrays.push_back({ext.name + "[6]", "for (int i = 0; i < 6; ++i)", ext.name + "[i]",
-                      "wrench [moment; force] on link " + ext.link + ", in its frame"});
+                      "wrench [moment; force] on link " + inert_text(ext.link) + ", in its frame"});
   const solver::DriverLayout& layout = request.layout;
   if (layout.run_time_directions() > 0) {
     const std::string extent = alpha_extent(layout);
@@ -499,17 +500,18 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("fused_note", std::to_string(file_operations + fused_operations) + " operations in this file, at most " +
                                std::to_string(kFusedOperations) + " fused");
   values.set("provenance", request.provenance);
-  values.set("robot", chain.source.substr(chain.source.find_last_of('/') + 1));
-  values.set("root", chain.root_link);
-  std::string tips = chain.tip_link;
-  for (const std::string& tip : chain.branch_tips) tips += ", " + tip;
-  values.set("tip", chain.branch_tips.empty() ? tips : tips + " (a tree; tip_acceleration is " + chain.tip_link + "'s)");
+  values.set("robot", inert_text(chain.source.substr(chain.source.find_last_of('/') + 1)));
+  values.set("root", inert_text(chain.root_link));
+  std::string tips = inert_text(chain.tip_link);
+  for (const std::string& tip : chain.branch_tips) tips += ", " + inert_text(tip);
+  values.set("tip", chain.branch_tips.empty() ? tips
+                                             : tips + " (a tree; tip_acceleration is " + inert_text(chain.tip_link) + "'s)");
   values.set("dof", std::to_string(n));
   // A floating base (F5): q = [world_R_base (9); the joints' positions], qd etc. lead with the
   // base's twist.
   const bool floating = chain.floating_base;
   values.set("floating_base_note",
-             floating ? "\n// Floating base (docs/derivation.md, F5): " + chain.root_link +
+             floating ? "\n// Floating base (docs/derivation.md, F5): " + inert_text(chain.root_link) +
                             " moves freely. q = [world_R_base (9 values,\n"
                             "// row-major: base coordinates -> world; it turns gravity into the base frame, the base's\n"
                             "// position does not enter), then the nq - 9 joints' positions]. qd, qdd, tau_ff, tau_cmd and\n"

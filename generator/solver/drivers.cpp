@@ -65,7 +65,7 @@ std::vector<std::string> constraint_set_summary(const DriverLayout& layout) {
   std::size_t first = 0, run_time = 0;
   for (std::size_t c = 0; c < layout.listed_sets(); ++c) {
     const ConstraintSet& set = layout.sets[c];
-    std::string line = "set " + std::to_string(c) + " on link " + set.link + ": direction" + (set.count == 1 ? " " : "s ") +
+    std::string line = "set " + std::to_string(c) + " on link " + inert_text(set.link) + ": direction" + (set.count == 1 ? " " : "s ") +
                        range(first, set.count) + " (nu, beta), link acceleration set_acceleration[" +
                        range(6 * c, 6) + "]; ";
     if (set.directions_fixed()) {
