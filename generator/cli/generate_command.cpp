@@ -117,7 +117,39 @@ void add_info_command(CLI::App& app, SceneOptions& options) {
   add_scene_options(command, options);
 }
 
+namespace {
+
+// Why `stem` is not a plain file name, or "": the output files are `stem`.hpp, .cpp and .cmake
+// inside --out, and the .cpp includes the header by that name, the .cmake lists the .cpp.
+std::string file_stem_problem(const std::string& stem) {
+  if (stem.empty()) return "is empty";
+  if (stem[0] == '.' || stem[0] == '-') return "must not start with '.' or '-'";
+  if (stem.size() > 200) return "is longer than 200 characters";
+  for (char c : stem)
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.'))
+      return "may contain only letters, digits, '_', '-' and '.' (a file name inside --out, not a path)";
+  return "";
+}
+
+// A path as a Makefile depfile spells it (space, '#' and '$' escaped), or an InputError for one
+// no depfile can hold (a line break).
+std::string depfile_path(const std::string& path, const std::string& element) {
+  std::string out;
+  for (char c : path) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      throw InputError(element, quote_name(path), "a path with a control character cannot be written to --depfile");
+    if (c == ' ' || c == '#') out += '\\';
+    if (c == '$') out += '$';
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
 int run_generate(const GenerateOptions& options) {
+  if (const std::string problem = file_stem_problem(options.file_stem); !options.file_stem.empty() && !problem.empty())
+    throw InputError("--file-stem", quote_name(options.file_stem), problem);
   const scene::Scene s = resolve_scene(options.scene);
   const model::Chain chain = scene::load_scene_chain(s);
   emit::EmittedSolver emitted = emit_scene(s, chain);
@@ -142,9 +174,9 @@ int run_generate(const GenerateOptions& options) {
     files.push_back({(std::filesystem::path(options.out) / name).string(), file.text});
   }
   if (!options.depfile.empty()) {
-    std::string deps = files.front().path + ":";
+    std::string deps = depfile_path(files.front().path, "--out") + ":";
     for (const std::string& input : {s.path, s.chain.urdf})
-      if (!input.empty()) deps += " " + std::filesystem::absolute(input).string();
+      if (!input.empty()) deps += " " + depfile_path(std::filesystem::absolute(input).string(), input == s.path ? "--scene" : "urdf");
     files.push_back({options.depfile, deps + "\n"});
   }
   io::write_files_atomically(files);
