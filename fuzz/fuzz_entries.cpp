@@ -341,6 +341,16 @@ Outcome scene_input(const std::string& input) {
   }
 }
 
+// `sweepgen solve`'s answer to a line it cannot read is one JSON line whatever the input's bytes.
+void check_error_line(const std::string& message) {
+  const std::string text = cli::error_line(1, message);
+  try {
+    if (nlohmann::json::parse(text).at("error") != message) violation("error line does not carry the message: " + text);
+  } catch (const nlohmann::json::exception&) {
+    violation("error line is not JSON: " + text);
+  }
+}
+
 Outcome solve_line_input(const std::string& input) {
   const model::Chain& chain = panda();
   nlohmann::json line;
@@ -348,6 +358,7 @@ Outcome solve_line_input(const std::string& input) {
     line = nlohmann::json::parse(input);
   } catch (const nlohmann::json::exception& e) {
     if (std::string(e.what()).empty()) violation("JSON error without a message");
+    check_error_line(cli::json_error_reason(e));
     return {false, e.what()};
   }
   try {
@@ -355,6 +366,7 @@ Outcome solve_line_input(const std::string& input) {
     return {true, ""};
   } catch (const cli::KeyError& e) {
     check_key_error(e.what());
+    check_error_line(e.what());
     return {false, e.what()};
   }
 }

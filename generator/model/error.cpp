@@ -33,14 +33,19 @@ std::string element_path(const std::string& parent, const std::string& key) {
 std::string nearest_name_hint(const std::string& name, const std::vector<std::string>& candidates) {
   const std::string* best = nullptr;
   std::size_t best_distance = 0;
+  // A hint is for a slip of a few letters: names far apart in length, or too long to be shown
+  // whole, are not compared (the distance takes the product of the lengths).
+  const std::size_t most = std::max<std::size_t>(3, name.size() / 2);
+  if (name.size() > kShownBytes) return "";
   for (const auto& candidate : candidates) {
+    if (candidate.size() > name.size() + most || name.size() > candidate.size() + most) continue;
     const std::size_t d = edit_distance(name, candidate);
     if (best == nullptr || d < best_distance) {
       best = &candidate;
       best_distance = d;
     }
   }
-  if (best == nullptr || best_distance > std::max<std::size_t>(3, name.size() / 2)) return "";
+  if (best == nullptr || best_distance > most) return "";
   return " (did you mean " + quote_name(*best) + "?)";
 }
 
