@@ -325,6 +325,9 @@ void read_decomposition(const Reader& reader, const std::optional<Item>& decompo
   }
   std::vector<std::string> known = {"bias"};
   for (const auto& [name, item] : instances) known.push_back(name);
+  std::map<std::string, std::size_t> torque_of, external_force_of;  // instance name -> index
+  for (std::size_t i = 0; i < layout.torques.size(); ++i) torque_of.emplace(layout.torques[i], i);
+  for (std::size_t i = 0; i < layout.external_forces.size(); ++i) external_force_of.emplace(layout.external_forces[i].name, i);
   std::map<std::string, Item> grouped;
   layout.tracks.clear();
   for (const Item& group : reader.sequence(*decomposition)) {
@@ -333,7 +336,7 @@ void read_decomposition(const Reader& reader, const std::optional<Item>& decompo
     solver::Track track;
     for (const Item& member : members) {
       const std::string name = reader.string(member);
-      if (std::find(known.begin(), known.end(), name) == known.end())
+      if (name != "bias" && instances.count(name) == 0)
         reader.fail(member, "unknown driver instance " + quote_name(name) + nearest_name_hint(name, known) +
                                 " (known: " + listed(known) + ")");
       if (const auto previous = grouped.find(name); previous != grouped.end())
@@ -341,14 +344,9 @@ void read_decomposition(const Reader& reader, const std::optional<Item>& decompo
                                 "); an instance can be on one track only");
       grouped.emplace(name, member);
       if (track.name.empty()) track.name = name;
-      if (name == "bias") {
-        track.bias = true;
-      } else if (const auto t = std::find(layout.torques.begin(), layout.torques.end(), name); t != layout.torques.end()) {
-        track.torques.push_back(static_cast<std::size_t>(t - layout.torques.begin()));
-      } else {
-        for (std::size_t i = 0; i < layout.external_forces.size(); ++i)
-          if (layout.external_forces[i].name == name) track.external_forces.push_back(i);
-      }
+      if (name == "bias") track.bias = true;
+      else if (const auto t = torque_of.find(name); t != torque_of.end()) track.torques.push_back(t->second);
+      else track.external_forces.push_back(external_force_of.at(name));
     }
     layout.tracks.push_back(track);
   }
