@@ -114,9 +114,14 @@ void check_input_error(const std::string& message, const std::string& file) {
   }
 }
 
-// KeyError's "key 'KEY': REASON" with a quoted KEY and a non-empty reason.
+// KeyError's "key 'KEY': REASON" with a quoted KEY and a non-empty reason; a long KEY is cut,
+// "'KEY'... (N bytes)" (quote_name).
 void check_key_error(const std::string& message) {
-  const std::size_t closed = message.rfind("key '", 0) == 0 ? past_quoted(message, 4) : std::string::npos;
+  std::size_t closed = message.rfind("key '", 0) == 0 ? past_quoted(message, 4) : std::string::npos;
+  if (closed != std::string::npos && message.compare(closed, 5, "... (") == 0) {
+    const std::size_t size_end = message.find(" bytes)", closed);
+    closed = size_end == std::string::npos ? std::string::npos : size_end + 7;
+  }
   if (closed == std::string::npos || message.compare(closed, 2, ": ") != 0 || closed + 2 == message.size())
     violation("error message does not name the key and a reason: " + message);
 }
