@@ -174,6 +174,10 @@ TEST(XmlOutline, CountsElementsAsTheParserNestsThem) {
   EXPECT_EQ(outline.deepest_line, 5u);
   EXPECT_EQ(outline.links, 2u);   // the <link> inside <x> is not the robot's
   EXPECT_EQ(outline.joints, 1u);
+  // A quote inside an unquoted value opens no quoted text (the parser reads on: nothing hidden);
+  // names may start with any byte from 127 up, as TinyXML's do.
+  EXPECT_EQ(model::xml_outline("<r a=b\"><s><t><u></u></t></s></r>").depth, 4u);
+  EXPECT_EQ(model::xml_outline("<r><\x7f><\xc3\xa4/></\x7f></r>").depth, 3u);
 }
 
 // ---- The issue's table, row by row ------------------------------------------------------------

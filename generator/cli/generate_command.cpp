@@ -108,7 +108,9 @@ void add_generate_command(CLI::App& app, GenerateOptions& options) {
   CLI::App* command = app.add_subcommand("generate", "Emit the solver a scene describes");
   add_scene_options(command, options.scene);
   command->add_option("--out", options.out, "output directory (created if missing)")->capture_default_str();
-  command->add_option("--file-stem", options.file_stem, "output file names (default: from the namespace)");
+  command->add_option("--file-stem", options.file_stem,
+                      "name of the output files inside --out, STEM.hpp/.cpp/.cmake: letters, digits, '_', '-', '.' "
+                      "(default: from the namespace)");
   command->add_option("--depfile", options.depfile, "write a Makefile depfile listing the scene and URDF");
 }
 

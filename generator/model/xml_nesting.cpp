@@ -18,7 +18,7 @@ XmlOutline xml_outline(std::string_view text) {
   };
   const auto starts = [&](std::string_view prefix) { return text.compare(i, prefix.size(), prefix) == 0; };
   const auto name_start = [](unsigned char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':' || c >= 0x80;
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':' || c >= 0x7f;  // TinyXML: >= 127
   };
   while (i < text.size()) {
     const char c = text[i];
@@ -51,17 +51,25 @@ XmlOutline xml_outline(std::string_view text) {
         outline.links += name == "link" ? 1 : 0;
         outline.joints += name == "joint" ? 1 : 0;
       }
-      // The attributes, to the tag's end: a '>' or "/>" inside quotes does not end it.
+      // The attributes, to the tag's end: a '>' or "/>" inside a quoted value does not end it. A
+      // value is quoted where its first character, after '=' and white space, is a quote (as the
+      // parser reads it): a quote inside a word opens nothing.
       char quote = 0;
+      bool value_next = false;
       for (; end < text.size(); ++end) {
         const char d = text[end];
         if (d == '\n') ++line;
         if (quote) {
           if (d == quote) quote = 0;
-        } else if (d == '"' || d == '\'') {
+        } else if (d == '=') {
+          value_next = true;
+        } else if (value_next && (d == '"' || d == '\'')) {
           quote = d;
+          value_next = false;
         } else if (d == '>') {
           break;
+        } else if (static_cast<unsigned char>(d) > ' ') {
+          value_next = false;
         }
       }
       if (end < text.size() && end > i && text[end - 1] == '/' && !quote) --depth;
