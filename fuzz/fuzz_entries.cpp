@@ -114,9 +114,14 @@ void check_input_error(const std::string& message, const std::string& file) {
   }
 }
 
-// KeyError's "key 'KEY': REASON" with a quoted KEY and a non-empty reason.
+// KeyError's "key 'KEY': REASON" with a quoted KEY and a non-empty reason; a long KEY is cut,
+// "'KEY'... (N bytes)" (quote_name).
 void check_key_error(const std::string& message) {
-  const std::size_t closed = message.rfind("key '", 0) == 0 ? past_quoted(message, 4) : std::string::npos;
+  std::size_t closed = message.rfind("key '", 0) == 0 ? past_quoted(message, 4) : std::string::npos;
+  if (closed != std::string::npos && message.compare(closed, 5, "... (") == 0) {
+    const std::size_t size_end = message.find(" bytes)", closed);
+    closed = size_end == std::string::npos ? std::string::npos : size_end + 7;
+  }
   if (closed == std::string::npos || message.compare(closed, 2, ": ") != 0 || closed + 2 == message.size())
     violation("error message does not name the key and a reason: " + message);
 }
@@ -341,6 +346,16 @@ Outcome scene_input(const std::string& input) {
   }
 }
 
+// `sweepgen solve`'s answer to a line it cannot read is one JSON line whatever the input's bytes.
+void check_error_line(const std::string& message) {
+  const std::string text = cli::error_line(1, message);
+  try {
+    if (nlohmann::json::parse(text).at("error") != message) violation("error line does not carry the message: " + text);
+  } catch (const nlohmann::json::exception&) {
+    violation("error line is not JSON: " + text);
+  }
+}
+
 Outcome solve_line_input(const std::string& input) {
   const model::Chain& chain = panda();
   nlohmann::json line;
@@ -348,6 +363,7 @@ Outcome solve_line_input(const std::string& input) {
     line = nlohmann::json::parse(input);
   } catch (const nlohmann::json::exception& e) {
     if (std::string(e.what()).empty()) violation("JSON error without a message");
+    check_error_line(cli::json_error_reason(e));
     return {false, e.what()};
   }
   try {
@@ -355,6 +371,7 @@ Outcome solve_line_input(const std::string& input) {
     return {true, ""};
   } catch (const cli::KeyError& e) {
     check_key_error(e.what());
+    check_error_line(e.what());
     return {false, e.what()};
   }
 }

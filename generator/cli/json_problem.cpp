@@ -84,6 +84,9 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
     const json& sets = line["constraints"];
     if (!sets.is_array() || sets.empty())
       throw KeyError("constraints", "expected an array of sets {\"link\": L, \"alpha\": [...], \"beta\": [...]}");
+    if (sets.size() > solver::kMaxConstraints)
+      throw KeyError("constraints", "at most " + std::to_string(solver::kMaxConstraints) + " directions in all, got " +
+                                        std::to_string(sets.size()) + " sets");
     std::vector<double> beta;
     for (std::size_t c = 0; c < sets.size(); ++c) {
       const std::string key = "constraints[" + std::to_string(c) + "]";
@@ -98,6 +101,8 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
       const json& alpha = set["alpha"];
       if (!alpha.is_array() || alpha.empty() || alpha.size() > solver::kMaxSetDirections)
         throw KeyError(key + ".alpha", "expected an array of 1 to 6 directions, each [mx,my,mz,fx,fy,fz]");
+      if (p.alpha.size() + alpha.size() > solver::kMaxConstraints)
+        throw KeyError("constraints", "at most " + std::to_string(solver::kMaxConstraints) + " directions in all");
       for (std::size_t k = 0; k < alpha.size(); ++k)
         p.alpha.push_back(wrench(alpha[k], key + ".alpha[" + std::to_string(k) + "]"));
       const Eigen::VectorXd b = numbers(set["beta"], key + ".beta", alpha.size());
@@ -118,6 +123,18 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
     p.policy = *parsed;
   }
   return p;
+}
+
+std::string json_text(const nlohmann::ordered_json& value) {
+  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string json_error_reason(const nlohmann::json::exception& error) {
+  return "not valid JSON: " + escaped_text(error.what(), '\0', 4 * kShownBytes);
+}
+
+std::string error_line(std::size_t line, const std::string& message) {
+  return json_text(nlohmann::ordered_json{{"line", line}, {"error", message}});
 }
 
 nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsigned status, const model::Chain& chain,

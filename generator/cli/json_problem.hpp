@@ -35,6 +35,17 @@ struct Problem {
 // Reads and checks a problem for `chain` (sizes, finiteness, link names). Throws KeyError.
 Problem parse_problem(const nlohmann::json& line, const model::Chain& chain);
 
+// One output line's text: names from the URDF (saturated_joints) need not be UTF-8, which JSON
+// must be; their other bytes are written as U+FFFD instead of nlohmann's exception.
+std::string json_text(const nlohmann::ordered_json& value);
+
+// Why a line is not JSON: nlohmann's message quotes the bytes it read, which need not be UTF-8
+// nor short: escaped and cut (escaped_text).
+std::string json_error_reason(const nlohmann::json::exception& error);
+
+// The answer to a line that cannot be solved: {"line": N, "error": "..."}.
+std::string error_line(std::size_t line, const std::string& message);
+
 // `sets`: the problem's constraint sets (their link accelerations become "xdd_links").
 nlohmann::ordered_json solution_to_json(const solver::Solution<double>& solution, unsigned status,
                                         const model::Chain& chain, const std::vector<solver::ConstraintSet>& sets = {});

@@ -5,6 +5,7 @@
 
 #include "cli/json_problem.hpp"
 #include "model/error.hpp"
+#include "model/input_limits.hpp"
 #include "model/urdf_loader.hpp"
 #include "solver/reference_solver.hpp"
 
@@ -52,6 +53,20 @@ nlohmann::ordered_json solve_problem(const Problem& p, const model::Chain& chain
   return solution_to_json(solution, solver.status(), chain, p.sets);
 }
 
+enum class LineRead { line, end, too_long };
+
+// One line of `in` into `text` (without its '\n'), reading at most `limit` bytes of it.
+LineRead read_line(std::istream& in, std::string& text, std::size_t limit) {
+  text.clear();
+  for (std::streambuf* buffer = in.rdbuf();;) {
+    const int c = buffer->sbumpc();
+    if (c == std::char_traits<char>::eof()) return text.empty() ? LineRead::end : LineRead::line;
+    if (c == '\n') return LineRead::line;
+    if (text.size() == limit) return LineRead::too_long;
+    text += static_cast<char>(c);
+  }
+}
+
 }  // namespace
 
 void add_solve_command(CLI::App& app, SolveOptions& options) {
@@ -93,19 +108,29 @@ int run_solve(const SolveOptions& options) {
   const std::string source = options.input == "-" ? "<stdin>" : options.input;
 
   int exit_code = 0;
+  const auto report = [&](std::size_t line, const std::string& reason) {
+    const std::string message = source + ":" + std::to_string(line) + ": " + reason;
+    std::cerr << "sweepgen: error: " << message << "\n";
+    std::cout << error_line(line, message) << "\n";
+    exit_code = 1;
+  };
   std::string text;
-  for (std::size_t line = 1; std::getline(in, text); ++line) {
+  for (std::size_t line = 1;; ++line) {
+    const LineRead read = read_line(in, text, kMaxSolveLineBytes);
+    if (read == LineRead::end) break;
+    if (read == LineRead::too_long) {  // its end may never come (/dev/zero): stop reading
+      report(line, "line longer than " + size_text(kMaxSolveLineBytes) +
+                       ", the limit (README, \"Limits\"); the input is not read further");
+      break;
+    }
     if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
     try {
       const nlohmann::json parsed = nlohmann::json::parse(text);
-      std::cout << solve_problem(parse_problem(parsed, chain), chain).dump() << "\n";
+      std::cout << json_text(solve_problem(parse_problem(parsed, chain), chain)) << "\n";
+    } catch (const nlohmann::json::parse_error& e) {
+      report(line, json_error_reason(e));
     } catch (const std::exception& e) {
-      const std::string reason =
-          dynamic_cast<const nlohmann::json::parse_error*>(&e) ? std::string("not valid JSON: ") + e.what() : e.what();
-      const std::string message = source + ":" + std::to_string(line) + ": " + reason;
-      std::cerr << "sweepgen: error: " << message << "\n";
-      std::cout << nlohmann::ordered_json{{"line", line}, {"error", message}}.dump() << "\n";
-      exit_code = 1;
+      report(line, e.what());
     }
   }
   return exit_code;

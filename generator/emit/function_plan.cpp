@@ -3,7 +3,8 @@
 #include "emit/names.hpp"
 
 #include <algorithm>
-#include <functional>
+#include <array>
+#include <iterator>
 #include <stdexcept>
 #include <set>
 #include <unordered_map>
@@ -52,32 +53,50 @@ void reduce_live_ranges(const Graph& graph, std::vector<NodeId>& computed, const
       ++users[found->second];
     }
   }
-  std::vector<bool> live(count, false), placed(count, false);
+  // The ready nodes of each block by their delta (-1 .. 4: an operation has at most four
+  // operands), each bucket in index order. A ready node's delta only falls: its own liveness is
+  // settled once it is ready (all its users are placed), and an operand, once live, stays live
+  // until it is placed, which is after this node. So each operand that turns live moves its ready
+  // users down one bucket: time O(edges log n), not the ready nodes per step.
+  constexpr int kLowest = -1, kBuckets = 6;
+  std::vector<bool> live(count, false);
+  std::vector<int> delta(count, 0);
+  std::vector<std::vector<std::size_t>> users_of(count);
+  for (std::size_t i = 0; i < count; ++i)
+    for (std::size_t o : operands[i]) users_of[o].push_back(i);
+  std::vector<bool> ready(count, false);
+  std::vector<std::array<std::set<std::size_t>, kBuckets>> ready_in_block(blocks.empty() ? 0 : blocks.back() + 1);
+  const auto make_ready = [&](std::size_t i) {
+    delta[i] = live[i] ? -1 : 0;
+    for (std::size_t o : operands[i]) delta[i] += live[o] ? 0 : 1;
+    ready[i] = true;
+    ready_in_block[blocks[i]][delta[i] - kLowest].insert(i);
+  };
+  for (std::size_t i = 0; i < count; ++i)
+    if (users[i] == 0) make_ready(i);
   std::vector<std::size_t> order;
   order.reserve(count);
-  std::vector<std::set<std::size_t>> ready_in_block(blocks.empty() ? 0 : blocks.back() + 1);
-  for (std::size_t i = 0; i < count; ++i)
-    if (users[i] == 0) ready_in_block[blocks[i]].insert(i);
   for (int b = static_cast<int>(ready_in_block.size()) - 1; b >= 0; --b) {
-    auto& ready = ready_in_block[b];
-    while (!ready.empty()) {
-      std::size_t best = 0;
-      int best_delta = 1 << 30;
-      for (auto it = ready.rbegin(); it != ready.rend(); ++it) {
-        int delta = live[*it] ? -1 : 0;
-        for (std::size_t o : operands[*it]) delta += live[o] ? 0 : 1;
-        if (delta < best_delta) {
-          best_delta = delta;
-          best = *it;
-        }
-      }
-      ready.erase(best);
-      placed[best] = true;
+    auto& buckets = ready_in_block[b];
+    for (;;) {
+      auto bucket = std::find_if(buckets.begin(), buckets.end(), [](const auto& set) { return !set.empty(); });
+      if (bucket == buckets.end()) break;
+      const std::size_t best = *bucket->rbegin();  // ties: the last in depth-first order
+      bucket->erase(std::prev(bucket->end()));
+      ready[best] = false;
       live[best] = false;
       order.push_back(best);
       for (std::size_t o : operands[best]) {
-        live[o] = true;
-        if (--users[o] == 0) ready_in_block[blocks[o]].insert(o);
+        if (!live[o]) {
+          live[o] = true;
+          for (std::size_t u : users_of[o]) {
+            if (!ready[u]) continue;
+            auto& sets = ready_in_block[blocks[u]];
+            sets[delta[u] - kLowest].erase(u);
+            sets[--delta[u] - kLowest].insert(u);
+          }
+        }
+        if (--users[o] == 0) make_ready(o);
       }
     }
   }
@@ -107,16 +126,28 @@ void schedule(const symbolic::Trace& trace, const std::vector<int>& stage, const
   std::set<NodeId> done;
   std::vector<int> blocks;  // per computed node: the block (anchor group) it is computed in
   int block = 0;
-  std::function<void(NodeId)> visit = [&](NodeId id) {
-    if (!needed.count(id) || !done.insert(id).second) return;
-    if (is_leaf_here(graph, stage, id, f.stage)) {
-      f.leaves.push_back(id);
-      return;
+  // Depth first, operands in order, each node after its operands; an explicit stack of (node, next
+  // operand), so that the depth of the graph is not the depth of the call stack.
+  std::vector<std::pair<NodeId, int>> stack;
+  const auto visit = [&](NodeId root) {
+    const auto enter = [&](NodeId id) {
+      if (!needed.count(id) || !done.insert(id).second) return;
+      if (is_leaf_here(graph, stage, id, f.stage)) f.leaves.push_back(id);
+      else stack.emplace_back(id, 0);
+    };
+    enter(root);
+    while (!stack.empty()) {
+      const auto [id, next] = stack.back();
+      const Node& n = graph.node(id);
+      if (next < symbolic::arity(n.op)) {
+        ++stack.back().second;
+        enter(n.args[next]);
+        continue;
+      }
+      stack.pop_back();
+      f.computed.push_back(id);
+      blocks.push_back(block);
     }
-    const Node& n = graph.node(id);
-    for (int k = 0; k < symbolic::arity(n.op); ++k) visit(n.args[k]);
-    f.computed.push_back(id);
-    blocks.push_back(block);
   };
   for (const auto& field : trace.fields) {  // anchors in sweep order, one block each
     ++block;
@@ -145,10 +176,14 @@ std::vector<std::size_t> anchors(const symbolic::Trace& trace) {
 
 // A carried node's State member: the field it is, sin/cos of the input it is, or the
 // "_term" (numbered from the second on) of the field it is computed for.
+// `first_field`: per node, the first trace field that is it.
 std::string carried_member_name(const symbolic::Trace& trace, const Plan& plan, NodeId id,
+                                const std::unordered_map<NodeId, std::size_t>& first_field,
                                 std::map<std::string, int>& terms) {
-  for (const auto& field : trace.fields)
-    if (field.node == id) return field_name(field, !is_state_field(field));
+  if (const auto found = first_field.find(id); found != first_field.end()) {
+    const auto& field = trace.fields[found->second];
+    return field_name(field, !is_state_field(field));
+  }
   if (std::string name = function_of_input_name(trace, id); !name.empty()) return name;
   if (plan.anchor[id] == kNoAnchor) throw std::logic_error("carried node " + std::to_string(id) + " reaches no field");
   const auto& field = trace.fields[plan.anchor[id]];
@@ -281,32 +316,65 @@ void group_path_blocks(const Graph& graph, Plan& plan, FunctionPlan& f) {
   std::set<NodeId> placed;
   std::set<std::pair<int, int>> placed_blocks;
   int numbered = 0;
-  std::function<void(NodeId)> emit_node = [&](NodeId id) {
+  // Depth first with an explicit stack (the graph's depth is not the call stack's): a node after
+  // its operands; a block, entered through any of its nodes, after every operand outside it of
+  // each of its members, in the members' order.
+  struct Frame {
+    NodeId id;
+    const std::pair<int, int>* block;  // the block's key, or null for a node outside blocks
+    std::size_t member = 0;
+    int operand = 0;
+  };
+  std::vector<Frame> stack;
+  const auto enter = [&](NodeId id) {
     if (!pass.count(id) || placed.count(id)) return;
     const auto key = block_key.find(id);
-    if (key != block_key.end()) {
-      if (!placed_blocks.insert(key->second).second) return;
-      const std::vector<NodeId>& members = blocks[key->second];
-      for (NodeId m : members) {
-        const Node& n = graph.node(m);
-        for (int k = 0; k < symbolic::arity(n.op); ++k)
-          if (!block_key.count(n.args[k]) || block_key[n.args[k]] != key->second) emit_node(n.args[k]);
-      }
-      ++numbered;
-      for (NodeId m : members) {
-        placed.insert(m);
-        order.push_back(m);
-        block_of.push_back(numbered);
-      }
-      return;
-    }
-    const Node& n = graph.node(id);
-    for (int k = 0; k < symbolic::arity(n.op); ++k) emit_node(n.args[k]);
+    if (key == block_key.end()) stack.push_back({id, nullptr});
+    else if (placed_blocks.insert(key->second).second) stack.push_back({id, &key->second});
+  };
+  const auto place = [&](NodeId id, int block) {
     placed.insert(id);
     order.push_back(id);
-    block_of.push_back(0);
+    block_of.push_back(block);
   };
-  for (NodeId id : f.computed) emit_node(id);
+  for (NodeId root : f.computed) {
+    enter(root);
+    while (!stack.empty()) {
+      Frame& top = stack.back();
+      if (!top.block) {
+        const Node& n = graph.node(top.id);
+        if (top.operand < symbolic::arity(n.op)) {
+          enter(n.args[top.operand++]);
+          continue;
+        }
+        const NodeId id = top.id;
+        stack.pop_back();
+        place(id, 0);
+        continue;
+      }
+      const std::pair<int, int> key = *top.block;
+      const std::vector<NodeId>& members = blocks[key];
+      bool entered = false;
+      while (!entered && top.member < members.size()) {
+        const Node& n = graph.node(members[top.member]);
+        if (top.operand == symbolic::arity(n.op)) {
+          ++top.member;
+          top.operand = 0;
+          continue;
+        }
+        const NodeId operand = n.args[top.operand++];
+        const auto operand_key = block_key.find(operand);
+        if (operand_key == block_key.end() || operand_key->second != key) {
+          enter(operand);  // may grow the stack: `top` is not used after it
+          entered = true;
+        }
+      }
+      if (entered) continue;
+      stack.pop_back();
+      ++numbered;
+      for (NodeId m : members) place(m, numbered);
+    }
+  }
   f.computed = std::move(order);
   f.path_block = std::move(block_of);
 }
@@ -385,8 +453,10 @@ Plan make_plan(const symbolic::Trace& trace, bool expose_all) {
   plan.functions.push_back(std::move(outward));
   plan.functions.push_back(std::move(decompose));
   for (auto& f : solves) plan.functions.push_back(std::move(f));
+  std::unordered_map<NodeId, std::size_t> first_field;
+  for (std::size_t i = trace.fields.size(); i-- > 0;) first_field[trace.fields[i].node] = i;
   std::map<std::string, int> terms;
-  for (NodeId id : carried) plan.carried_name[id] = carried_member_name(trace, plan, id, terms);
+  for (NodeId id : carried) plan.carried_name[id] = carried_member_name(trace, plan, id, first_field, terms);
   place_path_blocks(trace, plan);
   return plan;
 }

@@ -12,6 +12,7 @@
 #include "emit/lane_groups.hpp"
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
+#include "model/inert_text.hpp"
 
 namespace sweepgen::emit {
 namespace {
@@ -36,6 +37,7 @@ class Writer {
     name_fields();
     count_uses();
     find_hoisted();
+    find_split();
     name_leaves();
     collect_stores();
     lanes_ = find_lane_groups(trace_, f_);
@@ -142,18 +144,41 @@ class Writer {
       text_ << "\n" << indent_ << "// ==== " << eq.sweep << " sweep";
       if (field.body > 0) {
         const auto& joint = chain_.joints[field.body];
-        text_ << ", body " << field.body << ": link " << chain_.bodies[field.body].link << ", joint " << joint.name
-              << " (" << (joint.type == model::JointType::revolute ? "revolute" : "prismatic") << ")";
+        text_ << ", body " << field.body << ": link " << inert_text(chain_.bodies[field.body].link) << ", joint "
+              << inert_text(joint.name) << " (" << (joint.type == model::JointType::revolute ? "revolute" : "prismatic")
+              << ")";
         if (!chain_.is_chain())
-          text_ << ", on body " << chain_.parent[field.body] << " (" << chain_.bodies[chain_.parent[field.body]].link << ")";
+          text_ << ", on body " << chain_.parent[field.body] << " ("
+                << inert_text(chain_.bodies[chain_.parent[field.body]].link) << ")";
       } else if (field.body == 0) {
-        text_ << ", base: link " << chain_.bodies[0].link;
+        text_ << ", base: link " << inert_text(chain_.bodies[0].link);
       }
       text_ << " ====\n";
     }
     if (field.array != block_array_) {
       block_array_ = field.array;
       text_ << indent_ << "// " << field.array << ": " << eq.cited() << "\n";
+    }
+  }
+
+  // A node used once is written inside its user's expression, and so on down: a sum over 10 000
+  // driver instances would be one expression nested 10 000 deep, as deep in this writer's calls
+  // (operand, expression) and beyond what compilers parse (clang: 256 brackets). A node whose
+  // inline operands nest more than kInlineDepth deep is declared as a local instead.
+  void find_split() {
+    constexpr int kInlineDepth = 64;
+    std::map<NodeId, int> depth;  // of the expression that writing the node inline would nest
+    for (NodeId id : f_.computed) {
+      const Node& n = graph_.node(id);
+      int d = 0;
+      for (int k = 0; k < symbolic::arity(n.op); ++k) {
+        const NodeId a = n.args[k];
+        const auto found = depth.find(a);
+        if (found != depth.end() && !local_.count(a) && uses_[a] == 1 && !hoisted_.count(a) && !split_.count(a))
+          d = std::max(d, found->second);
+      }
+      depth[id] = d + 1;
+      if (d + 1 > kInlineDepth) split_.insert(id);
     }
   }
 
@@ -184,7 +209,7 @@ class Writer {
       write_angle(id, angle->second);
       return;
     }
-    if (local_.count(id) || uses_[id] != 1 || hoisted_.count(id)) declare(id);
+    if (local_.count(id) || uses_[id] != 1 || hoisted_.count(id) || split_.count(id)) declare(id);
   }
 
   // The locals holding group g's lanes (lane_groups.hpp), one per chunk (an empty string for a
@@ -514,6 +539,7 @@ class Writer {
   OpCount taken_extra_, worst_extra_;  // inside them: the taken branches, the costlier ones
   std::string indent_ = "  ";
   std::set<NodeId> hoisted_;  // find_hoisted
+  std::set<NodeId> split_;    // find_split
   LaneGroups lanes_;
   std::map<std::size_t, std::vector<std::string>> group_locals_;
   int next_vector_ = 0;

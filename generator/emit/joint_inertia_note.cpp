@@ -1,5 +1,7 @@
 #include "emit/joint_inertia_note.hpp"
 
+#include "model/inert_text.hpp"
+
 namespace sweepgen::emit {
 namespace {
 
@@ -16,8 +18,8 @@ std::string note_for(const model::Chain& chain, const solver::DriverLayout& layo
   const solver::SolverModel<double> model(chain, layout, options, epsilon);
   std::vector<std::string> tested, exact;
   for (std::size_t i = 1; i <= chain.dof(); ++i) {
-    if (model.joints[i].can_lock) tested.push_back(chain.joints[i].name);
-    if (model.joints[i].exact_zero_component >= 0) exact.push_back(chain.joints[i].name);
+    if (model.joints[i].can_lock) tested.push_back(inert_text(chain.joints[i].name));
+    if (model.joints[i].exact_zero_component >= 0) exact.push_back(inert_text(chain.joints[i].name));
   }
   const std::string lock = tested.empty()                ? "no joint can lock (J2), no lock test (J1)"
                            : tested.size() == chain.dof() ? "lock test (J1) on every joint"

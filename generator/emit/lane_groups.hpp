@@ -22,7 +22,7 @@
 #pragma once
 
 #include <array>
-#include <map>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -42,7 +42,7 @@ struct LaneGroup {
 
 struct LaneGroups {
   std::vector<LaneGroup> groups;
-  std::map<NodeId, std::pair<std::size_t, std::size_t>> lane_of;  // node -> (group, lane)
+  std::unordered_map<NodeId, std::pair<std::size_t, std::size_t>> lane_of;  // node -> (group, lane)
 
   // The vectors a group of `lanes` lanes is written as: lanes [first, first + count) in one of
   // kWidth lanes.

@@ -17,8 +17,10 @@
 #include "emit/literal.hpp"
 #include "emit/names.hpp"
 #include "emit/templates.hpp"
+#include "model/inert_text.hpp"
 #include "model/model_notes.hpp"
 #include "symbolic/trace_derivatives.hpp"
+#include "solver/constraint_row_steps.hpp"
 #include "solver/derivative_seeds.hpp"
 #include "solver/flat_layout.hpp"
 #include "solver/state_fields.hpp"
@@ -93,7 +95,7 @@ std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
     arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques"});
   for (const auto& ext : request.layout.external_forces)
     arrays.push_back({ext.name + "[6]", "for (int i = 0; i < 6; ++i)", ext.name + "[i]",
-                      "wrench [moment; force] on link " + ext.link + ", in its frame"});
+                      "wrench [moment; force] on link " + inert_text(ext.link) + ", in its frame"});
   const solver::DriverLayout& layout = request.layout;
   if (layout.run_time_directions() > 0) {
     const std::string extent = alpha_extent(layout);
@@ -258,9 +260,18 @@ double rows_cost(solver::ConstraintRows rows, const PlannedCost& cost, std::size
   return static_cast<double>(cost.operations - cost.saved_by_lanes) * (spilling ? kSpillingColumnsWeight : 1.0);
 }
 
-// One line on how the rows r_i = S_i^T F^A_cstr,i are formed, with both formulations' counts.
+// (I6) is traced only where its outward steps are at most kRowStepsTraced times the columns'
+// (solver/constraint_row_steps.hpp): one step of either costs about the same (a transform and a
+// projection of a 6-vector), so far beyond 1 the rows cannot win, and their steps grow with the
+// square of a chain's length, the columns' with its length (a 1 000-joint chain with a 6-D set at
+// its tip: 500 500 against 6 000). The Panda with one direction at its hand traces both at 4
+// (28 steps against 7); 8 leaves room above every such arm.
+constexpr std::size_t kRowStepsTraced = 8;
+
+// One line on how the rows r_i = S_i^T F^A_cstr,i are formed, with both formulations' counts
+// (`steps`: where the rows were not traced, why).
 std::string rows_note(solver::ConstraintRows chosen, const std::map<solver::ConstraintRows, PlannedCost>& counted,
-                      bool requested, bool exposed, std::size_t directions) {
+                      bool requested, bool exposed, std::size_t directions, const solver::ConstraintRowSteps* steps) {
   const auto count = [&](solver::ConstraintRows rows) {
     const auto found = counted.find(rows);
     if (found == counted.end()) return std::string();
@@ -278,6 +289,10 @@ std::string rows_note(solver::ConstraintRows chosen, const std::map<solver::Cons
                             static_cast<double>(columns_cost->second.operations);
   const std::string why = requested ? " (scene: constraint_rows)"
                           : exposed ? " (scene: expose: all lists the columns)"
+                          : steps   ? ", not the rows r_i outward (I6), not traced: their " +
+                                        std::to_string(steps->outward_rows) + " outward steps are more than " +
+                                        std::to_string(kRowStepsTraced) + " times the columns' " +
+                                        std::to_string(steps->inward_columns) + " (scene: constraint_rows: auto)"
                                     : ", not the " + (outward ? columns : rows) + " (scene: constraint_rows: auto" +
                                           (weighted ? ", the columns' count weighted by 21/20" : "") + ")";
   return "Constraint rows r_i = S_i^T F^A_cstr,i: " + (outward ? rows : columns) + why + ".";
@@ -382,8 +397,10 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     trace_request.epsilon = epsilon_of(scalar);
     // (I2) or (I6): as the scene asks, else the one of lower rows_cost (ties: the columns).
     std::vector<solver::ConstraintRows> candidates{solver::ConstraintRows::inward_columns};
+    const solver::ConstraintRowSteps steps = solver::constraint_row_steps(chain, request.trace.layout);
+    const bool rows_too_long = steps.outward_rows > kRowStepsTraced * steps.inward_columns;
     if (request.constraint_rows) candidates = {*request.constraint_rows};
-    else if (request.trace.layout.constraints > 0 && !request.expose_all)
+    else if (request.trace.layout.constraints > 0 && !request.expose_all && !rows_too_long)
       candidates.push_back(solver::ConstraintRows::outward_rows);
     std::optional<symbolic::Trace> best_trace;
     std::optional<Plan> best_plan;
@@ -405,7 +422,7 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
     result.constraint_rows = trace.constraint_rows;
     if (rows_line.empty() && request.trace.layout.constraints > 0)
       rows_line = rows_note(trace.constraint_rows, candidates.size() > 1 ? counted : decltype(counted){},
-                            request.constraint_rows.has_value(), request.expose_all, nc);
+                            request.constraint_rows.has_value(), request.expose_all, nc, rows_too_long ? &steps : nullptr);
 
     data variant;
     variant.set("scalar", scalar);
@@ -520,17 +537,18 @@ EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request)
   values.set("fused_note", std::to_string(file_operations + fused_operations) + " operations in this file, at most " +
                                std::to_string(kFusedOperations) + " fused");
   values.set("provenance", request.provenance);
-  values.set("robot", chain.source.substr(chain.source.find_last_of('/') + 1));
-  values.set("root", chain.root_link);
-  std::string tips = chain.tip_link;
-  for (const std::string& tip : chain.branch_tips) tips += ", " + tip;
-  values.set("tip", chain.branch_tips.empty() ? tips : tips + " (a tree; tip_acceleration is " + chain.tip_link + "'s)");
+  values.set("robot", inert_text(chain.source.substr(chain.source.find_last_of('/') + 1)));
+  values.set("root", inert_text(chain.root_link));
+  std::string tips = inert_text(chain.tip_link);
+  for (const std::string& tip : chain.branch_tips) tips += ", " + inert_text(tip);
+  values.set("tip", chain.branch_tips.empty() ? tips
+                                             : tips + " (a tree; tip_acceleration is " + inert_text(chain.tip_link) + "'s)");
   values.set("dof", std::to_string(n));
   // A floating base (F5): q = [world_R_base (9); the joints' positions], qd etc. lead with the
   // base's twist.
   const bool floating = chain.floating_base;
   values.set("floating_base_note",
-             floating ? "\n// Floating base (docs/derivation.md, F5): " + chain.root_link +
+             floating ? "\n// Floating base (docs/derivation.md, F5): " + inert_text(chain.root_link) +
                             " moves freely. q = [world_R_base (9 values,\n"
                             "// row-major: base coordinates -> world; it turns gravity into the base frame, the base's\n"
                             "// position does not enter), then the nq - 9 joints' positions]. qd, qdd, tau_ff, tau_cmd and\n"

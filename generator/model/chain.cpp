@@ -3,7 +3,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "model/error.hpp"
+#include "model/inert_text.hpp"
 
 namespace sweepgen::model {
 
@@ -42,7 +42,7 @@ const std::vector<std::string>& floating_base_joint_names() {
 void add_floating_base(Chain& chain, const Inertia& root_inertia, double root_mass) {
   if (chain.bodies.size() != 1) throw std::logic_error("add_floating_base: the chain must hold only its base");
   chain.floating_base = true;
-  chain.bodies[0].link = "world (where " + chain.root_link + " is now)";
+  chain.bodies[0].link = "world (where " + inert_text(chain.root_link) + " is now)";
   for (std::size_t k = 0; k < 6; ++k) {
     Joint joint;
     joint.name = floating_base_joint_names()[k];
@@ -67,27 +67,27 @@ std::vector<std::string> lumping_summary(const Chain& chain) {
   };
   if (chain.floating_base)
     line("floating base: joints 1..6 (floating_base_rx .. floating_base_pz) are the coordinates [omega; v] of ",
-         chain.root_link, "'s twist in its own frame; bodies 1..5 are massless");
+         inert_text(chain.root_link), "'s twist in its own frame; bodies 1..5 are massless");
   // "M kg = link m kg + lumped a ma kg, b mb kg": a body's mass and where it comes from.
   const auto composition = [](const Body& body) {
     double own = body.mass;
     for (const auto& lumped : body.lumped_links) own -= lumped.mass;
     std::ostringstream text;
-    text << body.mass << " kg = " << body.link << " " << own << " kg";
+    text << body.mass << " kg = " << inert_text(body.link) << " " << own << " kg";
     for (std::size_t k = 0; k < body.lumped_links.size(); ++k) {
       const LumpedLink& lumped = body.lumped_links[k];
-      text << (k == 0 ? " + lumped " : ", ") << lumped.link << " " << lumped.mass << " kg"
-           << (lumped.locked_joint.empty() ? "" : " behind locked joint " + lumped.locked_joint);
+      text << (k == 0 ? " + lumped " : ", ") << inert_text(lumped.link) << " " << lumped.mass << " kg"
+           << (lumped.locked_joint.empty() ? "" : " behind locked joint " + inert_text(lumped.locked_joint));
     }
     return text.str();
   };
   if (!chain.floating_base) line("base (fixed, moves nothing): ", composition(chain.bodies[0]));
   for (std::size_t i = 1 + (chain.floating_base ? 5 : 0); i <= chain.dof(); ++i)
-    line("body ", i, " (joint ", chain.joints[i].name, "): ", composition(chain.bodies[i]));
+    line("body ", i, " (joint ", inert_text(chain.joints[i].name), "): ", composition(chain.bodies[i]));
   for (const auto& locked : chain.locked_joints)
-    line("locked joint ", locked.name, " at ", locked.position, (locked.from_scene ? " (scene)" : " (default)"),
-         ", carried by ", chain.bodies[locked.body].link);
-  for (const auto& link : chain.left_out) line("left out ", link.link, " ", link.mass, " kg: ", link.reason);
+    line("locked joint ", inert_text(locked.name), " at ", locked.position, (locked.from_scene ? " (scene)" : " (default)"),
+         ", carried by ", inert_text(chain.bodies[locked.body].link));
+  for (const auto& link : chain.left_out) line("left out ", inert_text(link.link), " ", link.mass, " kg: ", link.reason);
   return lines;
 }
 

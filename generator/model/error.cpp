@@ -1,7 +1,6 @@
 #include "model/error.hpp"
 
 #include <algorithm>
-#include <cstdio>
 
 namespace sweepgen {
 namespace {
@@ -23,29 +22,6 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-std::string quote_name(const std::string& name) {
-  std::string out = "'";
-  for (const char c : name) {
-    const auto byte = static_cast<unsigned char>(c);
-    switch (c) {
-      case '\\': out += "\\\\"; break;
-      case '\'': out += "\\'"; break;
-      case '\0': out += "\\0"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (byte < 0x20 || byte == 0x7f) {
-          char escaped[5];
-          std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
-          out += escaped;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "'";
-}
-
 std::string element_path(const std::string& parent, const std::string& key) {
   const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
@@ -57,14 +33,19 @@ std::string element_path(const std::string& parent, const std::string& key) {
 std::string nearest_name_hint(const std::string& name, const std::vector<std::string>& candidates) {
   const std::string* best = nullptr;
   std::size_t best_distance = 0;
+  // A hint is for a slip of a few letters: names far apart in length, or too long to be shown
+  // whole, are not compared (the distance takes the product of the lengths).
+  const std::size_t most = std::max<std::size_t>(3, name.size() / 2);
+  if (name.size() > kShownBytes) return "";
   for (const auto& candidate : candidates) {
+    if (candidate.size() > name.size() + most || name.size() > candidate.size() + most) continue;
     const std::size_t d = edit_distance(name, candidate);
     if (best == nullptr || d < best_distance) {
       best = &candidate;
       best_distance = d;
     }
   }
-  if (best == nullptr || best_distance > std::max<std::size_t>(3, name.size() / 2)) return "";
+  if (best == nullptr || best_distance > most) return "";
   return " (did you mean " + quote_name(*best) + "?)";
 }
 

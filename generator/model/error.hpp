@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "model/inert_text.hpp"
+
 namespace sweepgen {
 
 // what() is a C string: a NUL byte in a name taken from the input (YAML "\0", JSON "\u0000") would
@@ -17,11 +19,6 @@ inline std::string message_text(const std::string& text) {
   }
   return out;
 }
-
-// A name taken from the input, as messages print it: in single quotes, with \\, \', NUL (\0),
-// newline (\n), tab (\t) and other control bytes (\xNN) escaped, so that a name holding ": ", a
-// quote or a line break cannot blur where the element ends and the reason begins.
-std::string quote_name(const std::string& name);
 
 // The element path `parent.key` of a scene entry named by the input (a joint name under
 // rotor_inertia, an unknown key): `key` as it is when it is a plain name (letters, digits, '_',

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "model/chain.hpp"
 
@@ -24,6 +25,7 @@ struct JointInertiaBounds {
   double upper = 0;  // >= d_i + tr of the block S_i reads; Inf where a prismatic joint below has no limit
 };
 
-JointInertiaBounds joint_inertia_bounds(const Chain& chain, std::size_t i);
+// Per joint 1..N (entry 0 unused), in one pass from the tips inwards: time linear in the bodies.
+std::vector<JointInertiaBounds> joint_inertia_bounds(const Chain& chain);
 
 }  // namespace sweepgen::model

@@ -35,7 +35,7 @@ std::vector<std::string> model_notes(const Chain& chain) {
     if (!held.from_scene)
       line("joint ", quote_name(held.name), " off the chain is locked at ", held.position,
            " (0 clamped into its limits; set locked_joints in the scene to choose), carrying its links on ",
-           chain.bodies[held.body].link);
+           inert_text(chain.bodies[held.body].link));
   for (const auto& dynamics : chain.unmodelled_dynamics)
     line("joint ", quote_name(dynamics.joint), ": the URDF's <dynamics> (damping ", dynamics.damping, ", friction ",
          dynamics.friction, ") is not modelled; add the torques it stands for to tau_ff (e.g. -damping * qd)");

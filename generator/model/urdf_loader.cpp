@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -16,6 +15,8 @@
 #include <utility>
 
 #include "model/error.hpp"
+#include "model/input_limits.hpp"
+#include "model/xml_nesting.hpp"
 #include "model/quarter_turns.hpp"
 #include "model/xml_syntax.hpp"
 
@@ -32,14 +33,23 @@ class CapturedConsole : public console_bridge::OutputHandler {
     console_bridge::useOutputHandler(this);
   }
   ~CapturedConsole() override { console_bridge::useOutputHandler(previous_); }
+  // Each message escaped and cut (it may quote the file's text), at most kShownMessages of them.
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) messages_ += (messages_.empty() ? "" : "; ") + text;
+    if (level < console_bridge::CONSOLE_BRIDGE_LOG_ERROR) return;
+    if (count_++ < kShownMessages) messages_.push_back(escaped_text(text, '\0', 4 * kShownBytes));
   }
-  const std::string& messages() const { return messages_; }
+  std::string messages() const {
+    std::string text;
+    for (const std::string& message : messages_) text += (text.empty() ? "" : "; ") + message;
+    if (count_ > kShownMessages) text += "; and " + std::to_string(count_ - kShownMessages) + " more";
+    return text;
+  }
 
  private:
+  static constexpr std::size_t kShownMessages = 3;
   console_bridge::OutputHandler* previous_ = nullptr;
-  std::string messages_;
+  std::vector<std::string> messages_;
+  std::size_t count_ = 0;
 };
 
 // The shortest text that reads back as `value`.
@@ -156,16 +166,21 @@ urdf::LinkConstSharedPtr find_link(const urdf::ModelInterface& model, const std:
   return link;
 }
 
-// Whether a moving joint lies below `link`; `budget` counts the links visited, so that a cycle
-// (urdfdom accepts a link that is the child of two joints) ends the search as an error.
-bool moves_below(const urdf::Link& link, std::size_t& budget, const std::string& file) {
-  for (const auto& joint : link.child_joints) {
-    if (budget-- == 0)
-      throw InputError(file, named("link", link.name), "the joints form a cycle through this link; a URDF must be a tree");
-    if (joint->type != urdf::Joint::FIXED) return true;
+// Whether a moving joint lies below `top` (a walk with a stack of links, not recursion: a chain of
+// fixed joints may be as long as the file allows); `budget` counts the joints visited, so that a
+// cycle (urdfdom accepts a link that is the child of two joints) ends the search as an error.
+bool moves_below(const urdf::Link& top, std::size_t& budget, const std::string& file) {
+  std::vector<const urdf::Link*> stack{&top};
+  while (!stack.empty()) {
+    const urdf::Link& link = *stack.back();
+    stack.pop_back();
+    for (const auto& joint : link.child_joints) {
+      if (budget-- == 0)
+        throw InputError(file, named("link", link.name), "the joints form a cycle through this link; a URDF must be a tree");
+      if (joint->type != urdf::Joint::FIXED) return true;
+    }
+    for (const auto& child : link.child_links) stack.push_back(child.get());
   }
-  for (const auto& child : link.child_links)
-    if (moves_below(*child, budget, file)) return true;
   return false;
 }
 
@@ -189,8 +204,9 @@ std::string deepest_link(const urdf::Link& root, std::size_t link_count, const s
         moving.push_back(link->child_links[c].get());
     }
     if (link->child_links.size() > 1 && moving.size() != 1) {
-      std::string children;
-      for (const auto& child : link->child_links) children += (children.empty() ? "" : ", ") + quote_name(child->name);
+      std::vector<std::string> names;
+      for (const auto& child : link->child_links) names.push_back(quote_name(child->name));
+      const std::string children = listed(names);
       throw InputError(file, named("link", link->name),
                        "the tree branches here (children " + children + ", " + std::to_string(moving.size()) +
                            " of them with moving joints below), so there is no default tip; name the tip link: " +
@@ -316,33 +332,47 @@ class OffChainLumper {
   }
 
  private:
-  // Lumps `joint`'s child link and everything below it into `body`; `body_to_parent` is the
-  // transform from the body's frame to the joint's parent link frame.
-  void carry(const urdf::Joint& joint, std::size_t body, const Transform& body_to_parent, std::string locked_by) {
-    const std::string& file = spec_.urdf;
-    const std::string element = named("joint", joint.name);
-    const auto child = model_.getLink(joint.child_link_name);
-    if (chain_.frames.count(child->name) != 0)
-      throw InputError(file, named("link", child->name), "the joints form a cycle through this link; a URDF must be a tree");
-    Transform parent_to_child = transform_from_pose(joint.parent_to_joint_origin_transform, spec_, chain_, element);
-    if (is_moving(joint)) {
-      note_mimic(model_, joint, spec_, chain_);
-      parent_to_child = lock_joint(joint, body, spec_, chain_) * parent_to_child;
-      locked_by = joint.name;
-    } else if (joint.type != urdf::Joint::FIXED) {
-      throw InputError(file, element,
-                       "a floating or planar joint off the chain (below " + quote_name(chain_.bodies[body].link) +
-                           ") cannot be locked at one position; make it fixed, or choose a chain that avoids it");
+  // Lumps `top`'s child link and everything below it into `body`; `body_to_parent` is the
+  // transform from the body's frame to the joint's parent link frame. Depth first, each joint
+  // before the joints below it, with a stack of joints, not recursion: a branch may be as long
+  // as the file allows.
+  void carry(const urdf::Joint& top, std::size_t body, const Transform& body_to_parent, const std::string& locked_by) {
+    struct Step {
+      const urdf::Joint* joint;
+      Transform body_to_parent;
+      std::string locked_by;
+    };
+    std::vector<Step> stack{{&top, body_to_parent, locked_by}};
+    while (!stack.empty()) {
+      Step step = std::move(stack.back());
+      stack.pop_back();
+      const urdf::Joint& joint = *step.joint;
+      const std::string& file = spec_.urdf;
+      const std::string element = named("joint", joint.name);
+      const auto child = model_.getLink(joint.child_link_name);
+      if (chain_.frames.count(child->name) != 0)
+        throw InputError(file, named("link", child->name), "the joints form a cycle through this link; a URDF must be a tree");
+      Transform parent_to_child = transform_from_pose(joint.parent_to_joint_origin_transform, spec_, chain_, element);
+      if (is_moving(joint)) {
+        note_mimic(model_, joint, spec_, chain_);
+        parent_to_child = lock_joint(joint, body, spec_, chain_) * parent_to_child;
+        step.locked_by = joint.name;
+      } else if (joint.type != urdf::Joint::FIXED) {
+        throw InputError(file, element,
+                         "a floating or planar joint off the chain (below " + quote_name(chain_.bodies[body].link) +
+                             ") cannot be locked at one position; make it fixed, or choose a chain that avoids it");
+      }
+      const Transform body_to_child = parent_to_child * step.body_to_parent;
+      double mass = 0;
+      const Inertia inertia = link_inertia(*child, spec_, chain_, mass);
+      Body& b = chain_.bodies[body];
+      b.inertia = b.inertia + inertia.transformed_to_parent(body_to_child);
+      b.mass += mass;
+      b.lumped_links.push_back({child->name, mass, step.locked_by});
+      chain_.frames[child->name] = Frame{body, body_to_child};
+      for (auto grandchild = child->child_joints.rbegin(); grandchild != child->child_joints.rend(); ++grandchild)
+        stack.push_back({grandchild->get(), body_to_child, step.locked_by});
     }
-    const Transform body_to_child = parent_to_child * body_to_parent;
-    double mass = 0;
-    const Inertia inertia = link_inertia(*child, spec_, chain_, mass);
-    Body& b = chain_.bodies[body];
-    b.inertia = b.inertia + inertia.transformed_to_parent(body_to_child);
-    b.mass += mass;
-    b.lumped_links.push_back({child->name, mass, locked_by});
-    chain_.frames[child->name] = Frame{body, body_to_child};
-    for (const auto& grandchild : child->child_joints) carry(*grandchild, body, body_to_child, locked_by);
   }
 
   // A locked position for a joint that was not locked is a mistake: say why.
@@ -452,12 +482,32 @@ Chain load_chain(const ChainSpec& spec) {
   const std::string& urdf_path = spec.urdf;
   const std::string& root_link = spec.root_link;
   const std::string& tip_link = spec.tip_link;
-  std::ifstream in(urdf_path);
-  if (!in) throw InputError(urdf_path, "file", "cannot be opened for reading");
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = read_input_file(urdf_path, kMaxUrdfBytes, "URDF");
+  // Before the parser: its recursion follows the nesting, its memory the elements.
+  const XmlOutline outline = xml_outline(text);
+  if (outline.depth > kMaxXmlDepth)
+    throw InputError(urdf_path + ":" + std::to_string(outline.deepest_line), "<robot>",
+                     "elements nested " + std::to_string(outline.depth) + " deep, more than the limit of " +
+                         std::to_string(kMaxXmlDepth) + " (README, \"Limits\"; a URDF needs 4)");
+  for (const auto& [count, kind, limit] : {std::tuple{outline.links, "<link>", kMaxLinks}, {outline.joints, "<joint>", kMaxJoints}})
+    if (count > limit)
+      throw InputError(urdf_path, "<robot>",
+                       std::to_string(count) + " " + kind + " elements, more than the limit of " + std::to_string(limit) +
+                           " (README, \"Limits\")");
 
   urdf::ModelInterfaceSharedPtr model;
+  // urdfdom's links own their children: a long chain would be freed by one destructor calling the
+  // next, as deep as the chain. Cut those links first, whatever leaves this function.
+  struct Teardown {
+    urdf::ModelInterfaceSharedPtr& model;
+    ~Teardown() {
+      if (!model) return;
+      for (auto& [name, link] : model->links_) {
+        link->child_links.clear();
+        link->child_joints.clear();
+      }
+    }
+  } teardown{model};
   std::string padded_text;
   {
     CapturedConsole console;
@@ -466,7 +516,7 @@ Chain load_chain(const ChainSpec& spec) {
     // string's terminator (an AddressSanitizer heap-buffer-overflow found by fuzz_urdf, input kept
     // as fuzz/regressions/urdf/reject_utf8_lead_byte_at_end.urdf). NUL bytes after the text keep
     // such a read inside the buffer; the parser stops at the first NUL either way.
-    padded_text = text.str() + std::string(8, '\0');
+    padded_text = text + std::string(8, '\0');
     check_xml_syntax(padded_text, urdf_path);
     model = urdf::parseURDF(padded_text);
     if (!model || !console.messages().empty())

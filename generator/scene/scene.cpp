@@ -1,16 +1,18 @@
 #include "scene/scene.hpp"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <set>
 #include <sstream>
 
 #include "model/error.hpp"
+#include "model/input_limits.hpp"
+#include "solver/constraint_row_steps.hpp"
 
 namespace sweepgen::scene {
 namespace {
@@ -229,6 +231,9 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
   } else if (value.node.IsSequence()) {
     const auto sets = reader.sequence(value);
     if (sets.empty()) reader.fail(value, "an empty list of constraint sets; leave 'constraints' out for none");
+    if (sets.size() > solver::kMaxConstraints)
+      reader.fail(value, "at most " + std::to_string(solver::kMaxConstraints) + " constraint directions in all, got " +
+                             std::to_string(sets.size()) + " sets");
     std::map<std::string, Item> seen;
     for (std::size_t c = 0; c < sets.size(); ++c) {
       std::optional<Item> link_item, count_item, directions_item;
@@ -284,6 +289,10 @@ void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::
   };
   for (const auto& [key, value] : reader.entries(drivers, keys_under("drivers"))) {
     const std::string& name = key.node.Scalar();
+    // Before the instances are read one by one (names checked, tracks built, each traced).
+    if (name != "constraints" && value.node.IsSequence() && instances.size() + value.node.size() > kMaxInstances)
+      reader.fail(value, "more than " + std::to_string(kMaxInstances) + " driver instances (torques and external forces " +
+                             "together), the limit (README, \"Limits\")");
     if (name == "torques") {
       for (const Item& item : reader.sequence(value)) scene.layout.torques.push_back(add_instance(item));
     } else if (name == "external_forces") {
@@ -325,6 +334,9 @@ void read_decomposition(const Reader& reader, const std::optional<Item>& decompo
   }
   std::vector<std::string> known = {"bias"};
   for (const auto& [name, item] : instances) known.push_back(name);
+  std::map<std::string, std::size_t> torque_of, external_force_of;  // instance name -> index
+  for (std::size_t i = 0; i < layout.torques.size(); ++i) torque_of.emplace(layout.torques[i], i);
+  for (std::size_t i = 0; i < layout.external_forces.size(); ++i) external_force_of.emplace(layout.external_forces[i].name, i);
   std::map<std::string, Item> grouped;
   layout.tracks.clear();
   for (const Item& group : reader.sequence(*decomposition)) {
@@ -333,22 +345,17 @@ void read_decomposition(const Reader& reader, const std::optional<Item>& decompo
     solver::Track track;
     for (const Item& member : members) {
       const std::string name = reader.string(member);
-      if (std::find(known.begin(), known.end(), name) == known.end())
+      if (name != "bias" && instances.count(name) == 0)
         reader.fail(member, "unknown driver instance " + quote_name(name) + nearest_name_hint(name, known) +
-                                " (known: " + join(known) + ")");
+                                " (known: " + listed(known) + ")");
       if (const auto previous = grouped.find(name); previous != grouped.end())
         reader.fail(member, quote_name(name) + " is already in a group (at " + reader.where(previous->second) +
                                 "); an instance can be on one track only");
       grouped.emplace(name, member);
       if (track.name.empty()) track.name = name;
-      if (name == "bias") {
-        track.bias = true;
-      } else if (const auto t = std::find(layout.torques.begin(), layout.torques.end(), name); t != layout.torques.end()) {
-        track.torques.push_back(static_cast<std::size_t>(t - layout.torques.begin()));
-      } else {
-        for (std::size_t i = 0; i < layout.external_forces.size(); ++i)
-          if (layout.external_forces[i].name == name) track.external_forces.push_back(i);
-      }
+      if (name == "bias") track.bias = true;
+      else if (const auto t = torque_of.find(name); t != torque_of.end()) track.torques.push_back(t->second);
+      else track.external_forces.push_back(external_force_of.at(name));
     }
     layout.tracks.push_back(track);
   }
@@ -422,16 +429,15 @@ solver::SolverOptions Scene::solver_options() const {
 }
 
 Scene load_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "file", "cannot be opened for reading");
-  std::stringstream text;
-  text << in.rdbuf();
-
+  const std::string text = read_input_file(path, kMaxSceneBytes, "scene");
   YAML::Node document;
   try {
-    document = YAML::Load(text.str());
+    document = YAML::Load(text);
+  } catch (const YAML::DeepRecursion& e) {
+    throw InputError(format_mark(path, e.mark), "YAML",
+                     "collections nested more than " + std::to_string(kMaxYamlDepth) + " deep, the limit (README, \"Limits\")");
   } catch (const YAML::ParserException& e) {
-    throw InputError(format_mark(path, e.mark), "YAML", "syntax error: " + e.msg);
+    throw InputError(format_mark(path, e.mark), "YAML", "syntax error: " + escaped_text(e.msg, '\0', 4 * kShownBytes));
   }
 
   const Reader reader(path);
@@ -472,6 +478,9 @@ Scene load_scene(const std::string& path) {
   if (urdf_text.empty()) reader.fail(urdf, "path is empty");
   // The file system would read the path only up to the NUL (YAML "\0"): another file than named.
   if (urdf_text.find('\0') != std::string::npos) reader.fail(urdf, "path contains a NUL character");
+  // A path goes into messages and the depfile as it is: one line of text.
+  if (std::any_of(urdf_text.begin(), urdf_text.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    reader.fail(urdf, "path " + quote_name(urdf_text) + " contains a control character");
   const std::filesystem::path urdf_path(urdf_text);
   scene.chain.urdf = urdf_path.is_absolute()
                          ? urdf_path.lexically_normal().string()
@@ -612,6 +621,7 @@ Scene load_scene(const std::string& path) {
       reader.fail(*item, "outward_rows does not form the columns F^A_cstr,i that 'expose: all' lists; use inward_columns or auto");
     if (rows != "auto")
       scene.constraint_rows = rows == "outward_rows" ? solver::ConstraintRows::outward_rows : solver::ConstraintRows::inward_columns;
+    scene.locations["constraint_rows"] = reader.where(*item);
   }
   if (const auto item = get("outputs")) {
     const auto entries = reader.sequence(*item);
@@ -736,6 +746,15 @@ model::Chain load_scene_chain(const Scene& scene) {
   if (const std::string problem = solver::structurally_overdetermined(scene.layout.constraint_sets(), chain); !problem.empty())
     throw InputError(scene.location("drivers.constraints"), "drivers.constraints", problem);
   solver::validate(scene.layout, chain, scene.path.empty() ? "command line" : scene.path);
+  // The rows (I6) take steps with the square of a chain's length (solver/constraint_row_steps.hpp).
+  if (scene.constraint_rows == solver::ConstraintRows::outward_rows) {
+    const solver::ConstraintRowSteps steps = solver::constraint_row_steps(chain, scene.layout);
+    if (steps.outward_rows > kMaxOutwardRowSteps)
+      throw InputError(scene.location("constraint_rows"), "constraint_rows",
+                       "outward_rows (I6) takes " + std::to_string(steps.outward_rows) +
+                           " outward steps on this chain, more than the limit of " + std::to_string(kMaxOutwardRowSteps) +
+                           " (README, \"Limits\"); inward_columns or auto take " + std::to_string(steps.inward_columns));
+  }
   return chain;
 }
 

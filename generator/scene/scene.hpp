@@ -46,7 +46,7 @@ struct Scene {
   // "file:line:column" of elements that are checked against the chain later (load_scene_chain),
   // keyed by element: "urdf", "root", "tip", "rotor_inertia", "rotor_inertia.<joint>",
 // "locked_joints", "locked_joints.<joint>",
-  // "drivers.external_forces[i].link", "drivers.constraints", "drivers.constraints[i].link". A CLI flag overriding a field should set its entry to
+  // "drivers.external_forces[i].link", "drivers.constraints", "drivers.constraints[i].link", "constraint_rows". A CLI flag overriding a field should set its entry to
   // the flag's name (e.g. locations["tip"] = "--tip").
   std::map<std::string, std::string> locations;
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdint>
+#include <map>
 
 #include "model/error.hpp"
 
@@ -63,7 +65,7 @@ std::vector<std::string> constraint_set_summary(const DriverLayout& layout) {
   std::size_t first = 0, run_time = 0;
   for (std::size_t c = 0; c < layout.listed_sets(); ++c) {
     const ConstraintSet& set = layout.sets[c];
-    std::string line = "set " + std::to_string(c) + " on link " + set.link + ": direction" + (set.count == 1 ? " " : "s ") +
+    std::string line = "set " + std::to_string(c) + " on link " + inert_text(set.link) + ": direction" + (set.count == 1 ? " " : "s ") +
                        range(first, set.count) + " (nu, beta), link acceleration set_acceleration[" +
                        range(6 * c, 6) + "]; ";
     if (set.directions_fixed()) {
@@ -89,16 +91,28 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
   // rank-deficient (Hall's condition). Every group is tried, smallest first, up to 16 sets;
   // beyond, each set alone and all of them together.
   const std::size_t count = sets.size();
-  std::vector<std::size_t> body(count);
-  for (std::size_t c = 0; c < count; ++c) body[c] = chain.frames.at(sets[c].link_in(chain)).body;
+  // The joints moving any of a group's sets, counted by which sets each joint moves: per joint on
+  // a set's path to the base, the mask of the sets it moves; a group's joints are the joints whose
+  // mask meets the group's. Time linear in the joints and sets, then per group in the masks
+  // (at most two per set: a tree's paths share their trunks).
+  static_assert(kMaxConstraints <= 32, "a set per bit of a mask");  // a set has a direction at least
+  if (count > kMaxConstraints)
+    return std::to_string(count) + " constraint sets, more than the " + std::to_string(kMaxConstraints) + " directions allowed";
+  std::vector<std::uint32_t> moves(chain.dof() + 1, 0);
+  for (std::size_t c = 0; c < count; ++c)
+    for (std::size_t j = chain.frames.at(sets[c].link_in(chain)).body; j > 0; j = chain.parent[j])
+      moves[j] |= std::uint32_t{1} << c;
+  std::map<std::uint32_t, std::size_t> joints_by_mask;
+  for (std::size_t j = 1; j <= chain.dof(); ++j)
+    if (moves[j] != 0) ++joints_by_mask[moves[j]];
   const auto check = [&](const std::vector<std::size_t>& group) -> std::string {
-    std::vector<bool> moving(chain.dof() + 1, false);
+    std::uint32_t mask = 0;
     std::size_t directions = 0, joints = 0;
     for (std::size_t c : group) {
       directions += sets[c].count;
-      for (std::size_t j = body[c]; j > 0; j = chain.parent[j])
-        if (!moving[j]) moving[j] = true, ++joints;
+      mask |= std::uint32_t{1} << c;
     }
+    for (const auto& [moved, number] : joints_by_mask) joints += (moved & mask) != 0 ? number : 0;
     if (directions <= joints) return "";
     std::string links;
     for (std::size_t c : group)

@@ -179,10 +179,11 @@ struct SolverModel {
     pivot_tolerance = Scalar(options.pivot_tolerance_for(epsilon));
     const double lock_tolerance = options.joint_inertia_tolerance_for(epsilon);
     joint_inertia_tolerance = Scalar(lock_tolerance);
+    const std::vector<model::JointInertiaBounds> joint_bounds = model::joint_inertia_bounds(chain);
     for (std::size_t i = 1; i <= n; ++i) {
       // (J2): a margin of 2 over (J1)'s rule keeps the rounding of the computed D_i and of its
       // threshold (a few ε of the scale, against a tolerance of 1000 ε by default) from mattering.
-      const model::JointInertiaBounds bounds = model::joint_inertia_bounds(chain, i);
+      const model::JointInertiaBounds& bounds = joint_bounds[i];
       JointModel<Scalar>& jm = joints[i];
       jm.can_lock = !(bounds.lower > 2 * lock_tolerance * bounds.upper);
       if (jm.can_lock || chain.joints[i].rotor_inertia != 0) continue;

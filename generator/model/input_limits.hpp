@@ -1,0 +1,35 @@
+// The limits on what sweepgen reads (README, "Limits"): far above real robots (a humanoid has a few
+// dozen joints and a few hundred links; a scene a handful of driver instances), low enough that a
+// hostile or broken file is refused at once with the limit named, before any work grows with it,
+// instead of filling the memory, overflowing the stack or running for hours.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace sweepgen {
+
+constexpr std::size_t kMaxUrdfBytes = std::size_t{32} << 20;      // a URDF file
+constexpr std::size_t kMaxSceneBytes = std::size_t{8} << 20;      // a scene file
+constexpr std::size_t kMaxSolveLineBytes = std::size_t{8} << 20;  // one line of `sweepgen solve` input
+// Elements inside elements in a URDF (a URDF needs 4: robot, link, inertial, mass). TinyXML, the
+// reader under urdfdom, recurses once per level.
+constexpr std::size_t kMaxXmlDepth = 100;
+// Collections inside collections in a scene: the YAML reader's own guard (yaml-cpp's DepthGuard).
+constexpr std::size_t kMaxYamlDepth = 2000;
+constexpr std::size_t kMaxLinks = 10000;   // <link> elements of a URDF
+constexpr std::size_t kMaxJoints = 10000;  // <joint> elements of a URDF
+constexpr std::size_t kMaxInstances = 10000;  // driver instances of a scene (torques and external forces)
+// Steps of the constraint rows (I6) where a scene asks for them (constraint_rows: outward_rows):
+// they grow with the square of a chain's length, N (N + 1) / 2 for a set at its tip, about a
+// 1 400-joint chain (solver/constraint_row_steps.hpp).
+constexpr std::size_t kMaxOutwardRowSteps = 1000000;
+
+// "32 MiB" for a size in bytes.
+std::string size_text(std::size_t bytes);
+
+// The file's bytes, at most `limit` of them: a longer file (or an endless one, /dev/zero) is
+// refused, naming `what` and the limit, after reading limit + 1 bytes. Throws InputError.
+std::string read_input_file(const std::string& path, std::size_t limit, const std::string& what);
+
+}  // namespace sweepgen

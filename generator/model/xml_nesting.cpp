@@ -1,0 +1,84 @@
+#include "model/xml_nesting.hpp"
+
+#include <algorithm>
+
+namespace sweepgen::model {
+
+XmlOutline xml_outline(std::string_view text) {
+  text = text.substr(0, std::min(text.size(), text.find('\0')));
+  XmlOutline outline;
+  std::size_t depth = 0, line = 1, i = 0;
+  // Moves i past the first `end` at or after `from` (or to the end), counting lines.
+  const auto skip_past = [&](std::size_t from, std::string_view end) {
+    const std::size_t found = text.find(end, from);
+    const std::size_t stop = found == std::string_view::npos ? text.size() : found + end.size();
+    line += static_cast<std::size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i),
+                                                text.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
+    i = stop;
+  };
+  const auto starts = [&](std::string_view prefix) { return text.compare(i, prefix.size(), prefix) == 0; };
+  const auto name_start = [](unsigned char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':' || c >= 0x7f;  // TinyXML: >= 127
+  };
+  while (i < text.size()) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (c != '<') {
+      ++i;
+      continue;
+    }
+    if (starts("<!--")) {
+      skip_past(i + 4, "-->");
+    } else if (starts("<![CDATA[")) {
+      skip_past(i + 9, "]]>");
+    } else if (starts("<?")) {
+      skip_past(i + 2, "?>");
+    } else if (starts("<!")) {
+      skip_past(i + 2, ">");
+    } else if (starts("</")) {
+      depth -= depth > 0 ? 1 : 0;
+      skip_past(i + 2, ">");
+    } else if (i + 1 < text.size() && name_start(static_cast<unsigned char>(text[i + 1]))) {
+      ++depth;
+      if (depth > outline.depth) {
+        outline.depth = depth;
+        outline.deepest_line = line;
+      }
+      std::size_t end = i + 1;
+      while (end < text.size() && text[end] != '>' && text[end] != '/' && static_cast<unsigned char>(text[end]) > ' ') ++end;
+      const std::string_view name = text.substr(i + 1, end - i - 1);
+      if (depth == 2) {
+        outline.links += name == "link" ? 1 : 0;
+        outline.joints += name == "joint" ? 1 : 0;
+      }
+      // The attributes, to the tag's end: a '>' or "/>" inside a quoted value does not end it. A
+      // value is quoted where its first character, after '=' and white space, is a quote (as the
+      // parser reads it): a quote inside a word opens nothing.
+      char quote = 0;
+      bool value_next = false;
+      for (; end < text.size(); ++end) {
+        const char d = text[end];
+        if (d == '\n') ++line;
+        if (quote) {
+          if (d == quote) quote = 0;
+        } else if (d == '=') {
+          value_next = true;
+        } else if (value_next && (d == '"' || d == '\'')) {
+          quote = d;
+          value_next = false;
+        } else if (d == '>') {
+          break;
+        } else if (static_cast<unsigned char>(d) > ' ') {
+          value_next = false;
+        }
+      }
+      if (end < text.size() && end > i && text[end - 1] == '/' && !quote) --depth;
+      i = end + 1;
+    } else {
+      ++i;
+    }
+  }
+  return outline;
+}
+
+}  // namespace sweepgen::model

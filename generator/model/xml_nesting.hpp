@@ -1,0 +1,24 @@
+// A URDF's element structure, read without parsing (and without recursion) before urdfdom parses it:
+// TinyXML, the reader under urdfdom, recurses once per level of nesting, so a file nested a
+// hundred thousand deep overflows the stack, and a file of millions of <link>s fills the memory
+// before any check of ours could run (model/input_limits.hpp).
+#pragma once
+
+#include <cstddef>
+#include <string_view>
+
+namespace sweepgen::model {
+
+struct XmlOutline {
+  std::size_t depth = 0;       // the deepest nesting of elements (the root element is 1)
+  std::size_t deepest_line = 0;  // the line (from 1) where that depth is first reached
+  std::size_t links = 0;       // <link> elements directly inside the root element
+  std::size_t joints = 0;      // <joint> elements directly inside the root element
+};
+
+// Scans elements as TinyXML does: comments, CDATA, declarations and <!...> skipped, quoted
+// attribute values stepped over, `<name ... />` empty; the text ends at its first NUL (where
+// the parser stops). Never below what the parser nests: a malformed file may count deeper.
+XmlOutline xml_outline(std::string_view text);
+
+}  // namespace sweepgen::model

@@ -1,0 +1,410 @@
+// Hostile and huge inputs (README, "Limits"): names that hold a line break, a comment's end, a
+// backslash, a trigraph, bidirectional controls, NUL or bytes that are not UTF-8 reach the generated
+// code inert (it compiles under -Werror) and messages escaped; every limit is enforced before the
+// work with a message naming it; nesting and graph depth do not reach the call stack; --file-stem
+// stays inside --out; messages stay short. The large inputs are made here, on the fly.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "model/inert_text.hpp"
+#include "model/input_limits.hpp"
+#include "model/xml_nesting.hpp"
+#include "solver/drivers.hpp"
+#include "support/run_command.hpp"
+#include "support/temp_dir.hpp"
+
+namespace sweepgen {
+namespace {
+namespace SWEEPGEN_TEST_FILE {
+
+namespace fs = std::filesystem;
+using test::CommandResult;
+
+// Everything a name can carry that could act in generated code: a line break followed by a
+// preprocessor line, a comment's end and start, a trigraph that would end in a line splice, a
+// right-to-left override (U+202E), bytes that are not UTF-8 and, last, a backslash (before a
+// line break it continues a // comment into the next line).
+const std::string kHostile = "\n#error injected\n */ /* ?\?/ \xE2\x80\xAE \xff\xfe \\";
+// The same but valid UTF-8: what a YAML scene can spell ("\xff" in YAML is U+00FF, not a byte).
+const std::string kHostileUtf8 = "\n#error injected\n */ /* ?\?/ \xE2\x80\xAE \\";
+
+CommandResult sweepgen(const std::vector<std::string>& args, const std::string* input = nullptr) {
+  std::vector<std::string> words{SWEEPGEN_EXECUTABLE};
+  words.insert(words.end(), args.begin(), args.end());
+  return test::run_command(test::shell_command(words), input);
+}
+
+std::string describe(const CommandResult& r) {
+  return "exit " + std::to_string(r.exit_code) + "\n--- stdout:\n" + r.out.substr(0, 4000) + "\n--- stderr:\n" +
+         r.err.substr(0, 4000);
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Whether `text` is valid UTF-8 (RFC 3629) without control characters other than '\n'.
+bool printable_utf8(const std::string& text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto b = static_cast<unsigned char>(text[i]);
+    if (b < 0x80) {
+      if ((b < 0x20 && b != '\n') || b == 0x7f) return false;
+      ++i;
+      continue;
+    }
+    const std::size_t n = b >= 0xf0 && b <= 0xf4 ? 4 : b >= 0xe0 ? 3 : b >= 0xc2 && b <= 0xdf ? 2 : 0;
+    if (n == 0 || i + n > text.size()) return false;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) return false;
+    i += n;
+  }
+  return true;
+}
+
+// Writes `text` to `dir`/`folder`/`name`, creating the folder: a path may hold "*/" and "??\" across
+// its separator, which a file name cannot.
+std::string write_file(const fs::path& dir, const std::string& folder, const std::string& name, const std::string& text) {
+  fs::create_directories(dir / folder);
+  std::ofstream(dir / folder / name, std::ios::binary) << text;
+  return (dir / folder / name).string();
+}
+
+// A name as an XML attribute value: line breaks as character references, the rest raw.
+std::string xml(const std::string& name) {
+  std::string out;
+  for (char c : name) out += c == '\n' ? std::string("&#10;") : std::string(1, c);
+  return out;
+}
+
+// A robot whose every name ends in `payload`: a fixed base carrying a link fixed to it (left out),
+// two moving joints (the second a <mimic> of the first, with <dynamics>, an axis of length 2), a tip
+// fixed behind a quarter turn, and a moving side branch off the first body (locked, lumped).
+std::string hostile_urdf(const std::string& payload) {
+  const auto n = [&](const std::string& stem) { return xml(stem + payload); };
+  const std::string inertial =
+      "<inertial><origin xyz=\"0.1 0 0\"/><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" "
+      "iyz=\"0\" izz=\"0.01\"/></inertial>";
+  const auto link = [&](const std::string& stem) { return "  <link name=\"" + n(stem) + "\">" + inertial + "</link>\n"; };
+  const auto joint = [&](const std::string& stem, const std::string& type, const std::string& parent,
+                         const std::string& child, const std::string& extra) {
+    return "  <joint name=\"" + n(stem) + "\" type=\"" + type + "\"><parent link=\"" + n(parent) + "\"/><child link=\"" +
+           n(child) + "\"/>" + extra + "</joint>\n";
+  };
+  const std::string limit = "<limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"1\"/>";
+  return "<robot name=\"" + n("robot") + "\">\n" + link("base") + link("plate") + link("upper") + link("lower") +
+         link("hand") + link("side") + joint("bolt", "fixed", "base", "plate", "") +
+         joint("shoulder", "revolute", "base", "upper", "<axis xyz=\"0 0 2\"/>" + limit) +
+         joint("elbow", "revolute", "upper", "lower",
+               "<origin xyz=\"0 0 0.3\"/><axis xyz=\"0 1 0\"/>" + limit + "<mimic joint=\"" + n("shoulder") +
+                   "\"/><dynamics damping=\"0.5\"/>") +
+         joint("wrist", "fixed", "lower", "hand", "<origin xyz=\"0 0 0.2\" rpy=\"1.5707963267 0 0\"/>") +
+         joint("side", "revolute", "upper", "side", "<axis xyz=\"1 0 0\"/>" + limit) + "</robot>\n";
+}
+
+// generate, then the .cpp (which includes the header) compiled by the system compiler with every
+// warning an error: a line break in a comment would leave `#error injected` a directive, `*/`
+// would end no comment but `/*` inside one is -Wcomment, "??/" is -Wtrigraphs, U+202E is
+// -Wbidi-chars, a trailing backslash would splice the next line into the comment.
+void expect_generated_code_compiles(const std::vector<std::string>& generate_args, const fs::path& out) {
+  std::vector<std::string> args{"generate"};
+  args.insert(args.end(), generate_args.begin(), generate_args.end());
+  args.insert(args.end(), {"--out", out.string()});
+  const CommandResult generated = sweepgen(args);
+  ASSERT_EQ(generated.exit_code, 0) << describe(generated);
+  EXPECT_TRUE(printable_utf8(generated.out)) << generated.out;
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string text = test::read_text(entry.path());
+    EXPECT_TRUE(printable_utf8(text)) << entry.path();
+    EXPECT_FALSE(contains(text, "\n#error")) << entry.path();
+    ++files;
+    if (entry.path().extension() != ".cpp") continue;
+    const CommandResult compiled = test::run_command(test::shell_command(
+        {"c++", "-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-Wpedantic", "-Werror", entry.path().string()}));
+    EXPECT_EQ(compiled.exit_code, 0) << describe(compiled);
+  }
+  EXPECT_EQ(files, 4u);  // .hpp, .cpp, .cu (which includes the .cpp) and .cmake
+}
+
+// ---- The inert text function ------------------------------------------------------------------
+
+TEST(InertText, EscapesWhatCouldActAndKeepsPlainNames) {
+  EXPECT_EQ(inert_text("panda_link0"), "panda_link0");
+  EXPECT_EQ(inert_text("world (where base is now)"), "world (where base is now)");
+  EXPECT_EQ(quote_name("a'b"), "'a\\'b'");
+  EXPECT_EQ(inert_text("a\nb"), "'a\\nb'");
+  EXPECT_EQ(inert_text(std::string("a\0b", 3)), "'a\\0b'");
+  EXPECT_EQ(inert_text("x */ y /* z"), "'x *\\/ y /\\* z'");
+  EXPECT_EQ(inert_text("/*/"), "'/\\*\\/'");
+  EXPECT_EQ(inert_text("a?\?/"), "'a?\\?/'");
+  EXPECT_EQ(inert_text("tail\\"), "'tail\\\\'");  // never ends in a backslash: the quote closes it
+  EXPECT_EQ(inert_text("\xff\xfe"), "'\\xff\\xfe'");
+  EXPECT_EQ(inert_text("\xc3"), "'\\xc3'");                        // a lead byte without its continuation
+  EXPECT_EQ(inert_text("\xed\xa0\x80"), "'\\xed\\xa0\\x80'");      // a surrogate: not UTF-8
+  EXPECT_EQ(inert_text("\xc0\xaf"), "'\\xc0\\xaf'");               // an overlong '/'
+  EXPECT_EQ(inert_text("r\xE2\x80\xAEl"), "'r\\u{202e}l'");         // right-to-left override
+  EXPECT_EQ(inert_text("Gelenk_\xC3\xA4"), "'Gelenk_\xC3\xA4'");    // valid UTF-8 stays, quoted
+  for (const std::string& name : {kHostile, kHostileUtf8}) {
+    const std::string inert = inert_text(name);
+    EXPECT_TRUE(printable_utf8(inert)) << inert;
+    EXPECT_FALSE(contains(inert, "\n") || contains(inert, "*/") || contains(inert, "/*") || contains(inert, "??"));
+    EXPECT_NE(inert.back(), '\\');
+  }
+}
+
+TEST(InertText, CutsALongNameWithItsSize) {
+  const std::string token(1 << 20, 'x');
+  const std::string quoted = quote_name(token);
+  EXPECT_EQ(quoted, "'" + std::string(kShownBytes, 'x') + "'... (1048576 bytes)");
+  // Cut at a character's end, not inside a UTF-8 sequence.
+  std::string wide;
+  while (wide.size() < 3 * kShownBytes) wide += "\xC3\xA4";
+  EXPECT_TRUE(printable_utf8(quote_name(wide)));
+  EXPECT_EQ(listed({"a", "b", "c"}, 2), "a, b and 1 more");
+}
+
+TEST(XmlOutline, CountsElementsAsTheParserNestsThem) {
+  const model::XmlOutline outline = model::xml_outline(
+      "<?xml version=\"1.0\"?>\n<!-- <a><b><c> -->\n<robot a=\"/>\" b='>'>\n  <link name=\"x\"/>\n"
+      "  <link><inertial><![CDATA[<d><e>]]></inertial></link>\n  <joint/>\n  <x><link/></x>\n</robot>\n");
+  EXPECT_EQ(outline.depth, 3u);
+  EXPECT_EQ(outline.deepest_line, 5u);
+  EXPECT_EQ(outline.links, 2u);   // the <link> inside <x> is not the robot's
+  EXPECT_EQ(outline.joints, 1u);
+  // A quote inside an unquoted value opens no quoted text (the parser reads on: nothing hidden);
+  // names may start with any byte from 127 up, as TinyXML's do.
+  EXPECT_EQ(model::xml_outline("<r a=b\"><s><t><u></u></t></s></r>").depth, 4u);
+  EXPECT_EQ(model::xml_outline("<r><\x7f><\xc3\xa4/></\x7f></r>").depth, 3u);
+}
+
+// ---- The issue's table, row by row ------------------------------------------------------------
+
+// Row 1: a joint name holding a line break went raw into // comments (`#error injected`). Every
+// name a URDF carries (links, joints, the fixed, lumped, locked, left-out, mimic, changed ones) and
+// the URDF's file name, in the default scene.
+TEST(HostileInputs, NamesFromTheUrdfReachTheGeneratedCodeInert) {
+  const test::TempDir dir;
+  const std::string urdf = write_file(dir.path(), "robot *", " ??\\\xff\xE2\x80\xAE.urdf", hostile_urdf(kHostile));
+  expect_generated_code_compiles({"--urdf", urdf, "--tip", "hand" + kHostile}, dir.path() / "out");
+  const CommandResult info = sweepgen({"info", "--urdf", urdf, "--tip", "hand" + kHostile});
+  ASSERT_EQ(info.exit_code, 0) << describe(info);
+  EXPECT_TRUE(printable_utf8(info.out)) << info.out;
+  EXPECT_FALSE(contains(info.out, "\n#error"));
+}
+
+// ... and every name a scene carries (tips, external-force and constraint-set links, locked joints,
+// rotor inertias), the scene's and the URDF's file names in the provenance line.
+TEST(HostileInputs, NamesFromASceneReachTheGeneratedCodeInert) {
+  const test::TempDir dir;
+  write_file(dir.path(), "robot *", " ??\\.urdf", hostile_urdf(kHostileUtf8));
+  const std::string y = "\\n#error injected\\n */ /* ?\?/ \\u202E \\\\";  // kHostileUtf8 in YAML's escapes
+  const std::string scene = write_file(dir.path(), "scene *", "\n??\\scene.yaml",
+                                      "sweepgen_scene: 1\nsolver: hostile\nurdf: \"../robot */ ??\\\\.urdf\"\n"
+                                      "tips: [\"hand" + y + "\"]\n"
+                                      "locked_joints: {\"side" + y + "\": 0.5}\n"
+                                      "rotor_inertia: {\"shoulder" + y + "\": 0.01}\n"
+                                      "drivers:\n  torques: [tau]\n  external_forces:\n"
+                                      "    - {name: push, link: \"lower" + y + "\"}\n"
+                                      "  constraints:\n    - {link: \"hand" + y + "\", count: 2}\n"
+                                      "policies: [original, saturate]\nscalars: [double, float]\n");
+  expect_generated_code_compiles({"--scene", scene}, dir.path() / "out");
+}
+
+// NUL, which XML cannot carry (&#0; is no character) but YAML can ("\0"): in messages as \0.
+TEST(HostileInputs, NulInASceneNameIsReportedEscaped) {
+  const test::TempDir dir;
+  dir.write("robot.urdf", hostile_urdf(""));
+  const std::string scene = dir.write("scene.yaml",
+                                      "sweepgen_scene: 1\nsolver: s\nurdf: robot.urdf\ntip: hand\n"
+                                      "rotor_inertia: {\"shoulder\\0\\n\": 0.01}\n");
+  const CommandResult r = sweepgen({"info", "--scene", scene});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  EXPECT_TRUE(contains(r.err, "'shoulder\\0\\n'")) << r.err;
+  EXPECT_TRUE(printable_utf8(r.err)) << r.err;
+}
+
+// Row 2: a byte 0xFF in a solve line aborted (nlohmann's type_error.316 while printing the error
+// line); so did a "did you mean" hint naming a link that is not UTF-8, and a saturated joint's name.
+TEST(HostileInputs, InvalidUtf8InASolveLineIsReportedNotThrown) {
+  const test::TempDir dir;
+  const std::string urdf = dir.write("robot.urdf", hostile_urdf("\xff"));
+  const std::string lines =
+      "{\"q\": [0, 0], \"qd\": [0, 0], \"f_ext\": {\"lower\xff\": [0, 0, 0, 0, 0, 0]}}\n"  // not UTF-8: not JSON
+      "{\"q\": [0, 0], \"qd\": [0, 0], \"f_ext\": {\"lowr\": [0, 0, 0, 0, 0, 0]}}\n"       // the hint names 'lower\xff'
+      "{\"q\": [0, 0], \"qd\": [0, 0], \"tau_ff\": [1000, 1000], \"policy\": \"saturate_exact\"}\n";
+  const CommandResult r = sweepgen({"solve", "--urdf", urdf, "--tip", "hand\xff"}, &lines);
+  ASSERT_EQ(r.exit_code, 1) << describe(r);  // not 134 (abort)
+  std::vector<nlohmann::json> out;  // each line valid JSON (and so valid UTF-8)
+  for (std::size_t at = 0, end; (end = r.out.find('\n', at)) != std::string::npos; at = end + 1)
+    out.push_back(nlohmann::json::parse(r.out.substr(at, end - at)));
+  ASSERT_EQ(out.size(), 3u) << r.out;
+  EXPECT_TRUE(contains(out[0]["error"].get<std::string>(), "\\xff")) << out[0];
+  EXPECT_TRUE(contains(out[1]["error"].get<std::string>(), "did you mean 'lower\\xff'")) << out[1];
+  EXPECT_TRUE(contains(out[2].value("status", ""), "saturated")) << out[2];  // answered, not an error line
+  EXPECT_EQ(out[2].value("saturated_joints", nlohmann::json::array()).size(), 2u) << out[2];
+  EXPECT_TRUE(printable_utf8(r.err)) << r.err;
+}
+
+// Row 3: a URDF nested 100 000 deep overflowed the stack inside TinyXML.
+TEST(HostileInputs, DeeplyNestedUrdfIsRefusedBeforeParsing) {
+  const test::TempDir dir;
+  std::string text = "<robot name=\"r\">\n";
+  for (int k = 0; k < 100000; ++k) text += "<a>";
+  for (int k = 0; k < 100000; ++k) text += "</a>";
+  const std::string urdf = dir.write("deep.urdf", text + "\n</robot>\n");
+  const CommandResult r = sweepgen({"info", "--urdf", urdf});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  EXPECT_TRUE(contains(r.err, "deep.urdf:2: <robot>: elements nested 100001 deep, more than the limit of 100")) << r.err;
+}
+
+// Row 4: 10 000 external-force instances took more than 600 s and overflowed the sanitizer build's
+// stack in the recursive schedule; a sum over the instances was also written as one expression
+// nested as deep. Here as many as the limit allows, on one body (each a term of that body's force
+// sum: the graph as deep as there are instances), generated with a stack of 512 KiB, which either
+// recursion overflowed (exit 139).
+TEST(HostileInputs, ManyInstancesNeedNoDeepStack) {
+  const test::TempDir dir;
+  dir.write("robot.urdf", hostile_urdf(""));
+  std::string scene = "sweepgen_scene: 1\nsolver: many\nurdf: robot.urdf\ntip: hand\ndecomposition: composed\n"
+                      "drivers:\n  external_forces:\n";
+  for (std::size_t k = 0; k < kMaxInstances; ++k) scene += "    - {name: f" + std::to_string(k) + ", link: lower}\n";
+  const std::string path = dir.write("many.yaml", scene);
+  const CommandResult r = test::run_command(
+      "ulimit -s 512 && " + test::shell_command({SWEEPGEN_EXECUTABLE, "generate", "--scene", path, "--out",
+                                                  (dir.path() / "out").string()}));
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+}
+
+// ... and past the limit, refused before anything is traced.
+TEST(HostileInputs, InstancesPastTheLimitAreRefused) {
+  const test::TempDir dir;
+  std::string scene = "sweepgen_scene: 1\nsolver: many\nurdf: robot.urdf\ndrivers:\n  torques: [";
+  for (std::size_t k = 0; k <= kMaxInstances; ++k) scene += (k ? ", t" : "t") + std::to_string(k);
+  const CommandResult r = sweepgen({"info", "--scene", dir.write("many.yaml", scene + "]\n")});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  EXPECT_TRUE(contains(r.err, "drivers.torques: more than 10000 driver instances")) << r.err;
+}
+
+// Row 5: a long chain's generate went as n^3 (model::joint_inertia_bounds) and beyond; the bench
+// (bench/input_scaling.sh) measures the time, this the limits and that the walks over a chain's
+// links (the loader's search for the tip, urdfdom's links freeing one another) do not reach the
+// stack: with 512 KiB either overflowed (exit 139).
+TEST(HostileInputs, LongChainsNeedNoDeepStack) {
+  const test::TempDir dir;
+  // A chain of 9 999 fixed joints (the most links the limit allows), then one moving joint; the
+  // root link listed last, so that urdfdom's map frees the links tip first.
+  std::string text = "<robot name=\"r\">\n";
+  const std::string inertial =
+      "<inertial><mass value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial>";
+  for (int k = 9999; k >= 1; --k) text += "<link name=\"l" + std::to_string(k) + "\">" + inertial + "</link>\n";
+  text += "<link name=\"z0\"/>\n";
+  for (int k = 1; k <= 9999; ++k)
+    text += "<joint name=\"j" + std::to_string(k) + "\" type=\"" + (k == 1 ? "revolute" : "fixed") +
+            "\"><parent link=\"" + (k == 1 ? std::string("z0") : "l" + std::to_string(k - 1)) + "\"/><child link=\"l" +
+            std::to_string(k) + "\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n";
+  const std::string urdf = dir.write("long.urdf", text + "</robot>\n");
+  const std::string line = "{\"q\": [0.1], \"qd\": [0]}\n";
+  const CommandResult r = test::run_command(
+      "ulimit -s 512 && " + test::shell_command({SWEEPGEN_EXECUTABLE, "solve", "--urdf", urdf}), &line);
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  // One link over the limit, refused from the file's outline.
+  const std::string more = dir.write("more.urdf", text + "<link name=\"extra\"/>\n</robot>\n");
+  const CommandResult refused = sweepgen({"info", "--urdf", more});
+  EXPECT_EQ(refused.exit_code, 1) << describe(refused);
+  EXPECT_TRUE(contains(refused.err, "10001 <link> elements, more than the limit of 10000")) << refused.err;
+}
+
+// Row 6: --file-stem with a path wrote outside --out.
+TEST(HostileInputs, FileStemIsAPlainFileName) {
+  const test::TempDir dir;
+  const std::string urdf = dir.write("robot.urdf", hostile_urdf(""));
+  const fs::path out = dir.path() / "a" / "b" / "out";
+  for (const std::string stem : {"sub/../../escaped", "../escaped", "/tmp/escaped", "..", ".hidden", "a b"}) {
+    const CommandResult r = sweepgen({"generate", "--urdf", urdf, "--tip", "hand", "--out", out.string(), "--file-stem", stem});
+    EXPECT_EQ(r.exit_code, 1) << stem << ": " << describe(r);
+    EXPECT_TRUE(contains(r.err, "--file-stem: ")) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir.path() / "a")) << "written outside --out, or --out itself, on a refused stem";
+  EXPECT_FALSE(fs::exists("/tmp/escaped.hpp"));
+  const CommandResult r = sweepgen({"generate", "--urdf", urdf, "--tip", "hand", "--out", out.string(), "--file-stem", "my-solver.v2"});
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  EXPECT_TRUE(fs::exists(out / "my-solver.v2.hpp"));
+  EXPECT_TRUE(contains(test::read_text(out / "my-solver.v2.cpp"), "#include \"my-solver.v2.hpp\""));
+}
+
+// Row 7: an endless input (/dev/zero) was read until the memory ran out.
+TEST(HostileInputs, EndlessInputsStopAtTheLimit) {
+  const CommandResult urdf = sweepgen({"info", "--urdf", "/dev/zero"});
+  EXPECT_EQ(urdf.exit_code, 1) << describe(urdf);
+  EXPECT_TRUE(contains(urdf.err, "/dev/zero: file: larger than 32 MiB, the limit for a URDF")) << urdf.err;
+  const CommandResult scene = sweepgen({"info", "--scene", "/dev/zero"});
+  EXPECT_EQ(scene.exit_code, 1) << describe(scene);
+  EXPECT_TRUE(contains(scene.err, "larger than 8 MiB, the limit for a scene")) << scene.err;
+  const test::TempDir dir;
+  const std::string urdf_file = dir.write("robot.urdf", hostile_urdf(""));
+  const CommandResult solve = sweepgen({"solve", "--urdf", urdf_file, "--tip", "hand", "--input", "/dev/zero"});
+  EXPECT_EQ(solve.exit_code, 1) << describe(solve);
+  EXPECT_TRUE(contains(solve.err, "/dev/zero:1: line longer than 8 MiB, the limit")) << solve.err;
+}
+
+// ---- The other limits, and messages kept short ------------------------------------------------
+
+TEST(HostileInputs, OtherLimitsAreNamed) {
+  const test::TempDir dir;
+  std::string joints = "<robot name=\"r\">\n<link name=\"a\"/>\n";
+  for (std::size_t k = 0; k <= kMaxJoints; ++k) joints += "<joint name=\"j" + std::to_string(k) + "\" type=\"fixed\"/>\n";
+  const CommandResult j = sweepgen({"info", "--urdf", dir.write("joints.urdf", joints + "</robot>\n")});
+  EXPECT_EQ(j.exit_code, 1) << describe(j);
+  EXPECT_TRUE(contains(j.err, "10001 <joint> elements, more than the limit of 10000")) << j.err;
+
+  const std::string deep_yaml =
+      "sweepgen_scene: 1\nsolver: s\nurdf: robot.urdf\ngravity: " + std::string(3000, '[') + std::string(3000, ']') + "\n";
+  const CommandResult y = sweepgen({"info", "--scene", dir.write("deep.yaml", deep_yaml)});
+  EXPECT_EQ(y.exit_code, 1) << describe(y);
+  EXPECT_TRUE(contains(y.err, "YAML: collections nested more than 2000 deep, the limit")) << y.err;
+
+  dir.write("robot.urdf", hostile_urdf(""));
+  std::string sets = "{\"q\": [0, 0], \"qd\": [0, 0], \"constraints\": [";
+  for (std::size_t k = 0; k <= solver::kMaxConstraints; ++k)
+    sets += std::string(k ? ", " : "") + "{\"link\": \"hand\", \"alpha\": [[0, 0, 0, 0, 0, 1]], \"beta\": [0]}";
+  const std::string line = sets + "]}\n";
+  const CommandResult c = sweepgen({"solve", "--urdf", (dir.path() / "robot.urdf").string(), "--tip", "hand"}, &line);
+  EXPECT_EQ(c.exit_code, 1) << describe(c);
+  EXPECT_TRUE(contains(c.err, "key 'constraints': at most 24 directions in all, got 25 sets")) << c.err;
+}
+
+// A list of 10 000 children and a 1 MB token were echoed whole (an 89 KB line; the token twice).
+TEST(HostileInputs, MessagesStayShort) {
+  const test::TempDir dir;
+  std::string wide = "<robot name=\"r\">\n<link name=\"root\"/>\n";
+  for (int k = 0; k < 9998; ++k)
+    wide += "<link name=\"c" + std::to_string(k) + "\"/><joint name=\"f" + std::to_string(k) +
+            "\" type=\"fixed\"><parent link=\"root\"/><child link=\"c" + std::to_string(k) + "\"/></joint>\n";
+  const CommandResult children = sweepgen({"info", "--urdf", dir.write("wide.urdf", wide + "</robot>\n")});
+  EXPECT_EQ(children.exit_code, 1) << describe(children);
+  EXPECT_TRUE(contains(children.err, "'c0', 'c1', ")) << children.err;
+  EXPECT_TRUE(contains(children.err, " and 9988 more")) << children.err;
+  EXPECT_LT(children.err.size(), 1000u) << children.err;
+
+  const std::string token(1 << 20, 'x');
+  dir.write("robot.urdf", hostile_urdf(""));
+  const std::string scene =
+      dir.write("token.yaml", "sweepgen_scene: 1\nsolver: s\nurdf: robot.urdf\ngravity: [" + token + ", 0, 0]\n");
+  const CommandResult yaml = sweepgen({"info", "--scene", scene});
+  EXPECT_EQ(yaml.exit_code, 1) << describe(yaml);
+  EXPECT_TRUE(contains(yaml.err, "'... (1048576 bytes)")) << yaml.err.substr(0, 1000);
+  EXPECT_LT(yaml.err.size(), 1000u);
+
+  const std::string line = "{\"q\": [" + token + "]}\n";
+  const CommandResult json = sweepgen({"solve", "--urdf", (dir.path() / "robot.urdf").string(), "--tip", "hand"}, &line);
+  EXPECT_EQ(json.exit_code, 1) << describe(json);
+  EXPECT_LT(json.err.size(), 1000u) << json.err.substr(0, 1000);
+  EXPECT_LT(json.out.size(), 1000u);
+}
+
+}  // namespace SWEEPGEN_TEST_FILE
+}  // namespace
+}  // namespace sweepgen
