@@ -1,4 +1,4 @@
-// Trace → plan → C++ text: the generated header, source and CMake snippet of one scene.
+// Trace → plan → C++ text: the generated header, source, CUDA source and CMake snippet of one scene.
 #pragma once
 
 #include <optional>
@@ -38,7 +38,7 @@ struct FunctionCost {
 };
 
 struct EmittedSolver {
-  std::vector<EmittedFile> files;  // header, source, CMake snippet
+  std::vector<EmittedFile> files;  // header, source, CUDA source, CMake snippet
   std::vector<FunctionCost> costs;
   std::vector<std::string> choices;  // how the constraint is evaluated and factored, one line each
   // How the rows r_i were formed ((I2) or (I6)), what a reference solver needs to run the same

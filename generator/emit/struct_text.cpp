@@ -1,0 +1,142 @@
+#include "emit/struct_text.hpp"
+
+#include <algorithm>
+#include <map>
+#include <utility>
+
+#include "emit/equations.hpp"
+#include "emit/names.hpp"
+#include "model/inert_text.hpp"
+
+namespace sweepgen::emit {
+namespace {
+
+// One array of the Drivers struct: its declarator, the loop header(s) over its values, the
+// element those loops reach and what it holds.
+struct DriverArray {
+  std::string declarator, loops, element, doc;
+};
+
+// The extent of the run-time α: `constraints` when every direction is an input.
+std::string alpha_extent(const solver::DriverLayout& layout) {
+  const std::size_t inputs = layout.run_time_directions();
+  return inputs == layout.constraints ? "constraints" : std::to_string(inputs);
+}
+
+std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
+  std::vector<DriverArray> arrays;
+  for (const auto& name : request.layout.torques)
+    arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques"});
+  for (const auto& ext : request.layout.external_forces)
+    arrays.push_back({ext.name + "[6]", "for (int i = 0; i < 6; ++i)", ext.name + "[i]",
+                      "wrench [moment; force] on link " + inert_text(ext.link) + ", in its frame"});
+  const solver::DriverLayout& layout = request.layout;
+  if (layout.run_time_directions() > 0) {
+    const std::string extent = alpha_extent(layout);
+    arrays.push_back({"alpha[" + extent + "][6]", "for (int k = 0; k < " + extent + "; ++k)\n    for (int i = 0; i < 6; ++i)",
+                      "alpha[k][i]",
+                      layout.listed_sets() == 0 ? "constraint directions [moment; force], tip frame, unit norm"
+                                          : "run-time constraint directions [moment; force], each in its set's link frame, "
+                                            "unit norm (sets: see the file header)"});
+  }
+  return arrays;
+}
+
+// The Solution arrays the solves return (scene key outputs), in the order of solver::FlatLayout's
+// `out` (solver/flat_layout.hpp), with their extents and loop headers (ν without constraints:
+// named, with no entries).
+struct SolutionArray {
+  std::string name, extent, element, loop;
+};
+std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, std::size_t sets) {
+  std::vector<SolutionArray> arrays;
+  const std::string joints = "for (int i = 0; i < dof; ++i)";
+  for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"})
+    if (outputs.lists(name)) arrays.push_back({name, "dof", name + std::string("[i]"), joints});
+  if (outputs.nu) arrays.push_back({"nu", "constraints", "nu[k]", "for (int k = 0; k < constraints; ++k)"});
+  if (outputs.tip_acceleration) arrays.push_back({"tip_acceleration", "6", "tip_acceleration[i]", "for (int i = 0; i < 6; ++i)"});
+  if (sets > 0 && outputs.set_acceleration) {
+    const std::string n = std::to_string(6 * sets);
+    arrays.push_back({"set_acceleration", "6 per constraint set", "set_acceleration[i]", "for (int i = 0; i < " + n + "; ++i)"});
+  }
+  return arrays;
+}
+
+}  // namespace
+
+std::string array_members(const symbolic::Trace& trace, const std::vector<std::size_t>& fields, std::size_t bodies,
+                          bool solution, const MemberTypes& types) {
+  std::vector<std::string> order;
+  std::map<std::string, std::pair<bool, int>> shape;  // name -> (per body, components)
+  for (std::size_t i : fields) {
+    const auto& f = trace.fields[i];
+    auto [it, inserted] = shape.emplace(f.array, std::make_pair(f.body >= 0, 0));
+    if (inserted) order.push_back(f.array);
+    it->second.second = std::max(it->second.second, f.component + 1);
+  }
+  std::string text;
+  for (const auto& name : order) {
+    const auto& [per_body, components] = shape[name];
+    const Storage storage = solution ? solution_storage(name) : Storage::value;
+    const std::string extent = storage == Storage::count ? ""
+                               : (per_body ? "[" + std::to_string(bodies) + "]" : "") + "[" + std::to_string(components) + "]";
+    const std::string& type = storage == Storage::flag ? types.flag : storage == Storage::count ? types.count : types.value;
+    text += "  " + type + " " + name + extent + ";  // " + equation_of(name).cited() + "\n";
+  }
+  return text;
+}
+
+std::string drivers_members(const symbolic::TraceRequest& request, const std::string& type) {
+  std::string text;
+  for (const auto& a : driver_arrays(request)) text += "  " + type + " " + a.declarator + ";  // " + a.doc + "\n";
+  return text;
+}
+
+std::string unpack_drivers(const symbolic::TraceRequest& request) {
+  std::string text = "  [[maybe_unused]] const S* cursor = drivers_in;\n";
+  for (const auto& a : driver_arrays(request)) text += "  " + a.loops + " drivers." + a.element + " = *cursor++;\n";
+  return text;
+}
+
+std::string check_drivers(const symbolic::TraceRequest& request) {
+  std::string text = "  S residue{};  // NaN/Inf among the drivers (scene: check_inputs; see outward())\n";
+  for (const auto& a : driver_arrays(request))
+    text += "  " + a.loops + " residue += drivers." + a.element + " - drivers." + a.element + ";\n";
+  return text + "  state.drivers_input_status = Lanes<S>::status_if(residue != 0, status_not_finite);";
+}
+
+// The order of solver::FlatLayout's `in` (solver/flat_layout.hpp).
+std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool floating_base) {
+  std::string text = floating_base ? "q (nq), qd (dof)" : "q (dof), qd (dof)";
+  for (const auto& name : request.layout.torques) text += ", " + name + " (dof)";
+  for (const auto& ext : request.layout.external_forces) text += ", " + ext.name + " (6)";
+  if (request.layout.run_time_directions() > 0) text += ", alpha (" + alpha_extent(request.layout) + " x 6)";
+  if (nc > 0) text += ", beta (constraints)";
+  return text;
+}
+
+// The order of solver::FlatLayout's `out`.
+std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets) {
+  std::string text;
+  for (const SolutionArray& a : solution_arrays(outputs, sets)) text += a.name + " (" + a.extent + "), ";
+  return text + "status";
+}
+
+std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets) {
+  std::string text = "  S* cursor_out = out;\n";
+  for (const SolutionArray& a : solution_arrays(outputs, sets))
+    if (nc > 0 || a.name != "nu") text += "  " + a.loop + " *cursor_out++ = solution." + a.element + ";\n";
+  text += "  *cursor_out = Lanes<S>::value(solution.status);";
+  return text;
+}
+
+std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets) {
+  std::string text = "  S residue{};  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
+  if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
+  for (const SolutionArray& a : solution_arrays(outputs, sets))
+    if (nc > 0 || a.name != "nu") text += "  " + a.loop + " residue += out." + a.element + " - out." + a.element + ";\n";
+  text.pop_back();  // the template ends the line
+  return text;
+}
+
+}  // namespace sweepgen::emit
