@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The GPU figures of bench/README.md, "GPU", on a machine with an NVIDIA GPU and nvcc (CI has
 # neither). Needs only the committed generated/ files and nvcc, no other dependency:
-#   bash bench/gpu/run.sh [OUT]        (OUT: default build-gpu/; about 3-4 min on 16 cores)
+#   bash bench/gpu/run.sh [OUT]        (OUT: default build-gpu/; meant to finish within 5 min on 16 cores)
 # 1. prints the device, driver and nvcc versions;
 # 2. compiles bench/gpu/gpu_bench.cu once per bundled scene with nvcc -O3 -arch=native (ARCH), warnings as
 #    errors, ptxas -v (registers, spill stores and loads, stack frame of each kernel), in parallel;
