@@ -2,17 +2,15 @@
 // the flat ones on a scene generated and compiled here (so a change to the templates shows in this
 // suite, which tests/faults/run.sh rebuilds): the Panda with two run-time directions at the hand,
 // check_inputs on, the original and the saturating policy, double and float. Its states part inside
-// groups of lanes in every way a batch must handle: every third state, in turn, has the same
-// direction twice (a rank-deficient E^A_cstr,0: (C4)'s pivoted path), a NaN in one input, or its
-// torques 1000 times their range (saturation); 203 states leave a partial group at the end. Every
+// groups of lanes in every way a batch must handle (test::part_from_group: q = 0 and the same
+// direction twice, both rank-deficient, so (C4)'s pivoted path; a NaN in one input; the torques
+// 1000 times their range, saturation); 203 states leave a partial group at the end. Every
 // output of every state, status word included, must be the flat call's bit for bit (NaN where it is
 // NaN): on the x86-64 baseline the lanes run each state's operations in the same order, with the
 // same rounding, and a group whose states part is solved state by state by the flat call itself.
 // The generated scenes' own tests (tests/generated/scene_test.cpp.in) do the same on every bundled scene.
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -95,17 +93,7 @@ TEST(Batch, EveryStateAsItsFlatCall) {
   std::vector<std::vector<double>> states;
   for (int state = 0; state < kStates; ++state) {
     std::vector<double> in = test::random_flat_problem(random, s, chain).in;
-    if (state % 3 == 0) {
-      switch ((state / 3) % 3) {
-        case 0:
-          std::copy_n(in.begin() + static_cast<std::ptrdiff_t>(layout.alpha(0)), 6,
-                      in.begin() + static_cast<std::ptrdiff_t>(layout.alpha(1)));
-          break;
-        case 1: in[(state / 9) % in.size()] = std::nan(""); break;
-        default:
-          for (std::size_t i = 0; i < layout.dof; ++i) in[layout.torque(0) + i] *= 1000;
-      }
-    }
+    test::part_from_group(in, layout, static_cast<std::size_t>(state));
     states.push_back(std::move(in));
   }
   std::ostringstream input;

@@ -220,11 +220,8 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
 }
 
 // The states, `states` of them in a scene's random problems (an odd count: the last group of
-// lanes is partial), every third one made to part from its group's others in turn: the joints
-// at q = 0 (axes aligned: a rank-deficient constraint on most arms, so the pivoted path of (C4)),
-// a NaN in one flat input (as many positions as there are inputs), the first torque 1000 times its
-// range (saturation, where a policy saturates), and where directions are run-time inputs, one
-// repeated (rank-deficient, so the pivoted path); the statuses counted show the cases occur.
+// lanes is partial), every third one made to part from its group's others (part_from_group,
+// support/flat_problem.hpp); the statuses counted show the cases occur.
 template <class Scalar>
 void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::string& scene_path, int states) {
   const scene::Scene s = scene::load_scene(scene_path);
@@ -236,22 +233,7 @@ void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::stri
   for (std::size_t state = 0; state < rows; ++state) {
     const FlatProblem p = random_flat_problem(random, s, chain);
     std::vector<Scalar> in(p.in.begin(), p.in.end());
-    if (state % 3 == 0) {
-      switch ((state / 3) % 4) {
-        case 0:
-          for (std::size_t i = layout.floating_base ? 9 : 0; i < layout.positions(); ++i) in[layout.q() + i] = 0;
-          break;
-        case 1: in[(state / 12) % in_size] = std::numeric_limits<Scalar>::quiet_NaN(); break;
-        case 2:  // a scene without a torque driver has no torque to saturate
-          if (layout.torques > 0)
-            for (std::size_t i = 0; i < layout.dof; ++i) in[layout.torque(0) + i] *= 1000;
-          break;
-        default:
-          if (layout.input_directions.size() > 1)
-            std::copy_n(in.begin() + static_cast<std::ptrdiff_t>(layout.alpha(0)), 6,
-                        in.begin() + static_cast<std::ptrdiff_t>(layout.alpha(1)));
-      }
-    }
+    part_from_group(in, layout, state);
     problems.push_back(std::move(in));
   }
   std::vector<Scalar> batch_in(in_size * rows), batch_out(out_size * rows), out(out_size);
