@@ -23,15 +23,19 @@ function(sweepgen_scene_has_line out scene regex)
   endif()
 endfunction()
 file(GLOB SWEEPGEN_BUNDLED_SCENES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.yaml)
-# Each scene's CUDA library <stem>_solver_cuda too where the CUDA language is enabled (the top-level
-# CMakeLists.txt enables it when CMake finds a CUDA compiler: bench/gpu/run.sh).
+# The CUDA library <stem>_solver_cuda of the scenes in SWEEPGEN_CUDA_SCENES too, where the CUDA
+# language is enabled (the top-level CMakeLists.txt enables it when CMake finds a CUDA compiler).
+# One scene by default: it builds sweepgen_add_solver's CUDA path with nvcc, and every bundled
+# scene's device code is checked by clang in the tests (tests/device_code); nvcc on all of them
+# took ~400 job-seconds a build for nothing that runs without a GPU (bench/README.md, "Build and
+# CI time"). bench/gpu/run.sh compiles every scene with nvcc itself.
 get_property(sweepgen_languages GLOBAL PROPERTY ENABLED_LANGUAGES)
-set(sweepgen_cuda)
-if("CUDA" IN_LIST sweepgen_languages)
-  set(sweepgen_cuda CUDA)
-endif()
 foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   get_filename_component(stem ${scene} NAME_WE)
+  set(sweepgen_cuda)
+  if("CUDA" IN_LIST sweepgen_languages AND (SWEEPGEN_CUDA_SCENES STREQUAL "all" OR stem IN_LIST SWEEPGEN_CUDA_SCENES))
+    set(sweepgen_cuda CUDA)
+  endif()
   file(STRINGS ${scene} solver_line REGEX "^solver:")
   string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_FLOAT ${scene} "^scalars:.*float")
