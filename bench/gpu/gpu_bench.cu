@@ -8,10 +8,13 @@
 //   - states per second of each;
 // then the GPU's outputs against the host's (the same generated functions, compiled for the CPU by
 // nvcc's host compiler) on `check` states: the largest difference relative to max(1, |output|),
-// and the states whose status words differ (the CPU's against binary128: the generated scenes'
-// tests). One line per entry and size, "gpu: ...", the columns of bench/README.md, "GPU"; exit 1
-// on a CUDA error or a differing status word.
-//   gpu_bench <check> <n>...
+// and the states whose status words differ; and the first `sample` of those states of the double
+// solve written to <sample file>, a line per state, its flat input then the GPU's flat output in
+// hex floats, for `sweepgen report --scene <scene> --judge <sample file>` to judge against the
+// binary128 referee on a machine with the project built (bench/gpu/run.sh says how). One line per
+// entry and size, "gpu: ...", the columns of bench/README.md, "GPU"; exit 1 on a CUDA error or a
+// differing status word.
+//   gpu_bench <check> <sample> <sample file> <n>...
 #include <cuda_runtime.h>
 
 #include <algorithm>
@@ -88,8 +91,19 @@ float median_ms(cudaStream_t stream, Work&& work) {
   return ms[ms.size() / 2];
 }
 
+// A line per state: its flat input and the GPU's flat output (rows of n values), in hex floats.
 template <class Scalar>
-bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check) {
+void write_sample(std::FILE* file, int states, int n, int in_size, int out_size, const Scalar* in, const Scalar* out) {
+  for (int s = 0; s < states; ++s) {
+    for (int k = 0; k < in_size; ++k) std::fprintf(file, "%a ", static_cast<double>(in[static_cast<std::size_t>(k) * n + s]));
+    for (int k = 0; k < out_size; ++k)
+      std::fprintf(file, k + 1 < out_size ? "%a " : "%a\n", static_cast<double>(out[static_cast<std::size_t>(k) * n + s]));
+  }
+}
+
+// `sample_file`: where the largest n's first `sample` states go (write_sample), or nullptr.
+template <class Scalar>
+bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check, int sample, std::FILE* sample_file) {
   cudaStream_t stream;
   check_cuda(cudaStreamCreate(&stream), "cudaStreamCreate");
   bool ok = true;
@@ -128,6 +142,7 @@ bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check) {
     std::printf("gpu: %-28s %-4s n %8d  kernel %9.3f ms %10.3g states/s  with copies %9.3f ms %10.3g states/s",
                 e.name, e.scalar, n, kernel_ms, n / (kernel_ms * 1e-3), copies_ms, n / (copies_ms * 1e-3));
     if (checked) std::printf("  against the CPU on %d states: max rel. difference %.3g, status differs on %ld", checked, worst, status_differs);
+    if (checked && sample_file) write_sample(sample_file, std::min(sample, n), n, e.in_size, e.out_size, host_in, host_out);
     std::printf("\n");
     ok = ok && status_differs == 0;
     cudaFree(device_out);
@@ -142,26 +157,32 @@ bool run(const Entry<Scalar>& e, const std::vector<int>& sizes, int check) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::fprintf(stderr, "usage: gpu_bench <check states> <n>...\n");
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: gpu_bench <check states> <sample states> <sample file> <n>...\n");
     return 2;
   }
-  const int check = std::atoi(argv[1]);
+  const int check = std::atoi(argv[1]), sample = std::atoi(argv[2]);
+  std::FILE* sample_file = std::fopen(argv[3], "w");
+  if (sample_file == nullptr) {
+    std::fprintf(stderr, "gpu_bench: %s: cannot be written\n", argv[3]);
+    return 1;
+  }
   std::vector<int> sizes;
-  for (int i = 2; i < argc; ++i) sizes.push_back(std::atoi(argv[i]));
+  for (int i = 4; i < argc; ++i) sizes.push_back(std::atoi(argv[i]));
   std::sort(sizes.begin(), sizes.end());
   bool ok = run(Entry<double>{"solve_original", "f64", scene::f64::flat_in_size, scene::f64::flat_out_size,
                               &scene::f64::solve_original_cuda, &scene::f64::solve_original_flat},
-                sizes, check);
+                sizes, check, sample, sample_file);
+  std::fclose(sample_file);
 #if defined(SWEEPGEN_GPU_HAS_DERIVATIVES)
   ok = run(Entry<double>{"derivatives_original", "f64", scene::f64::flat_in_size, scene::f64::derivative_flat_out_size,
                          &scene::f64::derivatives_original_cuda, &scene::f64::derivatives_original_flat},
-           sizes, check) && ok;
+           sizes, check, 0, nullptr) && ok;
 #endif
 #if defined(SWEEPGEN_GPU_HAS_F32)
   ok = run(Entry<float>{"solve_original", "f32", scene::f32::flat_in_size, scene::f32::flat_out_size,
                         &scene::f32::solve_original_cuda, &scene::f32::solve_original_flat},
-           sizes, check) && ok;
+           sizes, check, 0, nullptr) && ok;
 #endif
   return ok ? 0 : 1;
 }

@@ -9,8 +9,11 @@
 #    where it has float) at n = 128, 4 096, 65 536 and 1 048 576 states: the kernel alone, and with
 #    the copies from pinned memory and back, in states per second; then the GPU against the same
 #    generated code on the CPU on 100 000 states (largest relative difference, status words that
-#    differ: the run fails on one). The CPU's against binary128 is what every generated scene's
-#    tests assert.
+#    differ: the run fails on one), and the first 1 000 of those states of the double solve written
+#    to OUT/<scene>.sample (flat input and the GPU's flat output, hex floats);
+# 4. where the project is built in BUILD (default build/, `sweepgen report`): judges each sample
+#    against the binary128 referee (bash bench/gpu/judge.sh OUT BUILD; a machine without the
+#    project's dependencies skips this step and says so: run judge.sh where OUT is copied to).
 # Everything it prints is also in OUT/gpu.txt; ptxas's lines in OUT/<scene>.ptxas.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -51,7 +54,12 @@ for stem in "${scenes[@]}"; do
        /bytes stack frame/ && kernel { frame = $0 }
        /Used [0-9]+ registers/ && kernel { gsub(/^ +/, "", frame); print "ptxas: " kernel ": " $5 " registers, " frame; kernel = "" }' \
     "$out/$stem.ptxas"
-  "$out/bench_$stem" 100000 128 4096 65536 1048576 || status=1
+  "$out/bench_$stem" 100000 1000 "$out/$stem.sample" 128 4096 65536 1048576 || status=1
 done
 echo "total $((SECONDS - start)) s"
+if [ -x "${BUILD:-$root/build}/generator/sweepgen" ]; then
+  bash "$here/judge.sh" "$out" "${BUILD:-$root/build}" || status=1
+else
+  echo "binary128: no sweepgen built in ${BUILD:-$root/build}: judge the samples where the project is built: bash bench/gpu/judge.sh $out"
+fi
 exit $status

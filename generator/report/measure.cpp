@@ -191,17 +191,16 @@ solver::SolverOptions with_tolerance_factor(const scene::Scene& s, double factor
   return o;
 }
 
-namespace {
-// What a solve wrote to `out` (generated layout), widened.
 template <class Scalar>
 Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
-  if (!layout.outputs.all()) throw std::logic_error("the report judges every result of a solve (report_scene)");
+  const solver::SolveOutputs& listed = layout.outputs;
   Outcome outcome;
-  outcome.qdd.assign(o + layout.qdd(), o + layout.qdd() + layout.dof);
-  outcome.tau_cmd.assign(o + layout.tau_cmd(), o + layout.tau_cmd() + layout.dof);
-  outcome.nu.assign(o + layout.nu(), o + layout.nu() + layout.constraints);
-  for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[layout.tip_acceleration() + k];
-  for (std::size_t k = 0; k < layout.constraints; ++k) {
+  if (listed.qdd) outcome.qdd.assign(o + layout.qdd(), o + layout.qdd() + layout.dof);
+  if (listed.tau_cmd) outcome.tau_cmd.assign(o + layout.tau_cmd(), o + layout.tau_cmd() + layout.dof);
+  if (listed.nu) outcome.nu.assign(o + layout.nu(), o + layout.nu() + layout.constraints);
+  if (listed.tip_acceleration)
+    for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[layout.tip_acceleration() + k];
+  for (std::size_t k = 0; layout.has_link_acceleration() && k < layout.constraints; ++k) {
     std::array<Precise, 6> a{};
     for (std::size_t c = 0; c < 6; ++c) a[c] = o[layout.link_acceleration(k) + c];
     outcome.link_acceleration.push_back(a);
@@ -210,6 +209,10 @@ Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
   outcome.rank_deficient = outcome.status & solver::status_constraint_rank_deficient;
   return outcome;
 }
+template Outcome outcome_of<double>(const double*, const solver::FlatLayout&);
+template Outcome outcome_of<float>(const float*, const solver::FlatLayout&);
+
+namespace {
 
 // ReferenceSolver<Scalar> on the states (inputs rounded to Scalar outside the timed calls).
 template <class Scalar>

@@ -95,6 +95,11 @@ struct Outcome {
   unsigned status = 0;                        // every status bit the variant reported
 };
 
+// What a solve wrote to `out` (generated layout, solver/flat_layout.hpp), widened; the results the
+// layout does not list stay empty (judge() leaves them out). Instantiated for float and double.
+template <class Scalar>
+Outcome outcome_of(const Scalar* out, const solver::FlatLayout& layout);
+
 // One variant's measurements on a state set.
 struct VariantResult {
   std::string variant;  // "reference", "generated", "kdl", "dense_kkt"

@@ -12,6 +12,7 @@
 #include "family/family.hpp"
 #include "report/bundled_data.hpp"
 #include "report/external_tools.hpp"
+#include "report/flat_judgement.hpp"
 #include "report/native_library.hpp"
 #include "report/stability_cases.hpp"
 #include "report/stability_command.hpp"
@@ -157,7 +158,16 @@ void add_report_command(CLI::App& app, ReportOptions& options) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
   command->add_flag("--full", options.full, "with --stability: the heavy cases (100 and 300 joints) too");
+  command->add_option("--judge", options.judge,
+                      "with one --scene: instead, judge the flat results in FILE (a line per state: the scene's flat "
+                      "input, then a solver's flat output, e.g. from a GPU: bench/gpu/run.sh) against the binary128 "
+                      "referee; exit 4 where a state misses the bound");
   command->parse_complete_callback([command, &options] {
+    if (!options.judge.empty()) {
+      if (options.scenes.size() != 1) throw CLI::ValidationError("--judge needs exactly one --scene (the results' scene)");
+      for (const char* other : {"--urdf", "--family", "--stability", "--quick", "--states", "--repetitions", "--out"})
+        if (command->count(other) > 0) throw CLI::ValidationError(std::string(other) + " does not go with --judge");
+    }
     if (options.stability) {
       for (const char* other :
            {"--scene", "--urdf", "--root", "--tip", "--states", "--repetitions", "--quick", "--family"})
@@ -176,6 +186,8 @@ void add_report_command(CLI::App& app, ReportOptions& options) {
 }
 
 int run_report(const ReportOptions& options) {
+  if (!options.judge.empty())
+    return judge_flat_results(scene::load_scene(options.scenes.front()), options.judge, std::cout).passed() ? 0 : 4;
   if (options.stability)
     return run_stability_report({options.cases, options.states_per_kind, options.full, options.seed,
                                  options.out.empty() ? "stability" : options.out, options.cxx});

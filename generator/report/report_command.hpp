@@ -27,6 +27,7 @@ struct ReportOptions {
   unsigned long long seed = 1;
   int repetitions = 10;
   std::string cxx = "c++";
+  std::string judge;  // --judge FILE: a solver's flat results judged (report/flat_judgement.hpp)
 };
 
 // The family cases a full default report adds: the stiff mass ratios (docs/stability.md).
@@ -35,7 +36,8 @@ inline const std::vector<std::string> kStiffCases = {"mass_ratio_alternating", "
 
 void add_report_command(CLI::App& app, ReportOptions& options);
 
-// Exit 0 on success (with --stability: run_stability_report). Throws InputError for a bad scene or URDF (exit 1) and io::IoError when
+// Exit 0 on success (with --stability: run_stability_report; with --judge: 4 where the results
+// miss the referee's bound). Throws InputError for a bad scene or URDF (exit 1) and io::IoError when
 // a file cannot be written or the compiler, dlopen() or gnuplot fails (exit 3).
 int run_report(const ReportOptions& options);
 

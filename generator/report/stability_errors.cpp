@@ -1,5 +1,7 @@
 #include "report/stability_errors.hpp"
 
+#include <utility>
+
 namespace sweepgen::report {
 
 double joint_relative_error(const std::vector<Precise>& a, const std::vector<Precise>& b, const model::Chain& chain,
@@ -33,9 +35,11 @@ StateJudgement judge(const Outcome& outcome, const Truth& truth, const Problem& 
                      double largest) {
   StateJudgement j;
   const std::vector<Precise> tau_ff(problem.tau_ff.data(), problem.tau_ff.data() + problem.tau_ff.size());
-  j.qdd = joint_relative_error(outcome.qdd, truth.qdd, chain, {truth.qdd_free});
-  j.tau = joint_relative_error(outcome.tau_cmd, truth.tau_cmd, chain, {tau_ff, truth.tau_constraint_terms});
-  j.nu = vector_relative_error(outcome.nu, truth.nu);
+  // A result the solve does not return (scene key outputs: an empty vector) is not judged.
+  if (!outcome.qdd.empty()) j.qdd = joint_relative_error(outcome.qdd, truth.qdd, chain, {truth.qdd_free});
+  if (!outcome.tau_cmd.empty())
+    j.tau = joint_relative_error(outcome.tau_cmd, truth.tau_cmd, chain, {tau_ff, truth.tau_constraint_terms});
+  if (!outcome.nu.empty()) j.nu = vector_relative_error(outcome.nu, truth.nu);
   j.cond_E = truth.cond_scaled;
   j.rho_D = truth.min_relative_D;
   j.cond_M = truth.cond_M;
@@ -44,8 +48,9 @@ StateJudgement judge(const Outcome& outcome, const Truth& truth, const Problem& 
   j.exact_status = truth.status;
   for (const auto* v : {&outcome.qdd, &outcome.tau_cmd, &outcome.nu})
     for (const Precise& x : *v) j.finite = j.finite && isfinite(x);
-  for (const auto* v : {&truth.qdd, &truth.tau_cmd, &truth.nu})
-    for (const Precise& x : *v) j.representable = j.representable && abs(x) <= Precise(largest);
+  for (const auto& [returned, exact] : {std::pair{&outcome.qdd, &truth.qdd}, std::pair{&outcome.tau_cmd, &truth.tau_cmd},
+                                        std::pair{&outcome.nu, &truth.nu}})
+    for (const Precise& x : *exact) j.representable = j.representable && (returned->empty() || abs(x) <= Precise(largest));
   return j;
 }
 

@@ -37,4 +37,31 @@ std::vector<double> flat_input(const SolveInputs<double>& inputs, const FlatLayo
   return flat;
 }
 
+SolveInputs<double> solve_inputs_from_flat(const double* in, const FlatLayout& flat, const DriverLayout& drivers) {
+  SolveInputs<double> inputs;
+  const auto n = static_cast<Eigen::Index>(flat.dof);
+  const auto vector_at = [in](std::size_t offset, Eigen::Index size) {
+    return JointVector<double>(Eigen::Map<const Eigen::VectorXd>(in + offset, size));
+  };
+  const auto force_at = [in](std::size_t offset) {
+    return spatial::Force<double>{spatial::Vec3<double>(in[offset], in[offset + 1], in[offset + 2]),
+                                  spatial::Vec3<double>(in[offset + 3], in[offset + 4], in[offset + 5])};
+  };
+  if (flat.floating_base) {
+    inputs.q = JointVector<double>::Zero(n);
+    for (Eigen::Index i = 6; i < n; ++i) inputs.q[i] = in[flat.q() + 9 + static_cast<std::size_t>(i - 6)];
+    for (Eigen::Index r = 0; r < 3; ++r)
+      for (Eigen::Index c = 0; c < 3; ++c) inputs.base_rotation(r, c) = in[flat.q() + static_cast<std::size_t>(3 * r + c)];
+  } else {
+    inputs.q = vector_at(flat.q(), n);
+  }
+  inputs.qd = vector_at(flat.qd(), n);
+  for (std::size_t t = 0; t < flat.torques; ++t) inputs.torques.push_back(vector_at(flat.torque(t), n));
+  for (std::size_t e = 0; e < flat.external_forces; ++e) inputs.wrenches.push_back(force_at(flat.external_force(e)));
+  std::size_t next_direction = 0;
+  inputs.alpha = directions_with(drivers, [&] { return force_at(flat.alpha(next_direction++)); });
+  inputs.beta = ConstraintVector<double>(Eigen::Map<const Eigen::VectorXd>(in + flat.beta(), static_cast<Eigen::Index>(flat.constraints)));
+  return inputs;
+}
+
 }  // namespace sweepgen::solver

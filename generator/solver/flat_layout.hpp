@@ -101,6 +101,11 @@ std::vector<double> generated_positions(const JointVector<double>& q, const spat
 // `inputs` in the order of `layout` (α only of the directions in layout.input_directions).
 std::vector<double> flat_input(const SolveInputs<double>& inputs, const FlatLayout& layout);
 
+// The inputs `in` holds in the order of `flat` (flat_input's inverse): the directions the scene
+// fixes come from `drivers`, a floating base's rotation from its nine values (its six
+// coordinates in q are 0: not read, F5).
+SolveInputs<double> solve_inputs_from_flat(const double* in, const FlatLayout& flat, const DriverLayout& drivers);
+
 // A reference solution and its status written where a generated solver writes them in `out`.
 template <class Scalar>
 void flat_output(const Solution<Scalar>& solution, unsigned status, const FlatLayout& layout, Scalar* out) {

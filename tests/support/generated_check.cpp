@@ -252,9 +252,12 @@ void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::stri
     }
     std::cout << "[batch] " << scene_path << " " << entry.policy << ": " << rows << " states equal to their flat calls; status bits seen "
               << seen << "\n";
-    if (layout.input_directions.size() > 1) EXPECT_NE(seen & solver::status_constraint_rank_deficient, 0u) << entry.policy;
-    if (layout.constraints > 0 && layout.torques > 0 && std::string(entry.policy).rfind("saturate", 0) == 0)
+    if (layout.input_directions.size() > 1) {
+      EXPECT_NE(seen & solver::status_constraint_rank_deficient, 0u) << entry.policy;
+    }
+    if (layout.constraints > 0 && layout.torques > 0 && std::string(entry.policy).rfind("saturate", 0) == 0) {
       EXPECT_NE(seen & solver::status_saturated, 0u) << entry.policy;  // saturation clamps the constraint torque
+    }
   }
 }
 
