@@ -378,7 +378,7 @@ struct Function {
 
 std::vector<Function> functions(const std::vector<std::string>& lines) {
   static const std::regex definition(
-      R"(^(?:SWEEPGEN_FLAT_SOLVE )?(?:SWEEPGEN_HD )?(?:SWEEPGEN_INLINE )?(void|bool|Drivers|typename Arrays<S>::Drivers) (\w+)\()");
+      R"(^(?:SWEEPGEN_FLAT_SOLVE )?(?:SWEEPGEN_HD )?(?:SWEEPGEN_INLINE )?(void|bool|Drivers|typename Arrays<S>::Drivers|FlatDrivers<S>) (\w+)\()");
   std::vector<Function> result;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     std::smatch m;
@@ -521,14 +521,16 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   //     }
   // and a flat solve's test of its stages' results, `if (!<stage>_of<S>(...)) return false;`
   // (false only from that line). The other returns: `return true;` at a function's end,
-  // drivers_from_flat's `return drivers;`, the batch entry's call of its lanes, and the lanes'
-  // operators (a lane, or the array the operator filled lane by lane in a loop of literal bound).
+  // drivers_from_flat's `return drivers;`, flat_drivers_of's list of pointers into its input
+  // (`return {drivers_in, drivers_in + dof, SixRows<S>{drivers_in + dof + 6}};`), the batch entry's
+  // call of its lanes, and the lanes' operators (a lane, or the array the operator filled lane by
+  // lane in a loop of literal bound).
   static const std::regex any_if(R"(\bif\b)");
   static const std::regex path_condition(R"(^  const auto (path_\d+) = [\w.]+ > \w+; *$)");
   static const std::regex stage_test(R"(^  if \(!\w+_of<S>\(.*\)\)(?: return false;)?$)");
   static const std::regex any_return(R"(\breturn\b)");
   static const std::regex allowed_return(
-      R"(^  return (true|drivers);$|^SWEEPGEN_HD Drivers drivers_from_flat\(const Scalar\* drivers_in\) noexcept \{ return drivers_from_flat_of<Scalar>\(drivers_in\); \}$|^    return false;$|^  if \(!\w+_of<S>\(.*\)\) return false;$|^    if \(Lanes<S>::any\(path_\d+\)\) return false;  $|^      n, in, out, \[\]\(const Batch\* lanes_in, Batch\* lanes_out\) \{ return \w+_flat_of<Batch>\(lanes_in, lanes_out\); \}, &\w+_flat\);$|^  SWEEPGEN_HD S operator\[\]\(int l\) const \{ return lane\[l\]; \}$|^  friend SWEEPGEN_HD LaneArray operator[-+*/]\((LaneArray|T) [as](, (LaneArray|T) [bs])?\) \{ for \(int l = 0; l < 2; \+\+l\) [ab]\.lane\[l\] = [^;{}]*; return [ab]; \}$)");
+      R"(^  return (true|drivers);$|^  return \{(SixRows<S>\{drivers_in[\w +*]*\}|drivers_in[\w +*]*|, )*\};$|^SWEEPGEN_HD Drivers drivers_from_flat\(const Scalar\* drivers_in\) noexcept \{ return drivers_from_flat_of<Scalar>\(drivers_in\); \}$|^    return false;$|^  if \(!\w+_of<S>\(.*\)\) return false;$|^    if \(Lanes<S>::any\(path_\d+\)\) return false;  $|^      n, in, out, \[\]\(const Batch\* lanes_in, Batch\* lanes_out\) \{ return \w+_flat_of<Batch>\(lanes_in, lanes_out\); \}, &\w+_flat\);$|^  SWEEPGEN_HD S operator\[\]\(int l\) const \{ return lane\[l\]; \}$|^  friend SWEEPGEN_HD LaneArray operator[-+*/]\((LaneArray|T) [as](, (LaneArray|T) [bs])?\) \{ for \(int l = 0; l < 2; \+\+l\) [ab]\.lane\[l\] = [^;{}]*; return [ab]; \}$)");
   long path_blocks = 0, stage_tests = 0, selects = 0, returns = 0;
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);

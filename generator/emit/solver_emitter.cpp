@@ -214,7 +214,6 @@ data variant_values(const model::Chain& chain, const EmitRequest& request, const
   variant.set("outward_rows", trace.constraint_rows == solver::ConstraintRows::outward_rows ? "true" : "false");
   variant.set("tag", tag_of(scalar));
   variant.set("drivers_members", drivers_members(request.trace, kScalarMembers.value));
-  variant.set("batch_drivers_members", drivers_members(request.trace, kBatchMembers.value));
   for (const MemberTypes* types : {&kScalarMembers, &kBatchMembers}) {
     std::string state = array_members(trace, plan.state_fields, n + 1, false, *types);
     for (const auto& [node, name] : plan.carried_name) state += "  " + types->value + " " + name + ";\n";
@@ -241,6 +240,8 @@ data variant_values(const model::Chain& chain, const EmitRequest& request, const
   variant.set("flat_in_size", std::to_string(flat.in_size()));
   variant.set("flat_out_size", std::to_string(flat.out_size()));
   variant.set("unpack_drivers", unpack_drivers(request.trace));
+  variant.set("flat_drivers_members", flat_drivers_members(request.trace));
+  variant.set("flat_drivers_init", flat_drivers_init(request.trace));
   variant.set("check_drivers", check_drivers(request.trace));
   variant.set("check_solution", check_solution(request.trace.outputs, nc, sets));
   variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"

@@ -12,9 +12,12 @@ namespace sweepgen::emit {
 namespace {
 
 // One array of the Drivers struct: its declarator, the loop header(s) over its values, the
-// element those loops reach and what it holds.
+// element those loops reach and what it holds; its name, how many values of the flat input it
+// takes, and whether it is rows of six (α).
 struct DriverArray {
   std::string declarator, loops, element, doc;
+  std::string name, values;
+  bool rows = false;
 };
 
 // The extent of the run-time α: `constraints` when every direction is an input.
@@ -26,10 +29,10 @@ std::string alpha_extent(const solver::DriverLayout& layout) {
 std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
   std::vector<DriverArray> arrays;
   for (const auto& name : request.layout.torques)
-    arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques"});
+    arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques", name, "dof"});
   for (const auto& ext : request.layout.external_forces)
     arrays.push_back({ext.name + "[6]", "for (int i = 0; i < 6; ++i)", ext.name + "[i]",
-                      "wrench [moment; force] on link " + inert_text(ext.link) + ", in its frame"});
+                      "wrench [moment; force] on link " + inert_text(ext.link) + ", in its frame", ext.name, "6"});
   const solver::DriverLayout& layout = request.layout;
   if (layout.run_time_directions() > 0) {
     const std::string extent = alpha_extent(layout);
@@ -37,7 +40,8 @@ std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
                       "alpha[k][i]",
                       layout.listed_sets() == 0 ? "constraint directions [moment; force], tip frame, unit norm"
                                           : "run-time constraint directions [moment; force], each in its set's link frame, "
-                                            "unit norm (sets: see the file header)"});
+                                            "unit norm (sets: see the file header)",
+                      "alpha", "6 * " + extent, true});
   }
   return arrays;
 }
@@ -90,6 +94,23 @@ std::string drivers_members(const symbolic::TraceRequest& request, const std::st
   std::string text;
   for (const auto& a : driver_arrays(request)) text += "  " + type + " " + a.declarator + ";  // " + a.doc + "\n";
   return text;
+}
+
+std::string flat_drivers_members(const symbolic::TraceRequest& request) {
+  std::string text;
+  for (const auto& a : driver_arrays(request))
+    text += "  " + std::string(a.rows ? "SixRows<S> " : "const S* ") + a.name + ";  // " + a.doc + "\n";
+  return text;
+}
+
+std::string flat_drivers_init(const symbolic::TraceRequest& request) {
+  std::string text, offset;
+  for (const auto& a : driver_arrays(request)) {
+    const std::string at = offset.empty() ? "drivers_in" : "drivers_in + " + offset;
+    text += (text.empty() ? "" : ", ") + (a.rows ? "SixRows<S>{" + at + "}" : at);
+    offset += (offset.empty() ? "" : " + ") + a.values;
+  }
+  return "{" + text + "}";
 }
 
 std::string unpack_drivers(const symbolic::TraceRequest& request) {

@@ -29,6 +29,10 @@ std::string array_members(const symbolic::Trace& trace, const std::vector<std::s
 std::string drivers_members(const symbolic::TraceRequest& request, const std::string& type);
 // drivers_from_flat(): the drivers read from the flat input, in order.
 std::string unpack_drivers(const symbolic::TraceRequest& request);
+// The members of FlatDrivers<S> (templates/solver.cpp.mustache): the Drivers arrays as views of a
+// flat input, read in place; and the braced list that points them into `drivers_in`.
+std::string flat_drivers_members(const symbolic::TraceRequest& request);
+std::string flat_drivers_init(const symbolic::TraceRequest& request);
 // decompose(): NaN/Inf among the drivers (scene: check_inputs).
 std::string check_drivers(const symbolic::TraceRequest& request);
 // The order of solver::FlatLayout's `in`, as the header documents it.
