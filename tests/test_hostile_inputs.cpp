@@ -348,6 +348,11 @@ TEST(HostileInputs, EndlessInputsStopAtTheLimit) {
   const CommandResult solve = sweepgen({"solve", "--urdf", urdf_file, "--tip", "hand", "--input", "/dev/zero"});
   EXPECT_EQ(solve.exit_code, 1) << describe(solve);
   EXPECT_TRUE(contains(solve.err, "/dev/zero:1: line longer than 8 MiB, the limit")) << solve.err;
+  const CommandResult judged = sweepgen({"report", "--scene", std::string(SWEEPGEN_SOURCE_DIR) + "/robots/planar/planar_nc2.yaml",
+                                         "--judge", "/dev/zero"});
+  EXPECT_EQ(judged.exit_code, 1) << describe(judged);
+  EXPECT_TRUE(contains(judged.err, "/dev/zero: file: larger than 256 MiB, the limit for a file of results (--judge)"))
+      << judged.err;
 }
 
 // ---- The other limits, and messages kept short ------------------------------------------------

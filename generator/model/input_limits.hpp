@@ -12,6 +12,9 @@ namespace sweepgen {
 constexpr std::size_t kMaxUrdfBytes = std::size_t{32} << 20;      // a URDF file
 constexpr std::size_t kMaxSceneBytes = std::size_t{8} << 20;      // a scene file
 constexpr std::size_t kMaxSolveLineBytes = std::size_t{8} << 20;  // one line of `sweepgen solve` input
+// A file of results for `sweepgen report --judge`: about 100 000 states of the largest bundled
+// scene (2.6 KiB a line in hex floats); the GPU benchmark writes 1 000.
+constexpr std::size_t kMaxJudgedBytes = std::size_t{256} << 20;
 // Elements inside elements in a URDF (a URDF needs 4: robot, link, inertial, mass). TinyXML, the
 // reader under urdfdom, recurses once per level.
 constexpr std::size_t kMaxXmlDepth = 100;

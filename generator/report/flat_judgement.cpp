@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <sstream>
 #include <limits>
 #include <vector>
 
 #include "model/error.hpp"
+#include "model/input_limits.hpp"
 #include "report/measure.hpp"
 #include "report/stability_errors.hpp"
 
@@ -17,8 +18,7 @@ namespace {
 // The lines of `file` that hold a state: each as its `values` numbers. Throws InputError for an
 // unreadable file or a line that is not that many numbers.
 std::vector<std::vector<double>> read_states(const std::string& file, std::size_t values) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file, "file", "cannot be read");
+  std::istringstream in(read_input_file(file, kMaxJudgedBytes, "file of results (--judge)"));
   std::vector<std::vector<double>> states;
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
