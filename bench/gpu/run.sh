@@ -57,9 +57,10 @@ for stem in "${scenes[@]}"; do
   "$out/bench_$stem" 100000 1000 "$out/$stem.sample" 128 4096 65536 1048576 || status=1
 done
 echo "total $((SECONDS - start)) s"
-if [ -x "${BUILD:-$root/build}/generator/sweepgen" ]; then
-  bash "$here/judge.sh" "$out" "${BUILD:-$root/build}" || status=1
+build=${BUILD:-$root/build}
+if [ -x "$build/generator/sweepgen" ]; then
+  bash "$here/judge.sh" "$out" "$build" || status=1
 else
-  echo "binary128: no sweepgen built in ${BUILD:-$root/build}: judge the samples where the project is built: bash bench/gpu/judge.sh $out"
+  echo "binary128: no sweepgen built in $build: judge the samples where the project is built: bash bench/gpu/judge.sh $out"
 fi
 exit $status

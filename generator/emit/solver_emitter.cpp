@@ -240,8 +240,6 @@ data variant_values(const model::Chain& chain, const EmitRequest& request, const
   variant.set("flat_in_size", std::to_string(flat.in_size()));
   variant.set("flat_out_size", std::to_string(flat.out_size()));
   variant.set("unpack_drivers", unpack_drivers(request.trace));
-  variant.set("flat_drivers_members", flat_drivers_members(request.trace));
-  variant.set("flat_drivers_init", flat_drivers_init(request.trace));
   variant.set("check_drivers", check_drivers(request.trace));
   variant.set("check_solution", check_solution(request.trace.outputs, nc, sets));
   variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
@@ -302,6 +300,8 @@ data file_values(const model::Chain& chain, const EmitRequest& request, const Fi
   data values;
   values.set("fused", fusion.fused);
   values.set("lanes_runtime", embedded_templates().at("lanes.mustache"));
+  values.set("flat_drivers_members", flat_drivers_members(request.trace));
+  values.set("flat_drivers_init", flat_drivers_init(request.trace));
   values.set("fused_note", std::to_string(fusion.operations) + " operations in this file, at most " +
                                std::to_string(kFusedOperations) + " fused");
   values.set("provenance", request.provenance);

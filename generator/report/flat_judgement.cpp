@@ -1,7 +1,6 @@
 #include "report/flat_judgement.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <limits>

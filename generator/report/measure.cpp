@@ -200,11 +200,12 @@ Outcome outcome_of(const Scalar* o, const solver::FlatLayout& layout) {
   if (listed.nu) outcome.nu.assign(o + layout.nu(), o + layout.nu() + layout.constraints);
   if (listed.tip_acceleration)
     for (std::size_t k = 0; k < 6; ++k) outcome.tip_acceleration[k] = o[layout.tip_acceleration() + k];
-  for (std::size_t k = 0; layout.has_link_acceleration() && k < layout.constraints; ++k) {
-    std::array<Precise, 6> a{};
-    for (std::size_t c = 0; c < 6; ++c) a[c] = o[layout.link_acceleration(k) + c];
-    outcome.link_acceleration.push_back(a);
-  }
+  if (layout.has_link_acceleration())
+    for (std::size_t k = 0; k < layout.constraints; ++k) {
+      std::array<Precise, 6> a{};
+      for (std::size_t c = 0; c < 6; ++c) a[c] = o[layout.link_acceleration(k) + c];
+      outcome.link_acceleration.push_back(a);
+    }
   outcome.status = static_cast<unsigned>(o[layout.status()]);
   outcome.rank_deficient = outcome.status & solver::status_constraint_rank_deficient;
   return outcome;
