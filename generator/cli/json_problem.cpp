@@ -11,6 +11,15 @@ using nlohmann::json;
 
 const std::vector<std::string> kKeys = {"q", "qd", "tau_ff", "f_ext", "alpha", "beta", "constraints", "policy"};
 
+spatial::Force<double> wrench(const json& value, const std::string& key) {
+  const Eigen::VectorXd v = numbers(value, key, 6);
+  return {v.head<3>(), v.tail<3>()};
+}
+
+nlohmann::ordered_json array(const Eigen::VectorXd& v) { return nlohmann::ordered_json(std::vector<double>(v.data(), v.data() + v.size())); }
+
+}  // namespace
+
 Eigen::VectorXd numbers(const json& value, const std::string& key, std::size_t expected) {
   if (!value.is_array()) throw KeyError(key, "expected an array of " + std::to_string(expected) + " numbers");
   if (value.size() != expected)
@@ -24,14 +33,15 @@ Eigen::VectorXd numbers(const json& value, const std::string& key, std::size_t e
   return v;
 }
 
-spatial::Force<double> wrench(const json& value, const std::string& key) {
-  const Eigen::VectorXd v = numbers(value, key, 6);
-  return {v.head<3>(), v.tail<3>()};
+spatial::Mat3<double> base_rotation(const Eigen::VectorXd& q, const std::string& key) {
+  spatial::Mat3<double> rotation;
+  for (Eigen::Index r = 0; r < 9; ++r) rotation(r / 3, r % 3) = q[r];
+  const double orthonormality = (rotation.transpose() * rotation - spatial::Mat3<double>::Identity()).cwiseAbs().maxCoeff();
+  if (!(orthonormality <= 1e-9 && rotation.determinant() > 0))
+    throw KeyError(key, "the first 9 numbers (world_R_base, row-major) are not a rotation matrix (|R^T R - 1| = " +
+                            std::to_string(orthonormality) + ", det " + std::to_string(rotation.determinant()) + ")");
+  return rotation;
 }
-
-nlohmann::ordered_json array(const Eigen::VectorXd& v) { return nlohmann::ordered_json(std::vector<double>(v.data(), v.data() + v.size())); }
-
-}  // namespace
 
 Problem parse_problem(const json& line, const model::Chain& chain) {
   if (!line.is_object()) throw KeyError("(line)", "expected a JSON object");
@@ -47,11 +57,7 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   const Eigen::VectorXd q = numbers(line["q"], "q", n - base + rotation);
   p.q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
   p.q.tail(static_cast<Eigen::Index>(n - base)) = q.tail(static_cast<Eigen::Index>(n - base));
-  for (Eigen::Index r = 0; r < static_cast<Eigen::Index>(rotation); ++r) p.base_rotation(r / 3, r % 3) = q[r];
-  const double orthonormality = (p.base_rotation.transpose() * p.base_rotation - spatial::Mat3<double>::Identity()).cwiseAbs().maxCoeff();
-  if (!(orthonormality <= 1e-9 && p.base_rotation.determinant() > 0))
-    throw KeyError("q", "the first 9 numbers (world_R_base, row-major) are not a rotation matrix (|R^T R - 1| = " +
-                            std::to_string(orthonormality) + ", det " + std::to_string(p.base_rotation.determinant()) + ")");
+  if (rotation > 0) p.base_rotation = base_rotation(q, "q");
   p.qd = numbers(line["qd"], "qd", n);
   p.tau_ff = line.contains("tau_ff") ? numbers(line["tau_ff"], "tau_ff", n) : Eigen::VectorXd::Zero(n);
   std::vector<std::string> links;

@@ -32,6 +32,13 @@ struct Problem {
   solver::Policy policy = solver::Policy::original;
 };
 
+// `value` as `expected` finite numbers; throws KeyError naming `key`.
+Eigen::VectorXd numbers(const nlohmann::json& value, const std::string& key, std::size_t expected);
+
+// world_R_base from the first 9 numbers of a floating base's q (F5, row-major); throws KeyError
+// naming `key` where they are not a rotation matrix within 1e-9.
+spatial::Mat3<double> base_rotation(const Eigen::VectorXd& q, const std::string& key);
+
 // Reads and checks a problem for `chain` (sizes, finiteness, link names). Throws KeyError.
 Problem parse_problem(const nlohmann::json& line, const model::Chain& chain);
 

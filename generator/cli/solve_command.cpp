@@ -1,12 +1,15 @@
 #include "cli/solve_command.hpp"
 
 #include <fstream>
+#include <functional>
 #include <iostream>
 
 #include "cli/json_problem.hpp"
+#include "cli/scene_problem.hpp"
 #include "model/error.hpp"
 #include "model/input_limits.hpp"
 #include "model/urdf_loader.hpp"
+#include "scene/scene.hpp"
 #include "solver/reference_solver.hpp"
 
 namespace sweepgen::cli {
@@ -71,9 +74,12 @@ LineRead read_line(std::istream& in, std::string& text, std::size_t limit) {
 
 void add_solve_command(CLI::App& app, SolveOptions& options) {
   CLI::App* solve = app.add_subcommand("solve", "Solve JSON-line problems with the reference solver");
+  solve->add_option("--scene", options.scene,
+                    "scene file: solve the scene's own problem (its chain, gravity, locked joints, drivers by name, "
+                    "fixed directions, policies and outputs); no chain flag beside it");
   // No CLI::ExistingFile check: a missing URDF is bad input (exit 1, reported by the loader),
   // not a usage error.
-  solve->add_option("--urdf", options.urdf, "URDF file")->required();
+  solve->add_option("--urdf", options.urdf, "URDF file (without --scene)");
   solve->add_option("--root", options.root, "root link (default: the URDF's root)");
   solve->add_option("--tip", options.tip, "tip link (default: the deepest link of a single chain)");
   solve->add_option("--branch-tip", options.branch_tips,
@@ -85,20 +91,26 @@ void add_solve_command(CLI::App& app, SolveOptions& options) {
                   "take URDF angles as written, not within 1e-10 rad of a multiple of pi/2 as exact (docs/derivation.md, F2)");
   solve->add_option("--input", options.input, "file of JSON lines, or - for standard input")->capture_default_str();
   solve->add_option("--rotor-inertia", options.rotor_inertia, "JOINT=VALUE rotor inertia (repeatable)");
+  // A scene states its chain: a chain flag beside it would solve another problem than the scene's
+  // generated solver does, so the two together are a usage error (exit 2), as is neither.
+  solve->parse_complete_callback([solve, &options] {
+    if (options.scene.empty() && options.urdf.empty()) throw CLI::RequiredError("--scene or --urdf");
+    if (options.scene.empty()) return;
+    for (const char* flag : {"--urdf", "--root", "--tip", "--branch-tip", "--floating-base", "--no-snap-quarter-turns",
+                             "--rotor-inertia"})
+      if (solve->count(flag) > 0)
+        throw CLI::ValidationError(std::string(flag) + " and --scene",
+                                   "the scene states the chain; change it there, or drop --scene");
+  });
 }
 
-int run_solve(const SolveOptions& options) {
-  model::ChainSpec spec;
-  spec.urdf = options.urdf;
-  spec.root_link = options.root;
-  spec.tip_link = options.tip;
-  spec.branch_tips = options.branch_tips;
-  spec.floating_base = options.floating_base;
-  spec.snap_quarter_turns = !options.literal_angles;
-  spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
-  spec.naming_the_tip = "sweepgen solve --urdf " + options.urdf + " --tip LINK (for a tree, --branch-tip LINK for each further tip)";
-  const model::Chain chain = model::load_chain(spec);
+namespace {
 
+// The answer to one parsed line: the scene's problem, or the problem the line states for the
+// chain of --urdf (json_problem.hpp).
+using Answer = std::function<nlohmann::ordered_json(const nlohmann::json&)>;
+
+int answer_lines(const SolveOptions& options, const Answer& answer) {
   std::ifstream file;
   if (options.input != "-") {
     file.open(options.input);
@@ -125,8 +137,7 @@ int run_solve(const SolveOptions& options) {
     }
     if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
     try {
-      const nlohmann::json parsed = nlohmann::json::parse(text);
-      std::cout << json_text(solve_problem(parse_problem(parsed, chain), chain)) << "\n";
+      std::cout << json_text(answer(nlohmann::json::parse(text))) << "\n";
     } catch (const nlohmann::json::parse_error& e) {
       report(line, json_error_reason(e));
     } catch (const std::exception& e) {
@@ -134,6 +145,28 @@ int run_solve(const SolveOptions& options) {
     }
   }
   return exit_code;
+}
+
+}  // namespace
+
+int run_solve(const SolveOptions& options) {
+  if (!options.scene.empty()) {
+    const scene::Scene s = scene::load_scene(options.scene);
+    const model::Chain chain = scene::load_scene_chain(s);
+    SceneSolve scene_solve(s, chain);
+    return answer_lines(options, [&](const nlohmann::json& line) { return scene_solve.answer(line); });
+  }
+  model::ChainSpec spec;
+  spec.urdf = options.urdf;
+  spec.root_link = options.root;
+  spec.tip_link = options.tip;
+  spec.branch_tips = options.branch_tips;
+  spec.floating_base = options.floating_base;
+  spec.snap_quarter_turns = !options.literal_angles;
+  spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
+  spec.naming_the_tip = "sweepgen solve --urdf " + options.urdf + " --tip LINK (for a tree, --branch-tip LINK for each further tip)";
+  const model::Chain chain = model::load_chain(spec);
+  return answer_lines(options, [&](const nlohmann::json& line) { return solve_problem(parse_problem(line, chain), chain); });
 }
 
 }  // namespace sweepgen::cli

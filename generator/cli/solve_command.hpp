@@ -8,6 +8,7 @@
 namespace sweepgen::cli {
 
 struct SolveOptions {
+  std::string scene;  // a scene file: its chain, gravity, drivers, policies and outputs (scene_problem.hpp)
   std::string urdf;
   std::string root;
   std::string tip;

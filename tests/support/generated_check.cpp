@@ -7,6 +7,8 @@
 #include <cstring>
 #include <iostream>
 #include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "oracle/condition_number.hpp"
 #include "report/measure.hpp"
@@ -14,6 +16,7 @@
 #include "report/stability_errors.hpp"
 #include "solver/reference_solver.hpp"
 #include "support/flat_problem.hpp"
+#include "support/run_command.hpp"
 #include "support/skip_count.hpp"
 
 namespace sweepgen::test {
@@ -259,6 +262,94 @@ void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::stri
       EXPECT_NE(seen & solver::status_saturated, 0u) << entry.policy;  // saturation clamps the constraint torque
     }
   }
+}
+
+// `states` random problems of the scene (the seed of check_against_reference: its first states),
+// each policy's line {"flat": in, "policy": p} answered by one run of `sweepgen solve --scene`:
+//  - its flat output equals ReferenceSolver<double> with the scene's options bit for bit (the
+//    CLI reads gravity, locked joints, rotor inertia, fixed directions and policies from the
+//    scene: nothing is retyped), its named results are the flat ones;
+//  - the generated solve makes the same rank decisions (but at the pivot tolerance, as in
+//    check_against_reference) and its q̈, τcmd and ν differ from the CLI's by at most 200 eps κ
+//    inside double's domain (κ ≤ 1e8, widened by cond(M) where needed): both are within
+//    100 eps κ of the answer (check_against_reference's accuracy bound), so of each other within
+//    twice that; ceiling 200 · 2.2e-16 · 1e8 = 4.4e-6.
+void check_solve_scene(const FlatVariant<double>& variant, const std::string& scene_path, int states) {
+  const scene::Scene s = scene::load_scene(scene_path);
+  const model::Chain chain = scene::load_scene_chain(s);
+  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  solver::SolverOptions options = s.solver_options();
+  options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<double>::epsilon());
+  options.joint_inertia_tolerance = options.joint_inertia_tolerance_for(std::numeric_limits<double>::epsilon());
+  solver::ReferenceSolver<double> reference(chain, s.layout, s.solver_options());
+  solver::ReferenceSolver<long double> answer(chain, s.layout, options);
+  RandomProblem random(2024);
+  std::vector<FlatProblem> problems;
+  std::string lines;
+  for (int state = 0; state < states; ++state) {
+    problems.push_back(random_flat_problem(random, s, chain));
+    for (const auto& entry : variant.solves)
+      lines += nlohmann::json{{"flat", problems.back().in}, {"policy", entry.policy}}.dump() + "\n";
+  }
+  const CommandResult run = run_command(shell_command({SWEEPGEN_EXECUTABLE, "solve", "--scene", scene_path}), &lines);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::istringstream answers(run.out);
+  constexpr double eps = std::numeric_limits<double>::epsilon(), kMaxKappa = 1e8, kFactor = 200;
+  int compared = 0, beyond = 0, borderline = 0;
+  std::vector<double> out(variant.out_size), expected(layout.out_size());
+  for (int state = 0; state < states; ++state) {
+    const FlatProblem& p = problems[static_cast<std::size_t>(state)];
+    answer.prepare(p.cast<long double>());
+    const double k = kappa(answer);
+    for (const auto& entry : variant.solves) {
+      std::string text;
+      ASSERT_TRUE(std::getline(answers, text)) << "no answer to state " << state << " " << entry.policy;
+      const nlohmann::json cli = nlohmann::json::parse(text);
+      ASSERT_TRUE(cli.contains("flat")) << text;
+      const std::vector<double> cli_out = cli["flat"].get<std::vector<double>>();
+      const auto policy = *solver::policy_from_name(entry.policy);
+      const auto& solution = reference.run(p, policy);
+      solver::flat_output(solution, reference.status(), layout, expected.data());
+      ASSERT_EQ(cli_out, expected) << "state " << state << " " << entry.policy << ": the CLI is not the scene's reference";
+      if (layout.outputs.qdd) {
+        ASSERT_EQ(cli["qdd"].get<std::vector<double>>(), std::vector<double>(expected.begin(), expected.begin() + layout.dof));
+      }
+      entry.solve(p.in.data(), out.data());
+      const bool cli_dropped = static_cast<unsigned>(cli_out[layout.status()]) & solver::status_constraint_rank_deficient;
+      const bool generated_dropped = static_cast<unsigned>(out[layout.status()]) & solver::status_constraint_rank_deficient;
+      if (cli_dropped != generated_dropped) {
+        ++borderline;
+        EXPECT_GE(k * options.pivot_tolerance, 0.1) << "state " << state << " " << entry.policy
+                                                    << ": rank decisions differ on a well-conditioned constraint";
+        continue;
+      }
+      EXPECT_EQ(out[layout.status()], cli_out[layout.status()]) << "state " << state << " " << entry.policy;
+      if (cli_dropped) continue;  // ν is not unique where a pivot drops
+      if (!(k <= kMaxKappa)) {
+        ++beyond;
+        continue;
+      }
+      const auto error = [&](std::size_t offset, std::size_t count) {
+        const auto part = [&](const std::vector<double>& v) {
+          return std::vector<long double>(v.begin() + static_cast<std::ptrdiff_t>(offset),
+                                          v.begin() + static_cast<std::ptrdiff_t>(offset + count));
+        };
+        return static_cast<double>(oracle::relative_error<long double>(part(out), part(cli_out)));
+      };
+      double e = 0;
+      if (layout.outputs.qdd) e = std::max(e, error(layout.qdd(), layout.dof));
+      if (layout.outputs.tau_cmd) e = std::max(e, error(layout.tau_cmd(), layout.dof));
+      if (layout.outputs.nu) e = std::max(e, error(layout.nu(), layout.constraints));
+      const double k_widened = e > kFactor * eps * k
+                                   ? std::max(k, report::inertia_condition_number(chain, p.q.cast<report::Precise>(), options))
+                                   : k;
+      EXPECT_LE(e, kFactor * eps * k_widened) << "state " << state << " " << entry.policy << " kappa " << k;
+      ++compared;
+    }
+  }
+  std::cout << "[solve --scene] " << scene_path << ": " << compared << " solves compared with the generated solver, "
+            << beyond << " beyond kappa 1e8, " << borderline << " at the pivot tolerance\n";
+  EXPECT_GE(compared, static_cast<int>(variant.solves.size()) * states / 2);
 }
 
 ResolveProblems resolve_problems(const std::string& scene_path, int states) {

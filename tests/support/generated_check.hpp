@@ -90,6 +90,10 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
 template <class Scalar>
 void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::string& scene_path, int states);
 
+// `sweepgen solve --scene` against the generated double solver, state by state (generated_check.cpp
+// says how): the CLI solves the scene's own problem.
+void check_solve_scene(const FlatVariant<double>& variant, const std::string& scene_path, int states);
+
 // Problems for check_resolve_equals_full_solve: flat inputs, a first setpoint vector (one value
 // more than there are constraints: a solve reads only its own), and where the parts of `in` are.
 struct ResolveProblems {
