@@ -880,10 +880,10 @@ TEST(CliMessages, NoDefaultTipNamesTheFlagOfTheCommandRun) {
   const std::string urdf = dir.write("flange.urdf", test::one_joint_robot(R"(<joint name="shoulder" type="revolute">
     <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit effort="10" velocity="1" lower="-1" upper="1"/></joint>
   <link name="ee_link"/><link name="tool0"/>
-  <joint name="to_ee" type="fixed"><parent link="arm"/><child link="ee_link"/></joint>
-  <joint name="to_tool" type="fixed"><parent link="arm"/><child link="tool0"/></joint>)"));
+  <joint name="to_ee" type="continuous"><parent link="arm"/><child link="ee_link"/></joint>
+  <joint name="to_tool" type="continuous"><parent link="arm"/><child link="tool0"/></joint>)"));
   const std::string scene = dir.write("no_tip.yaml", "sweepgen_scene: 1\nsolver: flange\nurdf: " + urdf + "\n");
-  const std::string tree = "link 'arm': the tree branches here (children 'ee_link', 'tool0', 0 of them with moving joints below)";
+  const std::string tree = "link 'arm': the tree branches here (children 'ee_link', 'tool0', 2 of them with moving joints below)";
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"info", "--urdf", urdf}, "name the tip link: sweepgen info --urdf " + urdf + " --tip LINK"},
       {{"generate", "--urdf", urdf, "--out", (dir.path() / "out").string()},

@@ -387,7 +387,7 @@ TEST(HostileInputs, MessagesStayShort) {
   std::string wide = "<robot name=\"r\">\n<link name=\"root\"/>\n";
   for (int k = 0; k < 9998; ++k)
     wide += "<link name=\"c" + std::to_string(k) + "\"/><joint name=\"f" + std::to_string(k) +
-            "\" type=\"fixed\"><parent link=\"root\"/><child link=\"c" + std::to_string(k) + "\"/></joint>\n";
+            "\" type=\"continuous\"><parent link=\"root\"/><child link=\"c" + std::to_string(k) + "\"/></joint>\n";
   const CommandResult children = sweepgen({"info", "--urdf", dir.write("wide.urdf", wide + "</robot>\n")});
   EXPECT_EQ(children.exit_code, 1) << describe(children);
   EXPECT_TRUE(contains(children.err, "'c0', 'c1', ")) << children.err;

@@ -623,21 +623,25 @@ TEST(SceneErrors, ConstraintSets) {
   expect_error(empty, position(empty, 13, "[]"), "drivers.constraints", "an empty list of constraint sets");
 }
 
-TEST(SceneErrors, FixedDirectionNotUnit) {
+// A fixed direction is taken as its unit vector (said in Scene::notes, as the loader says of
+// axes); a zero one, or one of other than six numbers, is refused.
+TEST(SceneErrors, FixedDirectionZeroOrNotSix) {
   const std::string text =
-      with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1,0,0], [0,0,1,0,0,1]]}"));
-  expect_error(text, position(text, 13, "[0,0,1"), "drivers.constraints.directions[1]", "not a unit vector");
-  const std::string text2 = with_urdf(
-      replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1.000000001,0,0]]}"));
-  expect_error(text2, position(text2, 13, "[0,0,0"), "drivers.constraints.directions[0]", "not a unit vector");
+      with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1,0,0], [0,0,0,0,0,0]]}"));
+  expect_error(text, position(text, 13, "[0,0,0,0"), "drivers.constraints.directions[1]", "a zero direction constrains nothing");
   const std::string text3 =
       with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1,0]]}"));
   expect_error(text3, position(text3, 13, "[0,0,0"), "drivers.constraints.directions[0]", "expected 6 numbers");
-  // Within 1e-9 is accepted.
   test::TempDir dir;
-  EXPECT_EQ(load(dir, with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,0,1.0000000001,0,0]]}")))
-                .message,
-            "");
+  const Scene s = scene::load_scene(
+      dir.write("scene.yaml", with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,1,0,0,1], [0,0,0,1,0,0]]}"))));
+  const auto& fixed = s.layout.constraint_sets().at(0).fixed;
+  EXPECT_EQ(fixed.at(0).moment.z(), 1 / std::sqrt(2.0));  // v / |v|, as read
+  EXPECT_EQ(fixed.at(0).force.z(), 1 / std::sqrt(2.0));
+  ASSERT_EQ(s.notes.size(), 1u);  // the unit one is taken as written, unsaid
+  expect_contains(s.notes[0], "scene.yaml:13:");
+  expect_contains(s.notes[0], "constraint direction [0, 0, 1, 0, 0, 1] taken as the unit vector [0, 0, 0.70710678118654746, 0, 0, "
+                              "0.70710678118654746]");
 }
 
 TEST(SceneErrors, FixedDirectionNaN) {

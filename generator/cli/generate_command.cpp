@@ -31,6 +31,9 @@ void add_scene_options(CLI::App* command, SceneOptions& options) {
   command->add_flag("--no-snap-quarter-turns", options.literal_angles,
                     "take URDF angles as written, not within 1e-10 rad of a multiple of pi/2 as exact (scene key "
                     "snap_quarter_turns: false)");
+  command->add_flag("--notes", options.all_notes,
+                    "every note on the URDF, a line each (as the generated header lists them), not one line per kind "
+                    "with its count");
   // Neither a scene nor a URDF is a usage error (exit 2), like any other missing option.
   command->parse_complete_callback([&options] {
     if (options.scene.empty() && options.urdf.empty()) throw CLI::RequiredError("--scene or --urdf");
@@ -96,9 +99,12 @@ emit::EmittedSolver emit_scene(const scene::Scene& s, const model::Chain& chain)
   return emit::emit_solver(chain, emit::emit_request(s, provenance));
 }
 
-// What the model does not take from the URDF as written, or leaves to the application (model_notes).
-void print_notes(const model::Chain& chain, std::ostream& out) {
-  for (const std::string& line : model::model_notes(chain)) out << "sweepgen: note: " << line << "\n";
+// What the scene and the model do not take as written, or leave to the application (Scene::notes,
+// model_notes): every note, or the URDF's as one line per kind of them (model_note_summary).
+void print_notes(const scene::Scene& s, const model::Chain& chain, bool all_notes, std::ostream& out) {
+  for (const std::string& line : s.notes) out << "sweepgen: note: " << inert_text(line, kShownPathBytes) << "\n";
+  for (const std::string& line : all_notes ? model::model_notes(chain) : model::model_note_summary(chain))
+    out << "sweepgen: note: " << line << "\n";
 }
 
 // What the scene allows but will likely not do what was meant (solver/shared_body_sets.hpp).
@@ -205,7 +211,7 @@ int run_generate(const GenerateOptions& options) {
             << "): wrote";
   for (const auto& f : files) std::cout << " " << f.path;
   std::cout << "\n";
-  print_notes(chain, std::cout);
+  print_notes(s, chain, options.scene.all_notes, std::cout);
   print_costs(emitted, std::cout);
   return 0;
 }
@@ -218,6 +224,10 @@ int run_info(const SceneOptions& options) {
   for (const std::string& tip : chain.branch_tips) tips += ", " + inert_text(tip);
   std::cout << (chain.is_chain() ? "chain " : "tree ") << inert_text(chain.root_link) << " -> " << tips << " in "
             << inert_text(chain.source, kShownPathBytes) << ": " << chain.dof() << " moving joints\n";
+  if (s.locations.count("tip") == 0)  // neither the scene nor a flag named it (urdf_loader.cpp, deepest_link)
+    std::cout << "  tip " << inert_text(chain.tip_link)
+              << ": none named; the last link of the one moving branch (what hangs below it on fixed joints is "
+                 "lumped into it); name another with --tip or the scene key tip\n";
   const bool is_chain = chain.is_chain();
   for (std::size_t i = 1; i <= chain.dof(); ++i) {
     const auto& j = chain.joints[i];
@@ -246,7 +256,7 @@ int run_info(const SceneOptions& options) {
   std::cout << "scene " << (s.path.empty() ? "(default)" : inert_text(s.path, kShownPathBytes)) << ", solver " << s.solver << ", Nc = " << s.layout.constraints
             << ", operation counts:\n";
   print_costs(emitted, std::cout);
-  print_notes(chain, std::cout);
+  print_notes(s, chain, options.all_notes, std::cout);
   return 0;
 }
 

@@ -20,6 +20,7 @@ struct SceneOptions {
   std::vector<std::string> branch_tips;
   bool floating_base = false;
   bool literal_angles = false;  // --no-snap-quarter-turns
+  bool all_notes = false;       // --notes: every model note, not one line per kind
 };
 
 struct GenerateOptions {

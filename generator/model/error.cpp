@@ -20,6 +20,24 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// The candidate that is `name` with a prefix or suffix added or dropped at a '_' (left_hand for
+// left_hand_link, panda_link8 for link8): vendors' names differ by such affixes, which an edit
+// distance counts letter by letter. The closest in length; none for names shorter than 3.
+const std::string* affix_match(const std::string& name, const std::vector<std::string>& candidates) {
+  const auto joins = [](const std::string& shorter, const std::string& longer) {
+    if (shorter.size() < 3 || shorter.size() >= longer.size()) return false;
+    const std::size_t extra = longer.size() - shorter.size();
+    return (longer.compare(0, shorter.size(), shorter) == 0 && longer[shorter.size()] == '_') ||
+           (longer.compare(extra, shorter.size(), shorter) == 0 && longer[extra - 1] == '_');
+  };
+  const std::string* best = nullptr;
+  const auto gap = [&name](const std::string& c) { return c.size() > name.size() ? c.size() - name.size() : name.size() - c.size(); };
+  for (const auto& candidate : candidates)
+    if ((joins(name, candidate) || joins(candidate, name)) && (best == nullptr || gap(candidate) < gap(*best)))
+      best = &candidate;
+  return best;
+}
+
 }  // namespace
 
 std::string element_path(const std::string& parent, const std::string& key) {
@@ -43,6 +61,13 @@ std::string nearest_name_hint(const std::string& name, const std::vector<std::st
     if (best == nullptr || d < best_distance) {
       best = &candidate;
       best_distance = d;
+    }
+  }
+  // A slip of a letter or two first, then a name with an affix added or dropped, then a larger slip.
+  if (best == nullptr || best_distance > 2) {
+    if (const std::string* affixed = affix_match(name, candidates)) {
+      best = affixed;
+      best_distance = 0;
     }
   }
   if (best == nullptr || best_distance > most) return "";

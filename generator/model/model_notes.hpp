@@ -13,6 +13,11 @@
 
 namespace sweepgen::model {
 
+// Every note, a line each: what the generated header lists, and `--notes` prints.
 std::vector<std::string> model_notes(const Chain& chain);
+
+// The same notes for a terminal: a kind with more than two notes (a humanoid's dozens of locked
+// finger joints) as one line with its count and the first; a kind with one or two as they are.
+std::vector<std::string> model_note_summary(const Chain& chain);
 
 }  // namespace sweepgen::model

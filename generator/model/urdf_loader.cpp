@@ -186,9 +186,10 @@ bool moves_below(const urdf::Link& top, std::size_t& budget, const std::string& 
 
 // The deepest link below `root` along the one branch that moves: at a link with several
 // children, the branch is the only child with a moving joint below it (side branches of fixed
-// links, a sensor or a tool flange, are lumped and do not end the chain); two moving branches,
-// or several children none of which moves, are ambiguous. More steps down than there are links
-// means a cycle.
+// links, a sensor or a tool flange, are lumped and do not end the chain); where several children
+// all hang on fixed joints (a flange carrying a tool frame and a sensor frame), the link itself is
+// the tip: the body after the last moving joint, which carries them all. Two moving branches are
+// ambiguous. More steps down than there are links means a cycle.
 std::string deepest_link(const urdf::Link& root, std::size_t link_count, const std::string& file,
                          const std::string& naming_the_tip) {
   const urdf::Link* link = &root;
@@ -203,6 +204,7 @@ std::string deepest_link(const urdf::Link& root, std::size_t link_count, const s
       if (joint->type != urdf::Joint::FIXED || moves_below(*link->child_links[c], budget, file))
         moving.push_back(link->child_links[c].get());
     }
+    if (link->child_links.size() > 1 && moving.empty()) break;
     if (link->child_links.size() > 1 && moving.size() != 1) {
       std::vector<std::string> names;
       for (const auto& child : link->child_links) names.push_back(quote_name(child->name));
@@ -217,14 +219,38 @@ std::string deepest_link(const urdf::Link& root, std::size_t link_count, const s
   return link->name;
 }
 
+// The links above `link`, its parent first, at most `limit` of them (a cycle of links has no top).
+std::vector<std::string> links_above(const urdf::ModelInterface& model, const std::string& link, std::size_t limit) {
+  std::vector<std::string> above;
+  for (auto l = model.getLink(link); l && l->parent_joint && above.size() < limit;) {
+    above.push_back(l->parent_joint->parent_link_name);
+    l = model.getLink(above.back());
+  }
+  return above;
+}
+
+// Why `root` does not reach `tip`, with a root that does: the lowest link above both (the nearest
+// to the root that was meant), or a swap where the tip is above the root.
+std::string unreachable_tip(const urdf::ModelInterface& model, const std::string& root, const std::string& tip) {
+  const std::string reason = "not connected: " + quote_name(tip) + " is not below " + quote_name(root) + " in the URDF tree";
+  const std::vector<std::string> above_root = links_above(model, root, model.links_.size());
+  if (std::find(above_root.begin(), above_root.end(), tip) != above_root.end())
+    return reason + "; it is above it: swap root and tip";
+  const std::string top = model.getRoot()->name;
+  for (const std::string& link : links_above(model, tip, model.links_.size()))
+    if (std::find(above_root.begin(), above_root.end(), link) != above_root.end())
+      return reason + "; root " + quote_name(link) + ", above both, reaches it" +
+             (link == top ? "" : ", as does the URDF's root " + quote_name(top));
+  return reason;
+}
+
 // Joints from root to tip, root first.
 std::vector<urdf::JointConstSharedPtr> path_joints(const urdf::ModelInterface& model, const std::string& root,
                                                    const std::string& tip, const std::string& file) {
   std::vector<urdf::JointConstSharedPtr> joints;
   for (auto link = model.getLink(tip); link->name != root;) {
     if (!link->parent_joint)
-      throw InputError(file, "links " + quote_name(root) + " and " + quote_name(tip),
-                       "not connected: " + quote_name(tip) + " is not below " + quote_name(root) + " in the URDF tree");
+      throw InputError(file, "links " + quote_name(root) + " and " + quote_name(tip), unreachable_tip(model, root, tip));
     // urdfdom accepts a cycle of links that each have a parent (apart from the root's tree):
     // walking up from a link on it never ends.
     if (joints.size() == model.links_.size())

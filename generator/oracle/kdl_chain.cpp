@@ -80,6 +80,14 @@ bool kdl_chain(const std::string& urdf, const model::Chain& chain, KDL::Chain& o
     if (fixed && moving < n) {
       why = "not expressible: KDL's Vereshchagin solver cannot take fixed joints, and " +
             parsed.getSegment(i).getJoint().getName() + " is fixed before the last moving joint";
+      if (moving == 0) {  // fixed joints above the first moving one: a root below them leaves them out
+        unsigned last_fixed = i;
+        while (last_fixed + 1 < parsed.getNrOfSegments() &&
+               parsed.getSegment(last_fixed + 1).getJoint().getType() == KDL::Joint::None)
+          ++last_fixed;
+        why += "; root: " + parsed.getSegment(last_fixed).getName() + " (the scene key), the link the first moving "
+               "joint hangs on, is expressible";
+      }
       return false;
     }
     if (!fixed) {

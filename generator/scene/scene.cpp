@@ -187,25 +187,35 @@ const std::vector<std::string>& scalar_names() {
   return names;
 }
 
-// Fixed directions: a list of unit 6-vectors [moment; force], 1..6 of them.
-std::vector<spatial::Force<double>> read_directions(const Reader& reader, const Item& list) {
+// Fixed directions: a list of 6-vectors [moment; force], 1..6 of them, each taken as its unit
+// vector; one not written as unit is said in `notes` (as the URDF loader says of joint axes).
+std::vector<spatial::Force<double>> read_directions(const Reader& reader, const Item& list, std::vector<std::string>& notes) {
   const auto directions = reader.sequence(list);
   if (directions.empty() || directions.size() > solver::kMaxSetDirections)
     reader.fail(list, "at least 1 and at most 6 constraint directions in a set (a body has six), got " +
                           std::to_string(directions.size()));
   std::vector<spatial::Force<double>> fixed;
+  const auto text = [](const Eigen::Matrix<double, 6, 1>& v) {
+    std::ostringstream out;
+    out.precision(17);
+    out << "[" << v[0];
+    for (int i = 1; i < 6; ++i) out << ", " << v[i];
+    return out.str() + "]";
+  };
   for (const Item& direction : directions) {
     const auto components = reader.sequence(direction);
     if (components.size() != 6)
       reader.fail(direction, "expected 6 numbers [moment; force], got " + std::to_string(components.size()));
-    Eigen::Matrix<double, 6, 1> v;
-    for (int i = 0; i < 6; ++i) v[i] = reader.number(components[i]);
-    if (!(std::abs(v.norm() - 1) <= 1e-9)) {
-      std::ostringstream norm;
-      norm.precision(17);
-      norm << v.norm();
-      reader.fail(direction, "not a unit vector (norm " + norm.str() + "; must be 1 within 1e-9)");
-    }
+    Eigen::Matrix<double, 6, 1> written;
+    for (int i = 0; i < 6; ++i) written[i] = reader.number(components[i]);
+    // A huge component's square overflows: scaled by the largest component first.
+    Eigen::Matrix<double, 6, 1> v = written;
+    if (!std::isfinite(v.norm())) v /= v.cwiseAbs().maxCoeff();
+    if (!(v.norm() > 1e-12)) reader.fail(direction, "a zero direction constrains nothing (norm " + std::to_string(v.norm()) + ")");
+    v /= v.norm();
+    if (v != written)
+      notes.push_back(reader.where(direction) + ": constraint direction " + text(written) + " taken as the unit vector " +
+                      text(v));
     spatial::Force<double> f;
     f.moment = v.head<3>();
     f.force = v.tail<3>();
@@ -226,7 +236,7 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
   if (value.node.IsMap()) {
     const auto fields = reader.entries(value, keys_under("drivers.constraints"));
     if (fields.empty()) reader.fail(value, "missing key 'directions'");
-    auto fixed = read_directions(reader, fields[0].second);
+    auto fixed = read_directions(reader, fields[0].second, scene.notes);
     add({"", fixed.size(), fixed});
   } else if (value.node.IsSequence()) {
     const auto sets = reader.sequence(value);
@@ -256,7 +266,7 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
                                        std::to_string(count));
         set.count = static_cast<std::size_t>(count);
       } else {
-        set.fixed = read_directions(reader, *directions_item);
+        set.fixed = read_directions(reader, *directions_item, scene.notes);
         set.count = set.fixed.size();
       }
       scene.locations["drivers.constraints[" + std::to_string(c) + "].link"] = reader.where(*link_item);

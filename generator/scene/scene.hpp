@@ -49,6 +49,9 @@ struct Scene {
   // "drivers.external_forces[i].link", "drivers.constraints", "drivers.constraints[i].link", "constraint_rows". A CLI flag overriding a field should set its entry to
   // the flag's name (e.g. locations["tip"] = "--tip").
   std::map<std::string, std::string> locations;
+  // Numbers of the scene not taken as written (a fixed direction scaled to unit length), a
+  // sentence each with its file:line:column: said by `generate` and `info` beside the URDF's.
+  std::vector<std::string> notes;
 
   // Where `element` came from, for messages: its entry in `locations`, else the scene file,
   // else "command line".
