@@ -228,6 +228,39 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_EQ(line.find("generated double original:"), std::string::npos) << line;
 }
 
+// --quick compiles each scene once, the x86-64 build with every policy, and leaves out the rows
+// that need a compile of their own, saying so in report.md. Compiles counted twice: the progress
+// line each one prints, and the build folders holding a library.
+TEST(Report, QuickCompilesEachSceneOnce) {
+  TempDir dir;
+  const auto out = dir.path() / "report";
+  const auto result = run_command(
+      shell_command({SWEEPGEN_EXECUTABLE, "report", "--scene", planar_scene(), "--quick", "--out", out.string()}));
+  ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
+  std::size_t compiles = 0;
+  for (std::size_t at = result.err.find("] compiling ("); at != std::string::npos;
+       at = result.err.find("] compiling (", at + 1))
+    ++compiles;
+  EXPECT_EQ(compiles, 1u) << result.err;
+  std::size_t libraries = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(out / "build" / "planar_nc2"))
+    libraries += entry.path().extension() == ".so";
+  EXPECT_EQ(libraries, 1u);
+
+  std::set<std::string> variants;
+  for (const CsvRow& row : read_csv(out / "report.csv")) variants.insert(row.at("variant"));
+  for (const char* measured : {"generated double original", "generated double prioritize_external",
+                               "generated double saturate", "generated double saturate_exact",
+                               "generated float original", "reference double", "KDL", "dense KKT"})
+    EXPECT_EQ(variants.count(measured), 1u) << measured;
+  for (const char* left_out : {"generated double original x86-64-v3", "generated double original damped"})
+    EXPECT_EQ(variants.count(left_out), 0u) << left_out;
+  EXPECT_NE(test::read_text(out / "report.md")
+                .find("--quick left out generated double original x86-64-v3, generated double original damped: "
+                      "each needs a compile of its own"),
+            std::string::npos);
+}
+
 // Both figures draw each row with the same marker and colour (a kind of row has one in every
 // scene's figures), and the recommended row last, on top of the others.
 TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {

@@ -58,6 +58,15 @@ const std::vector<std::string>& summary_header() {
   return header;
 }
 
+// The rows --quick left out of a scene, and why ("" when none was).
+std::string left_out_text(const SceneStudy& s) {
+  if (s.left_out.empty()) return "";
+  std::string rows;
+  for (const std::string& name : s.left_out) rows += (rows.empty() ? "" : ", ") + name;
+  return "--quick left out " + rows + ": each needs a compile of its own, and --quick compiles each scene once (the "
+         "x86-64 -O2 build with every policy); the report without --quick measures them";
+}
+
 std::vector<std::string> csv_fields(const SceneStudy& s, const VariantStudy& v, const FamilyErrors& e) {
   const bool timed = v.note.empty();
   return {s.name,
@@ -208,6 +217,7 @@ void print_study(const SceneStudy& study, std::ostream& out) {
   std::vector<std::vector<std::string>> table = {summary_header()};
   for (const VariantStudy& v : study.variants) table.push_back(summary_cells(study, v));
   print_aligned(table, out);
+  if (!study.left_out.empty()) out << left_out_text(study) << "\n";
   out << "recommendation: " << study.recommendation << "\n";
 }
 
@@ -282,6 +292,7 @@ std::string report_markdown(const std::vector<SceneStudy>& studies, const std::s
       cells.resize(summary_header().size());
       md << markdown_row(cells);
     }
+    if (!s.left_out.empty()) md << "\n" << left_out_text(s) << ".\n";
     md << "\nMaximum error per family (share of states with a status raised):\n\n";
     std::vector<std::string> header{"variant"};
     for (const auto& [family, count] : s.families) header.push_back(family);
