@@ -228,6 +228,66 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_EQ(line.find("generated double original:"), std::string::npos) << line;
 }
 
+// The summary table of report.md gives the reason for a large err_max or max_residual in the row
+// itself: such a number (above √ε of the row's scalar, where study_reasons starts to speak) carries
+// a marker [k], and note k stands right under the table, before the per-family tables.
+TEST(Report, LargeSummaryNumbersCarryTheirReasonBesideThem) {
+  const PlanarReport& report = planar_report();
+  ASSERT_EQ(report.result.exit_code, 0) << report.result.err;
+  const std::string md = test::read_text(report.out / "report.md");
+  std::istringstream lines(md.substr(md.find("| variant | scalar |")));
+  std::string line;
+  std::vector<std::string> header;
+  std::map<std::string, std::vector<std::string>> row_of;  // variant -> cells
+  while (std::getline(lines, line) && line.rfind("| ", 0) == 0) {
+    std::vector<std::string> cells;
+    for (std::size_t at = 2, bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 3)
+      cells.push_back(line.substr(at, bar - at));
+    if (header.empty()) header = cells;
+    else if (cells.front() != "---") row_of[cells.front()] = cells;
+  }
+  std::map<std::string, std::string> notes;  // "[k]" -> its text, the list right under the table
+  while (std::getline(lines, line) && line.rfind("- [", 0) == 0)
+    notes[line.substr(2, line.find(']') - 1)] = line.substr(line.find(']') + 2);
+  ASSERT_FALSE(notes.empty()) << md;
+
+  const auto column = [&header](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  // The note a cell points at ("" where it has no marker).
+  const auto note_of = [&notes](const std::string& cell) -> std::string {
+    const std::size_t open = cell.find(" [");
+    if (open == std::string::npos) return "";
+    const std::string marker = cell.substr(open + 1);
+    EXPECT_EQ(notes.count(marker), 1u) << cell << ": no note " << marker << " under the table";
+    return notes.count(marker) ? notes.at(marker) : "";
+  };
+  std::size_t marked = 0;
+  for (const auto& [variant, cells] : row_of) {
+    if (cells.size() != header.size() || cells[column("err_max")].empty()) continue;  // a note row or the referee
+    const double noticeable = std::sqrt(cells[column("scalar")] == "float" ? std::numeric_limits<float>::epsilon()
+                                                                          : std::numeric_limits<double>::epsilon());
+    for (const char* name : {"err_max", "max_residual"}) {
+      const std::string& cell = cells[column(name)];
+      if (cell == "none judged") continue;
+      const double value = std::stod(cell);
+      if (value <= noticeable) continue;
+      EXPECT_FALSE(note_of(cell).empty()) << variant << ": " << name << " " << cell << " has no reason beside it";
+      ++marked;
+    }
+  }
+  EXPECT_GE(marked, 2u) << md;
+  // The policies that give way say why in their rows: Alg. 4 under the tool's load, the clamps.
+  EXPECT_NE(note_of(row_of.at("generated double prioritize_external")[column("max_residual")])
+                .find("Alg. 4 leaves the external forces out of the constraint's reaction"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(note_of(row_of.at("generated double saturate")[column("max_residual")])
+                .find("where a torque is clamped at its effort limit"),
+            std::string::npos)
+      << md;
+}
+
 // --quick compiles each scene once, the x86-64 build with every policy, and leaves out the rows
 // that need a compile of their own, saying so in report.md. Compiles counted twice: the progress
 // line each one prints, and the build folders holding a library.
