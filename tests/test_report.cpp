@@ -322,7 +322,7 @@ TEST(Report, QuickCompilesEachSceneOnce) {
 }
 
 // Both figures draw each row with the same marker and colour (a kind of row has one in every
-// scene's figures), and the recommended row last, on top of the others.
+// scene's figures), and the recommended row last, on top of the others, with the legend below.
 TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {
   const PlanarReport& report = planar_report();
   ASSERT_EQ(report.result.exit_code, 0) << report.result.err;
@@ -348,6 +348,8 @@ TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {
     }
     EXPECT_GE(rows, 9u) << figure;
     EXPECT_EQ(last, recommended_row + " (recommended)") << figure;
+    // The legend under the plot: beside it, the long row names took half the width.
+    EXPECT_NE(script.find("set key outside bottom center horizontal"), std::string::npos) << script;
   }
   std::set<std::string> styles;
   for (const auto& [title, style] : style_of_row) EXPECT_TRUE(styles.insert(style).second) << title << " shares " << style;

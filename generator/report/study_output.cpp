@@ -198,7 +198,7 @@ std::string time_figure(const SceneStudy& s, const std::filesystem::path& work_d
                                          " joints, Nc = " + std::to_string(s.constraints) + ")")
        << " noenhanced\n"
        << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid xtics ytics mxtics\n"
-       << "set key outside right top noenhanced\n"
+       << kKeyBelowPlot << " noenhanced\n"
        << "set xlabel 'time per solve [ns]: median, whisker to p99'\n"
        << "set ylabel 'error vs binary128: median, whisker to p99'\n"
        << "set offsets graph 0.1, graph 0.1, graph 0.3, graph 0.3\n"
@@ -213,7 +213,8 @@ std::string time_figure(const SceneStudy& s, const std::filesystem::path& work_d
 std::string kappa_figure(const SceneStudy& s, const std::filesystem::path& work_dir) {
   std::ostringstream plot;
   plot << "set title " << gnuplot_string(s.name + ": error against kappa, every judged state") << " noenhanced\n"
-       << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key outside right top noenhanced\n"
+       << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\n"
+       << kKeyBelowPlot << " noenhanced\n"
        << "set xlabel 'kappa = max(1, cond_s(E^A_{cstr,0}), 1/min rho_i)'\n"
        << "set ylabel 'error vs binary128 (floor " << kPlotFloor << ")'\n"
        << "set yrange [" << kPlotFloor / 10 << ":*]\n";
