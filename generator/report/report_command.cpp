@@ -219,7 +219,7 @@ int run_report(const ReportOptions& options) {
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     const std::string where = "[" + std::to_string(k + 1) + "/" + std::to_string(scenes.size()) + " " +
                               scenes[k].solver + "] ";
-    StudyOptions study_options{states,        repetitions, options.seed, options.cxx, out / "build" / scenes[k].solver,
+    StudyOptions study_options{states, repetitions, options.seed, options.cxx, out / "build" / scenes[k].solver,
                                options.quick, [&](const std::string& what) {
                                  std::cerr << where << what << " (" << seconds(seconds_since(started)) << ")"
                                            << std::endl;
