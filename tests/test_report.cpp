@@ -228,8 +228,101 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_EQ(line.find("generated double original:"), std::string::npos) << line;
 }
 
+// The summary table of report.md gives the reason for a large err_max or max_residual in the row
+// itself: such a number (above √ε of the row's scalar, where study_reasons starts to speak) carries
+// a marker [k], and note k stands right under the table, before the per-family tables.
+TEST(Report, LargeSummaryNumbersCarryTheirReasonBesideThem) {
+  const PlanarReport& report = planar_report();
+  ASSERT_EQ(report.result.exit_code, 0) << report.result.err;
+  const std::string md = test::read_text(report.out / "report.md");
+  std::istringstream lines(md.substr(md.find("| variant | scalar |")));
+  std::string line;
+  std::vector<std::string> header;
+  std::map<std::string, std::vector<std::string>> row_of;  // variant -> cells
+  while (std::getline(lines, line) && line.rfind("| ", 0) == 0) {
+    std::vector<std::string> cells;
+    for (std::size_t at = 2, bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 3)
+      cells.push_back(line.substr(at, bar - at));
+    if (header.empty()) header = cells;
+    else if (cells.front() != "---") row_of[cells.front()] = cells;
+  }
+  std::map<std::string, std::string> notes;  // "[k]" -> its text, the list right under the table
+  while (std::getline(lines, line) && line.rfind("- [", 0) == 0)
+    notes[line.substr(2, line.find(']') - 1)] = line.substr(line.find(']') + 2);
+  ASSERT_FALSE(notes.empty()) << md;
+
+  const auto column = [&header](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  // The note a cell points at ("" where it has no marker).
+  const auto note_of = [&notes](const std::string& cell) -> std::string {
+    const std::size_t open = cell.find(" [");
+    if (open == std::string::npos) return "";
+    const std::string marker = cell.substr(open + 1);
+    EXPECT_EQ(notes.count(marker), 1u) << cell << ": no note " << marker << " under the table";
+    return notes.count(marker) ? notes.at(marker) : "";
+  };
+  std::size_t marked = 0;
+  for (const auto& [variant, cells] : row_of) {
+    if (cells.size() != header.size() || cells[column("err_max")].empty()) continue;  // a note row or the referee
+    const double noticeable = std::sqrt(cells[column("scalar")] == "float" ? std::numeric_limits<float>::epsilon()
+                                                                          : std::numeric_limits<double>::epsilon());
+    for (const char* name : {"err_max", "max_residual"}) {
+      const std::string& cell = cells[column(name)];
+      if (cell == "none judged") continue;
+      const double value = std::stod(cell);
+      if (value <= noticeable) continue;
+      EXPECT_FALSE(note_of(cell).empty()) << variant << ": " << name << " " << cell << " has no reason beside it";
+      ++marked;
+    }
+  }
+  EXPECT_GE(marked, 2u) << md;
+  // The policies that give way say why in their rows: Alg. 4 under the tool's load, the clamps.
+  EXPECT_NE(note_of(row_of.at("generated double prioritize_external")[column("max_residual")])
+                .find("Alg. 4 leaves the external forces out of the constraint's reaction"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(note_of(row_of.at("generated double saturate")[column("max_residual")])
+                .find("where a torque is clamped at its effort limit"),
+            std::string::npos)
+      << md;
+}
+
+// --quick compiles each scene once, the x86-64 build with every policy, and leaves out the rows
+// that need a compile of their own, saying so in report.md. Compiles counted twice: the progress
+// line each one prints, and the build folders holding a library.
+TEST(Report, QuickCompilesEachSceneOnce) {
+  TempDir dir;
+  const auto out = dir.path() / "report";
+  const auto result = run_command(
+      shell_command({SWEEPGEN_EXECUTABLE, "report", "--scene", planar_scene(), "--quick", "--out", out.string()}));
+  ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
+  std::size_t compiles = 0;
+  for (std::size_t at = result.err.find("] compiling ("); at != std::string::npos;
+       at = result.err.find("] compiling (", at + 1))
+    ++compiles;
+  EXPECT_EQ(compiles, 1u) << result.err;
+  std::size_t libraries = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(out / "build" / "planar_nc2"))
+    libraries += entry.path().extension() == ".so";
+  EXPECT_EQ(libraries, 1u);
+
+  std::set<std::string> variants;
+  for (const CsvRow& row : read_csv(out / "report.csv")) variants.insert(row.at("variant"));
+  for (const char* measured : {"generated double original", "generated double prioritize_external",
+                               "generated double saturate", "generated double saturate_exact",
+                               "generated float original", "reference double", "KDL", "dense KKT"})
+    EXPECT_EQ(variants.count(measured), 1u) << measured;
+  for (const char* left_out : {"generated double original x86-64-v3", "generated double original damped"})
+    EXPECT_EQ(variants.count(left_out), 0u) << left_out;
+  EXPECT_NE(test::read_text(out / "report.md")
+                .find("--quick left out generated double original x86-64-v3, generated double original damped: "
+                      "each needs a compile of its own"),
+            std::string::npos);
+}
+
 // Both figures draw each row with the same marker and colour (a kind of row has one in every
-// scene's figures), and the recommended row last, on top of the others.
+// scene's figures), and the recommended row last, on top of the others, with the legend below.
 TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {
   const PlanarReport& report = planar_report();
   ASSERT_EQ(report.result.exit_code, 0) << report.result.err;
@@ -255,6 +348,8 @@ TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {
     }
     EXPECT_GE(rows, 9u) << figure;
     EXPECT_EQ(last, recommended_row + " (recommended)") << figure;
+    // The legend under the plot: beside it, the long row names took half the width.
+    EXPECT_NE(script.find("set key outside bottom center horizontal"), std::string::npos) << script;
   }
   std::set<std::string> styles;
   for (const auto& [title, style] : style_of_row) EXPECT_TRUE(styles.insert(style).second) << title << " shares " << style;

@@ -5,6 +5,11 @@
 
 namespace sweepgen::report {
 
+// The legend under the plot, its entries in as many columns as fit the width (beside the plot,
+// the long variant names took half the figure's width from it), a line's room between it and the
+// x axis's label.
+inline constexpr const char* kKeyBelowPlot = "set key outside bottom center horizontal height 1";
+
 // The `set terminal` line for a PNG of `width` x `height` pixels: pngcairo where this gnuplot
 // has it, else png. Throws io::IoError when gnuplot cannot be run.
 std::string png_terminal(const std::string& work_dir, int width, int height);

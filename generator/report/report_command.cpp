@@ -138,7 +138,9 @@ void add_report_command(CLI::App& app, ReportOptions& options) {
       ->check(CLI::Range(1, 100000));
   command->add_flag("--quick", options.quick,
                     "a report in seconds: " + std::to_string(kQuickStates) + " states per family, " +
-                        std::to_string(kQuickRepetitions) + " timed passes; without --scene only " + kQuickScene);
+                        std::to_string(kQuickRepetitions) +
+                        " timed passes, one compile per scene (no x86-64-v3 or other-factorisation row); without "
+                        "--scene only " + kQuickScene);
   command->add_option("--out", options.out,
                       "output directory: report.md, report.csv, states.csv, <scene>_{time,kappa}.{png,svg}, build/ "
                       "(default: report); with --stability stability.csv, stability.png, build/ (default: stability)");
@@ -218,7 +220,7 @@ int run_report(const ReportOptions& options) {
     const std::string where = "[" + std::to_string(k + 1) + "/" + std::to_string(scenes.size()) + " " +
                               scenes[k].solver + "] ";
     StudyOptions study_options{states, repetitions, options.seed, options.cxx, out / "build" / scenes[k].solver,
-                               [&](const std::string& what) {
+                               options.quick, [&](const std::string& what) {
                                  std::cerr << where << what << " (" << seconds(seconds_since(started)) << ")"
                                            << std::endl;
                                }};

@@ -17,7 +17,8 @@ struct ReportOptions {
   std::string tip;
   std::vector<std::string> family_cases;  // synthetic robots of `sweepgen family` studied like scenes
   std::size_t states = 40;  // per state family
-  bool quick = false;       // a report in seconds: fewer states and passes; without --scene only the Panda
+  // A report in seconds: fewer states and passes, one compile per scene; without --scene only the Panda.
+  bool quick = false;
   std::string out;  // empty: "report", or "stability" with --stability
   // --stability (report/stability_command.hpp) and its options
   bool stability = false;

@@ -135,7 +135,7 @@ void plot_stability(const std::vector<StabilityRow>& rows, const std::string& wo
          << "set xlabel 'kappa = max(1, cond_s(E^A_{cstr,0}), 1/min rho_D)'\n"
          << "set ylabel 'max relative error of qdd, tau_{cmd}, nu (exact: drawn at 10^{-20})'\n"
          << "set grid xtics ytics\n"
-         << "set key outside right top box\n"
+         << kKeyBelowPlot << " box\n"
          << "set xrange [0.5:" << kappa_max * 3 << "]\n"
          << "set yrange [" << error_min / 10 << ":" << std::max(error_max * 10, 1.0) << "]\n"
          << "eps_double = " << std::numeric_limits<double>::epsilon() << "\n"

@@ -23,6 +23,9 @@ struct StudyOptions {
   unsigned long long seed = 1;
   std::string cxx = "c++";
   std::filesystem::path build_dir;  // the scene's generated code: build_dir/<variant>/
+  // --quick: one compile per scene, the x86-64 baseline with every policy; the rows that need a
+  // compile of their own (x86-64-v3, the other factorisation) are left out (SceneStudy::left_out).
+  bool one_compile = false;
   std::function<void(const std::string& what)> progress;  // one line per step
 };
 
@@ -79,6 +82,8 @@ struct SceneStudy {
   std::vector<std::size_t> pivoted_path;  // per family: states whose ν took the pivoted path (C4)
   std::string singular_note;  // where the near-singular sweep starts, or why there is none
   std::vector<VariantStudy> variants;
+  // Rows StudyOptions::one_compile left out, each needing a compile of its own.
+  std::vector<std::string> left_out;
   // Generated float answers every state below this κ (NaN: no float row; 0: it answered none).
   double float_domain_kappa = NAN;
   std::string recommendation;       // one sentence

@@ -58,6 +58,57 @@ const std::vector<std::string>& summary_header() {
   return header;
 }
 
+// The column of the summary table named `name`.
+std::size_t summary_column(const std::string& name) {
+  const std::vector<std::string>& header = summary_header();
+  return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+}
+
+// A scene's summary rows with the reasons beside their large numbers: an err_max or max_residual
+// that is large for a stated reason (study_reasons.hpp, row_reasons) carries a marker [k], and
+// note k, right under the table, says why; rows with the same reason share a note. The bullets
+// per family further down give the counts.
+struct SummaryTable {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<Finding> notes;  // note k is notes[k - 1]
+};
+
+void mark(std::string& cell, const Finding& reason, std::vector<Finding>& notes) {
+  if (reason.text.empty()) return;
+  auto note = std::find_if(notes.begin(), notes.end(), [&](const Finding& n) { return n.text == reason.text; });
+  if (note == notes.end()) note = notes.insert(notes.end(), reason);
+  cell += " [" + std::to_string(note - notes.begin() + 1) + "]";
+}
+
+SummaryTable summary_table(const SceneStudy& s) {
+  SummaryTable table;
+  for (const VariantStudy& v : s.variants) {
+    std::vector<std::string> cells = summary_cells(s, v);
+    if (v.note.empty() && !v.referee) {
+      const RowReasons reasons = row_reasons(v);
+      mark(cells[summary_column("err_max")], reasons.error, table.notes);
+      mark(cells[summary_column("max_residual")], reasons.residual, table.notes);
+    }
+    table.rows.push_back(std::move(cells));
+  }
+  return table;
+}
+
+// Note k (from 0) of a summary table, as its marker names it; in Markdown, **unexpected** in bold.
+std::string note_line(std::size_t k, const Finding& note, bool markdown) {
+  const std::string unexpected = markdown ? "**unexpected**: " : "unexpected: ";
+  return "[" + std::to_string(k + 1) + "] " + (note.expected ? "" : unexpected) + note.text;
+}
+
+// The rows --quick left out of a scene, and why ("" when none was).
+std::string left_out_text(const SceneStudy& s) {
+  if (s.left_out.empty()) return "";
+  std::string rows;
+  for (const std::string& name : s.left_out) rows += (rows.empty() ? "" : ", ") + name;
+  return "--quick left out " + rows + ": each needs a compile of its own, and --quick compiles each scene once (the "
+         "x86-64 -O2 build with every policy); the report without --quick measures them";
+}
+
 std::vector<std::string> csv_fields(const SceneStudy& s, const VariantStudy& v, const FamilyErrors& e) {
   const bool timed = v.note.empty();
   return {s.name,
@@ -147,7 +198,7 @@ std::string time_figure(const SceneStudy& s, const std::filesystem::path& work_d
                                          " joints, Nc = " + std::to_string(s.constraints) + ")")
        << " noenhanced\n"
        << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid xtics ytics mxtics\n"
-       << "set key outside right top noenhanced\n"
+       << kKeyBelowPlot << " noenhanced\n"
        << "set xlabel 'time per solve [ns]: median, whisker to p99'\n"
        << "set ylabel 'error vs binary128: median, whisker to p99'\n"
        << "set offsets graph 0.1, graph 0.1, graph 0.3, graph 0.3\n"
@@ -162,7 +213,8 @@ std::string time_figure(const SceneStudy& s, const std::filesystem::path& work_d
 std::string kappa_figure(const SceneStudy& s, const std::filesystem::path& work_dir) {
   std::ostringstream plot;
   plot << "set title " << gnuplot_string(s.name + ": error against kappa, every judged state") << " noenhanced\n"
-       << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\nset key outside right top noenhanced\n"
+       << "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\n"
+       << kKeyBelowPlot << " noenhanced\n"
        << "set xlabel 'kappa = max(1, cond_s(E^A_{cstr,0}), 1/min rho_i)'\n"
        << "set ylabel 'error vs binary128 (floor " << kPlotFloor << ")'\n"
        << "set yrange [" << kPlotFloor / 10 << ":*]\n";
@@ -205,9 +257,12 @@ void print_study(const SceneStudy& study, std::ostream& out) {
       << "\nstates:";
   for (const auto& [family, count] : study.families) out << " " << family << " " << count << ";";
   out << " " << study.singular_note << "\n";
+  const SummaryTable summary = summary_table(study);
   std::vector<std::vector<std::string>> table = {summary_header()};
-  for (const VariantStudy& v : study.variants) table.push_back(summary_cells(study, v));
+  table.insert(table.end(), summary.rows.begin(), summary.rows.end());
   print_aligned(table, out);
+  for (std::size_t k = 0; k < summary.notes.size(); ++k) out << note_line(k, summary.notes[k], false) << "\n";
+  if (!study.left_out.empty()) out << left_out_text(study) << "\n";
   out << "recommendation: " << study.recommendation << "\n";
 }
 
@@ -277,11 +332,14 @@ std::string report_markdown(const std::vector<SceneStudy>& studies, const std::s
     for (const auto& [family, count] : s.families) md << " " << family << " " << count << ";";
     md << " " << s.singular_note << ".\n\n";
     md << markdown_row(summary_header()) << markdown_row(std::vector<std::string>(summary_header().size(), "---"));
-    for (const VariantStudy& v : s.variants) {
-      std::vector<std::string> cells = summary_cells(s, v);
+    const SummaryTable summary = summary_table(s);
+    for (std::vector<std::string> cells : summary.rows) {
       cells.resize(summary_header().size());
       md << markdown_row(cells);
     }
+    if (!summary.notes.empty()) md << "\n";
+    for (std::size_t k = 0; k < summary.notes.size(); ++k) md << "- " << note_line(k, summary.notes[k], true) << "\n";
+    if (!s.left_out.empty()) md << "\n" << left_out_text(s) << ".\n";
     md << "\nMaximum error per family (share of states with a status raised):\n\n";
     std::vector<std::string> header{"variant"};
     for (const auto& [family, count] : s.families) header.push_back(family);

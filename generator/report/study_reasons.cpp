@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "report/stability_measure.hpp"
 #include "report/text_format.hpp"
@@ -35,23 +36,88 @@ std::string dependent_by_construction(const std::string& family) {
   return "";
 }
 
-struct Finding {
-  std::string text;
-  bool expected;
+// An error or residual below √ε keeps half the digits or more: not worth a word.
+double noticeable(const std::string& scalar) { return std::sqrt(epsilon_of(scalar)); }
+
+std::string error_bound() { return format("%.0f", kErrorBoundEpsKappa) + " ε κ"; }
+
+// Where a judged state's error stands against the bound the stability suite asserts: the bullets
+// per family and the notes beside the summary table sort states alike.
+enum class ErrorClass {
+  small,            // below √ε: not worth a word
+  ill_conditioned,  // within the bound, large because κ is
+  row_unbounded,    // above the bound on a row the bound does not hold for (VariantStudy::unbounded_because)
+  outside_domain,   // above the bound where κ is beyond the scalar's domain
+  at_clamp,         // above the bound where a torque is at its limit
+  beyond_bound,     // above the bound for none of these reasons
+};
+
+// A judged state's error in units of ε κ.
+double in_eps_kappa(const VariantStudy& v, const StatePoint& p) {
+  return p.error() / (epsilon_of(v.scalar) * std::max(1.0, p.kappa));
+}
+
+// A row's own reason (KDL, the dense KKT) goes first: it is why that row reaches an error of 1 where
+// the project's solvers, on the same states, stay within the bound.
+ErrorClass classify(const VariantStudy& v, const StatePoint& p) {
+  if (in_eps_kappa(v, p) <= kErrorBoundEpsKappa)
+    return p.error() > noticeable(v.scalar) ? ErrorClass::ill_conditioned : ErrorClass::small;
+  if (!v.unbounded_because.empty()) return ErrorClass::row_unbounded;
+  if (p.kappa > domain_kappa(v.scalar)) return ErrorClass::outside_domain;
+  if (v.clamps && ((p.status | p.referee_status) & solver::status_saturated)) return ErrorClass::at_clamp;
+  return ErrorClass::beyond_bound;
+}
+
+// What an error of class `c` says: where it happens (for the classes above the bound, the words
+// after "error above 100 ε κ") and why, with whether that is expected.
+struct ErrorWhy {
+  std::string where;
+  Finding why;
+};
+ErrorWhy error_why(ErrorClass c, const VariantStudy& v) {
+  switch (c) {
+    case ErrorClass::row_unbounded: return {"", {"expected for this row: " + v.unbounded_because, true}};
+    case ErrorClass::outside_domain:
+      return {" where κ is beyond " + v.scalar + "'s domain, κ > " + format("%.0e", domain_kappa(v.scalar)),
+              {"expected, the suite asserts nothing there (docs/stability.md, \"Float: domain of validity\")", true}};
+    case ErrorClass::at_clamp:
+      return {" where a torque is at its limit",
+              {"expected, rounding decides there whether it clamps, and this row and its referee answer on either "
+               "side of the clamp",
+               true}};
+    case ErrorClass::beyond_bound:
+      return {"", {"not expected: beyond the bound the stability suite asserts (docs/stability.md): report it", false}};
+    case ErrorClass::ill_conditioned: return {"", {"expected, the problem is that ill-conditioned", true}};
+    case ErrorClass::small: break;
+  }
+  return {"", {"", true}};
+}
+
+// Why a row's constraint residual is above √ε, which it always may be: the suite bounds errors.
+std::string residual_why(const VariantStudy& v) {
+  if (!v.gives_way_because.empty()) return v.gives_way_because;
+  if (!v.unbounded_because.empty()) return "for this row: " + v.unbounded_because;
+  return "the constraint is met to the rounding of the terms it balances (large on fast or huge-force states, or "
+         "where κ is large); the suite bounds the errors of q̈, τcmd and ν, not the residual";
+}
+
+// The errors of one class on one family's judged states.
+struct ClassTally {
+  std::size_t states = 0;
+  double worst_ratio = 0;  // error / (ε κ)
+  double worst_error = 0;
 };
 
 // What one row did on one family's states, counted.
 struct Tally {
   std::size_t states = 0, held_back = 0, dropped_expected = 0, dropped_unexpected = 0, referee_dropped = 0, locked = 0,
-              not_finite = 0, saturated = 0, beyond = 0, at_clamp = 0, outside = 0, large = 0, residual = 0;
-  double kappa_dropped = 1, worst_beyond = 0, worst_clamp = 0, worst_outside = 0, worst_error = 0,
-         worst_residual = 0, kappa_max = 1;
+              not_finite = 0, saturated = 0, residual = 0;
+  std::map<ErrorClass, ClassTally> errors;  // the judged states whose error is worth a word, by class
+  double kappa_dropped = 1, worst_residual = 0, kappa_max = 1;
 };
 
 Tally tally(const VariantStudy& v, const std::string& family) {
-  const double eps = epsilon_of(v.scalar), domain = domain_kappa(v.scalar);
-  // An error or residual below √ε keeps half the digits or more: not worth a word.
-  const double noticeable = std::sqrt(eps);
+  const double eps = epsilon_of(v.scalar);
   const bool dependent = !dependent_by_construction(family).empty();
   Tally t;
   for (const StatePoint& p : v.states) {
@@ -70,13 +136,14 @@ Tally tally(const VariantStudy& v, const std::string& family) {
     if (p.status & solver::status_saturated) ++t.saturated;
     if (!p.judged) continue;
     t.kappa_max = std::max(t.kappa_max, p.kappa);
-    const double ratio = p.error() / (eps * std::max(1.0, p.kappa));
-    const bool clamp = v.clamps && ((p.status | p.referee_status) & solver::status_saturated);
-    if (ratio > kErrorBoundEpsKappa && p.kappa > domain) ++t.outside, t.worst_outside = std::max(t.worst_outside, ratio);
-    else if (ratio > kErrorBoundEpsKappa && clamp) ++t.at_clamp, t.worst_clamp = std::max(t.worst_clamp, ratio);
-    else if (ratio > kErrorBoundEpsKappa) ++t.beyond, t.worst_beyond = std::max(t.worst_beyond, ratio);
-    else if (p.error() > noticeable) ++t.large, t.worst_error = std::max(t.worst_error, p.error());
-    if (p.residual > noticeable) ++t.residual, t.worst_residual = std::max(t.worst_residual, p.residual);
+    const ErrorClass c = classify(v, p);
+    if (c != ErrorClass::small) {
+      ClassTally& e = t.errors[c];
+      ++e.states;
+      e.worst_ratio = std::max(e.worst_ratio, in_eps_kappa(v, p));
+      e.worst_error = std::max(e.worst_error, p.error());
+    }
+    if (p.residual > noticeable(v.scalar)) ++t.residual, t.worst_residual = std::max(t.worst_residual, p.residual);
   }
   return t;
 }
@@ -84,7 +151,6 @@ Tally tally(const VariantStudy& v, const std::string& family) {
 // The findings of one row on one family.
 std::vector<Finding> findings(const VariantStudy& v, const std::string& family) {
   const Tally t = tally(v, family);
-  const std::string bound = format("%.0f", kErrorBoundEpsKappa) + " ε κ";
   std::vector<Finding> out;
   const auto dropped = [&](std::size_t count) {
     return "dropped a constraint direction (status_constraint_rank_deficient) on " + of(count, t.states) +
@@ -126,41 +192,24 @@ std::vector<Finding> findings(const VariantStudy& v, const std::string& family) 
     out.push_back({"clamped torques at their effort limits (status_saturated) on " + of(t.saturated, t.states) +
                        ": expected, the policy's job where the motion asks more than the limits give",
                    true});
-  if (t.outside > 0)
-    out.push_back({"error above " + bound + " on " + judged_states(t.outside) + " where κ is beyond " + v.scalar +
-                       "'s domain, κ > " + format("%.0e", domain_kappa(v.scalar)) + " (worst " +
-                       format("%.3g", t.worst_outside) + " ε κ): expected, the suite asserts nothing there "
-                       "(docs/stability.md, \"Float: domain of validity\")",
-                   true});
-  if (t.at_clamp > 0)
-    out.push_back({"error above " + bound + " on " + judged_states(t.at_clamp) + " where a torque is at its limit "
-                       "(worst " + format("%.3g", t.worst_clamp) + " ε κ): expected, rounding decides there whether it "
-                       "clamps, and this row and its referee answer on either side of the clamp",
-                   true});
-  if (t.beyond > 0) {
-    const std::string text = "error above " + bound + " on " + judged_states(t.beyond) + " (worst " +
-                             format("%.3g", t.worst_beyond) + " ε κ)";
-    if (v.unbounded_because.empty())
-      out.push_back({text + ": not expected: beyond the bound the stability suite asserts (docs/stability.md): report it",
-                     false});
-    else
-      out.push_back({text + ": expected for this row: " + v.unbounded_because, true});
+  for (const ErrorClass c :
+       {ErrorClass::outside_domain, ErrorClass::at_clamp, ErrorClass::row_unbounded, ErrorClass::beyond_bound}) {
+    const auto e = t.errors.find(c);
+    if (e == t.errors.end()) continue;
+    const ErrorWhy w = error_why(c, v);
+    out.push_back({"error above " + error_bound() + " on " + judged_states(e->second.states) + w.where + " (worst " +
+                       format("%.3g", e->second.worst_ratio) + " ε κ): " + w.why.text,
+                   w.why.expected});
   }
-  if (t.large > 0)
-    out.push_back({"error up to " + scientific(t.worst_error) + " on " + judged_states(t.large) + ", within " + bound +
-                       " (κ up to " + format("%.1e", t.kappa_max) + "): expected, the problem is that ill-conditioned",
+  if (const auto e = t.errors.find(ErrorClass::ill_conditioned); e != t.errors.end())
+    out.push_back({"error up to " + scientific(e->second.worst_error) + " on " + judged_states(e->second.states) +
+                       ", within " + error_bound() + " (κ up to " + format("%.1e", t.kappa_max) + "): " +
+                       error_why(ErrorClass::ill_conditioned, v).why.text,
                    true});
-  if (t.residual > 0) {
-    std::string why = !v.gives_way_because.empty() ? v.gives_way_because
-                      : !v.unbounded_because.empty()
-                          ? "for this row: " + v.unbounded_because
-                          : "the constraint is met to the rounding of the terms it balances (large on fast or "
-                            "huge-force states, or where κ is large); the suite bounds the errors of q̈, τcmd and ν, "
-                            "listed above where they are large, not the residual";
+  if (t.residual > 0)
     out.push_back({"constraint residual up to " + scientific(t.worst_residual) + " on " + judged_states(t.residual) +
-                       ": expected, " + why,
+                       ": expected, " + residual_why(v),
                    true});
-  }
   return out;
 }
 
@@ -185,6 +234,27 @@ std::vector<Reason> study_reasons(const SceneStudy& study) {
       }
     }
   }
+  return reasons;
+}
+
+RowReasons row_reasons(const VariantStudy& v) {
+  const StatePoint* worst_error = nullptr;
+  const StatePoint* worst_residual = nullptr;
+  for (const StatePoint& p : v.states) {
+    if (!p.judged) continue;
+    if (!worst_error || p.error() > worst_error->error()) worst_error = &p;
+    if (!worst_residual || p.residual > worst_residual->residual) worst_residual = &p;
+  }
+  RowReasons reasons;
+  if (!worst_error) return reasons;
+  const ErrorClass c = classify(v, *worst_error);
+  const ErrorWhy w = error_why(c, v);
+  if (c == ErrorClass::ill_conditioned)
+    reasons.error = {"error within " + error_bound() + ": " + w.why.text, w.why.expected};
+  else if (c != ErrorClass::small)
+    reasons.error = {"error above " + error_bound() + w.where + ": " + w.why.text, w.why.expected};
+  if (worst_residual->residual > noticeable(v.scalar))
+    reasons.residual = {"constraint residual above √ε: expected, " + residual_why(v), true};
   return reasons;
 }
 

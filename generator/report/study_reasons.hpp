@@ -11,6 +11,12 @@
 
 namespace sweepgen::report {
 
+// Why something is as it is, and whether the solver is meant to do that.
+struct Finding {
+  std::string text;
+  bool expected = true;
+};
+
 // One finding: on `family`, what happened (`text`, with counts), whether it is expected, and
 // the rows it applies to (rows with the same finding share it).
 struct Reason {
@@ -26,5 +32,14 @@ constexpr double kErrorBoundEpsKappa = 100;
 
 // The findings of every measured row, family by family (SceneStudy::families order).
 std::vector<Reason> study_reasons(const SceneStudy& study);
+
+// Why a measured row's err_max and max_residual (every family together) are large, for the notes
+// beside them in the summary table: the reason of the state each number comes from, in the
+// words of the findings, without counts (rows with the same reason share a note). A text is
+// empty where its number is not worth a word: below √ε of the row's scalar and within the bound.
+struct RowReasons {
+  Finding error, residual;
+};
+RowReasons row_reasons(const VariantStudy& v);
 
 }  // namespace sweepgen::report
