@@ -662,6 +662,23 @@ TEST(CliGenerate, AFailedRunLeavesTheOutputUntouched) {
   EXPECT_FALSE(has_temporaries(out));
 }
 
+// --solver takes what the scene's `solver` takes, qualified names too, and the files are named
+// one to one after it: "a::b" and "a_b" write files of their own.
+TEST(CliGenerate, SolverNamesTheFilesOneToOne) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  for (const std::string solver : {"a::b", "a_b"}) {
+    const CommandResult r = sweepgen({"generate", "--urdf", kPlanar, "--solver", solver, "--out", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+  }
+  EXPECT_EQ(names(snapshot(out)), (std::vector<std::string>{"a__b.cmake", "a__b.cpp", "a__b.cu", "a__b.hpp", "a_b.cmake",
+                                                            "a_b.cpp", "a_b.cu", "a_b.hpp"}));
+  expect_contains(test::read_text(out / "a__b.hpp"), "namespace a::b {");
+  const CommandResult macro = sweepgen({"generate", "--urdf", kPlanar, "--solver", "arm::M_PI", "--out", out.string()});
+  EXPECT_EQ(macro.exit_code, 1) << describe(macro);
+  expect_contains(macro.err, "--solver: solver: 'arm::M_PI' is not a C++ namespace name: 'M_PI' is a macro");
+}
+
 // A full disk, simulated by a file-size limit (ulimit -f, 512-byte blocks in sh) smaller than
 // the generated source: the write fails part-way, and the previous output stays as it was.
 TEST(CliGenerate, AFullDiskLeavesTheOutputUntouched) {
