@@ -431,6 +431,18 @@ TEST(SceneErrors, YamlSyntaxError) {
   expect_contains(loaded.message, "end of sequence flow not found");
 }
 
+// What YAML::Load would pass over without a word: a second document (it reads the first), and
+// tags, which the reader does not honour.
+TEST(SceneErrors, YamlSecondDocumentAndTags) {
+  expect_error(with_urdf(kFullScene + "---\nsolver: other\n"), "20:1", "YAML",
+               "a second document; a scene file holds one ('---' starts another)");
+  expect_error(with_urdf(kFullScene + "---\n"), "20:1", "YAML", "a second document");
+  const std::string str_tag = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: !!str panda_nc6"));
+  expect_error(str_tag, "2:9", "YAML", "a tag ('tag:yaml.org,2002:str'): the scene reads none; write the value without it");
+  const std::string custom_tag = with_urdf(replace(kFullScene, "gravity: [0, 0, -9.80665]", "gravity: !vector [0, 0, -9.80665]"));
+  expect_error(custom_tag, "6:10", "YAML", "a tag ('!vector')");
+}
+
 TEST(SceneErrors, MissingFile) {
   try {
     scene::load_scene("/nonexistent/scene.yaml");

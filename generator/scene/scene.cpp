@@ -1,6 +1,7 @@
 #include "scene/scene.hpp"
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -26,6 +27,51 @@ std::string join(const std::vector<std::string>& items) {
 std::string format_mark(const std::string& file, const YAML::Mark& mark) {
   if (mark.is_null()) return file;
   return file + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+}
+
+// What YAML::Load passes over without a word: a second document (it reads the first), and tags
+// (`!!str`, `!custom`), which the reader would not honour. Seen in the parser's events, each
+// once: an alias is not followed again.
+class UnreadYaml : public YAML::EventHandler {
+ public:
+  explicit UnreadYaml(std::string file) : file_(std::move(file)) {}
+
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    if (++documents_ > 1)
+      throw InputError(format_mark(file_, mark), "YAML", "a second document; a scene file holds one ('---' starts another)");
+  }
+  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t, const std::string&) override { check(mark, tag); }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    check(mark, tag);
+  }
+  void OnMapStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    check(mark, tag);
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnSequenceEnd() override {}
+  void OnMapEnd() override {}
+
+ private:
+  // "?": untagged, "!": quoted (or the bare '!', which means just that).
+  void check(const YAML::Mark& mark, const std::string& tag) const {
+    if (tag != "?" && tag != "!" && !tag.empty())
+      throw InputError(format_mark(file_, mark), "YAML",
+                       "a tag (" + quote_name(tag) + "): the scene reads none; write the value without it");
+  }
+
+  std::string file_;
+  std::size_t documents_ = 0;
+};
+
+// Throws InputError where `text` holds more than one document or a tag (UnreadYaml).
+void refuse_unread_yaml(const std::string& text, const std::string& file) {
+  std::istringstream stream(text);
+  YAML::Parser parser(stream);
+  UnreadYaml handler(file);
+  while (parser.HandleNextDocument(handler)) {
+  }
 }
 
 // A node of the scene document with its element path and position.
@@ -377,6 +423,7 @@ Scene load_scene(const std::string& path) {
   const std::string text = read_input_file(path, kMaxSceneBytes, "scene");
   YAML::Node document;
   try {
+    refuse_unread_yaml(text, path);
     document = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
     throw InputError(format_mark(path, e.mark), "YAML",
