@@ -1469,18 +1469,18 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
 
   // ==== inward sweep, body 7: link panda_link7, joint panda_joint7 (revolute) ====
   // constraint_force: unit constraint forces F^A_cstr,i-1   [column k: 6k..6k+5] (I2)
-  const S drivers_alpha_0_3 = drivers.alpha[0][3];
-  const S drivers_alpha_1_3 = drivers.alpha[1][3];
-  const Lanes2 lanes0 = {drivers_alpha_0_3, drivers_alpha_1_3};
-  const S drivers_alpha_2_3 = drivers.alpha[2][3];
-  const Lanes2 lanes1 = {drivers_alpha_2_3, drivers_alpha_2_3};
+  const S alpha_0_3 = drivers.alpha[0][3];
+  const S alpha_1_3 = drivers.alpha[1][3];
+  const Lanes2 lanes0 = {alpha_0_3, alpha_1_3};
+  const S alpha_2_3 = drivers.alpha[2][3];
+  const Lanes2 lanes1 = {alpha_2_3, alpha_2_3};
   const Lanes2 lanes2 = lanes0 * (-0.7071067811865476);
   const Lanes2 lanes3 = lanes1 * (-0.7071067811865476);
-  const S drivers_alpha_0_4 = drivers.alpha[0][4];
-  const S drivers_alpha_1_4 = drivers.alpha[1][4];
-  const Lanes2 lanes4 = {drivers_alpha_0_4, drivers_alpha_1_4};
-  const S drivers_alpha_2_4 = drivers.alpha[2][4];
-  const Lanes2 lanes5 = {drivers_alpha_2_4, drivers_alpha_2_4};
+  const S alpha_0_4 = drivers.alpha[0][4];
+  const S alpha_1_4 = drivers.alpha[1][4];
+  const Lanes2 lanes4 = {alpha_0_4, alpha_1_4};
+  const S alpha_2_4 = drivers.alpha[2][4];
+  const Lanes2 lanes5 = {alpha_2_4, alpha_2_4};
   const Lanes2 lanes6 = lanes4 * 0.7071067811865475;
   const Lanes2 lanes7 = lanes5 * 0.7071067811865475;
   const Lanes2 lanes8 = lanes2 + lanes6;
@@ -1488,18 +1488,18 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   state.constraint_force_7_10 = lanes8[1];
   const Lanes2 lanes9 = lanes3 + lanes7;
   state.constraint_force_7_16 = lanes9[0];
-  const S drivers_alpha_0_1 = drivers.alpha[0][1];
-  const S drivers_alpha_1_1 = drivers.alpha[1][1];
-  const Lanes2 lanes10 = {drivers_alpha_0_1, drivers_alpha_1_1};
-  const S drivers_alpha_2_1 = drivers.alpha[2][1];
-  const Lanes2 lanes11 = {drivers_alpha_2_1, drivers_alpha_2_1};
+  const S alpha_0_1 = drivers.alpha[0][1];
+  const S alpha_1_1 = drivers.alpha[1][1];
+  const Lanes2 lanes10 = {alpha_0_1, alpha_1_1};
+  const S alpha_2_1 = drivers.alpha[2][1];
+  const Lanes2 lanes11 = {alpha_2_1, alpha_2_1};
   const Lanes2 lanes12 = 0.7071067811865476 * lanes10;
   const Lanes2 lanes13 = 0.7071067811865476 * lanes11;
-  const S drivers_alpha_0_0 = drivers.alpha[0][0];
-  const S drivers_alpha_1_0 = drivers.alpha[1][0];
-  const Lanes2 lanes14 = {drivers_alpha_0_0, drivers_alpha_1_0};
-  const S drivers_alpha_2_0 = drivers.alpha[2][0];
-  const Lanes2 lanes15 = {drivers_alpha_2_0, drivers_alpha_2_0};
+  const S alpha_0_0 = drivers.alpha[0][0];
+  const S alpha_1_0 = drivers.alpha[1][0];
+  const Lanes2 lanes14 = {alpha_0_0, alpha_1_0};
+  const S alpha_2_0 = drivers.alpha[2][0];
+  const Lanes2 lanes15 = {alpha_2_0, alpha_2_0};
   const Lanes2 lanes16 = 0.7071067811865475 * lanes14;
   const Lanes2 lanes17 = 0.7071067811865475 * lanes15;
   const Lanes2 lanes18 = lanes12 + lanes16;
@@ -1536,11 +1536,11 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
 
   // ==== inward sweep, body 6: link panda_link6, joint panda_joint6 (revolute) ====
   // constraint_row: rows r_i = S_i^T F^A_cstr,i of the constraint forces (I2, I6)
-  const S drivers_alpha_0_2 = drivers.alpha[0][2];
-  const S drivers_alpha_1_2 = drivers.alpha[1][2];
-  const Lanes2 lanes40 = {drivers_alpha_0_2, drivers_alpha_1_2};
-  const S drivers_alpha_2_2 = drivers.alpha[2][2];
-  const Lanes2 lanes41 = {drivers_alpha_2_2, drivers_alpha_2_2};
+  const S alpha_0_2 = drivers.alpha[0][2];
+  const S alpha_1_2 = drivers.alpha[1][2];
+  const Lanes2 lanes40 = {alpha_0_2, alpha_1_2};
+  const S alpha_2_2 = drivers.alpha[2][2];
+  const Lanes2 lanes41 = {alpha_2_2, alpha_2_2};
   const Lanes2 lanes42 = 149.64119108463927 * lanes40;
   const Lanes2 lanes43 = 149.64119108463927 * lanes41;
   const Lanes2 lanes44 = (-0.000965305169919112) * lanes42;
@@ -1559,11 +1559,11 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const Lanes2 lanes55 = lanes51 * X_E_7_0;
   const Lanes2 lanes56 = lanes52 + lanes54;
   const Lanes2 lanes57 = lanes53 + lanes55;
-  const S drivers_alpha_0_5 = drivers.alpha[0][5];
-  const S drivers_alpha_1_5 = drivers.alpha[1][5];
-  const Lanes2 lanes58 = {drivers_alpha_0_5, drivers_alpha_1_5};
-  const S drivers_alpha_2_5 = drivers.alpha[2][5];
-  const Lanes2 lanes59 = {drivers_alpha_2_5, drivers_alpha_2_5};
+  const S alpha_0_5 = drivers.alpha[0][5];
+  const S alpha_1_5 = drivers.alpha[1][5];
+  const Lanes2 lanes58 = {alpha_0_5, alpha_1_5};
+  const S alpha_2_5 = drivers.alpha[2][5];
+  const Lanes2 lanes59 = {alpha_2_5, alpha_2_5};
   const Lanes2 lanes60 = (-0.088) * lanes58;
   const Lanes2 lanes61 = (-0.088) * lanes59;
   const Lanes2 lanes62 = lanes56 + lanes60;
@@ -5447,18 +5447,18 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
 
   // ==== inward sweep, body 7: link panda_link7, joint panda_joint7 (revolute) ====
   // constraint_force: unit constraint forces F^A_cstr,i-1   [column k: 6k..6k+5] (I2)
-  const S drivers_alpha_0_3 = drivers.alpha[0][3];
-  const S drivers_alpha_1_3 = drivers.alpha[1][3];
-  const Lanes2 lanes0 = {drivers_alpha_0_3, drivers_alpha_1_3};
-  const S drivers_alpha_2_3 = drivers.alpha[2][3];
-  const Lanes2 lanes1 = {drivers_alpha_2_3, drivers_alpha_2_3};
+  const S alpha_0_3 = drivers.alpha[0][3];
+  const S alpha_1_3 = drivers.alpha[1][3];
+  const Lanes2 lanes0 = {alpha_0_3, alpha_1_3};
+  const S alpha_2_3 = drivers.alpha[2][3];
+  const Lanes2 lanes1 = {alpha_2_3, alpha_2_3};
   const Lanes2 lanes2 = lanes0 * (-0.70710677f);
   const Lanes2 lanes3 = lanes1 * (-0.70710677f);
-  const S drivers_alpha_0_4 = drivers.alpha[0][4];
-  const S drivers_alpha_1_4 = drivers.alpha[1][4];
-  const Lanes2 lanes4 = {drivers_alpha_0_4, drivers_alpha_1_4};
-  const S drivers_alpha_2_4 = drivers.alpha[2][4];
-  const Lanes2 lanes5 = {drivers_alpha_2_4, drivers_alpha_2_4};
+  const S alpha_0_4 = drivers.alpha[0][4];
+  const S alpha_1_4 = drivers.alpha[1][4];
+  const Lanes2 lanes4 = {alpha_0_4, alpha_1_4};
+  const S alpha_2_4 = drivers.alpha[2][4];
+  const Lanes2 lanes5 = {alpha_2_4, alpha_2_4};
   const Lanes2 lanes6 = lanes4 * 0.70710677f;
   const Lanes2 lanes7 = lanes5 * 0.70710677f;
   const Lanes2 lanes8 = lanes2 + lanes6;
@@ -5466,18 +5466,18 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   state.constraint_force_7_10 = lanes8[1];
   const Lanes2 lanes9 = lanes3 + lanes7;
   state.constraint_force_7_16 = lanes9[0];
-  const S drivers_alpha_0_1 = drivers.alpha[0][1];
-  const S drivers_alpha_1_1 = drivers.alpha[1][1];
-  const Lanes2 lanes10 = {drivers_alpha_0_1, drivers_alpha_1_1};
-  const S drivers_alpha_2_1 = drivers.alpha[2][1];
-  const Lanes2 lanes11 = {drivers_alpha_2_1, drivers_alpha_2_1};
+  const S alpha_0_1 = drivers.alpha[0][1];
+  const S alpha_1_1 = drivers.alpha[1][1];
+  const Lanes2 lanes10 = {alpha_0_1, alpha_1_1};
+  const S alpha_2_1 = drivers.alpha[2][1];
+  const Lanes2 lanes11 = {alpha_2_1, alpha_2_1};
   const Lanes2 lanes12 = 0.70710677f * lanes10;
   const Lanes2 lanes13 = 0.70710677f * lanes11;
-  const S drivers_alpha_0_0 = drivers.alpha[0][0];
-  const S drivers_alpha_1_0 = drivers.alpha[1][0];
-  const Lanes2 lanes14 = {drivers_alpha_0_0, drivers_alpha_1_0};
-  const S drivers_alpha_2_0 = drivers.alpha[2][0];
-  const Lanes2 lanes15 = {drivers_alpha_2_0, drivers_alpha_2_0};
+  const S alpha_0_0 = drivers.alpha[0][0];
+  const S alpha_1_0 = drivers.alpha[1][0];
+  const Lanes2 lanes14 = {alpha_0_0, alpha_1_0};
+  const S alpha_2_0 = drivers.alpha[2][0];
+  const Lanes2 lanes15 = {alpha_2_0, alpha_2_0};
   const Lanes2 lanes16 = 0.70710677f * lanes14;
   const Lanes2 lanes17 = 0.70710677f * lanes15;
   const Lanes2 lanes18 = lanes12 + lanes16;
@@ -5514,11 +5514,11 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
 
   // ==== inward sweep, body 6: link panda_link6, joint panda_joint6 (revolute) ====
   // constraint_row: rows r_i = S_i^T F^A_cstr,i of the constraint forces (I2, I6)
-  const S drivers_alpha_0_2 = drivers.alpha[0][2];
-  const S drivers_alpha_1_2 = drivers.alpha[1][2];
-  const Lanes2 lanes40 = {drivers_alpha_0_2, drivers_alpha_1_2};
-  const S drivers_alpha_2_2 = drivers.alpha[2][2];
-  const Lanes2 lanes41 = {drivers_alpha_2_2, drivers_alpha_2_2};
+  const S alpha_0_2 = drivers.alpha[0][2];
+  const S alpha_1_2 = drivers.alpha[1][2];
+  const Lanes2 lanes40 = {alpha_0_2, alpha_1_2};
+  const S alpha_2_2 = drivers.alpha[2][2];
+  const Lanes2 lanes41 = {alpha_2_2, alpha_2_2};
   const Lanes2 lanes42 = 149.64119f * lanes40;
   const Lanes2 lanes43 = 149.64119f * lanes41;
   const Lanes2 lanes44 = (-0.0009653052f) * lanes42;
@@ -5537,11 +5537,11 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const Lanes2 lanes55 = lanes51 * X_E_7_0;
   const Lanes2 lanes56 = lanes52 + lanes54;
   const Lanes2 lanes57 = lanes53 + lanes55;
-  const S drivers_alpha_0_5 = drivers.alpha[0][5];
-  const S drivers_alpha_1_5 = drivers.alpha[1][5];
-  const Lanes2 lanes58 = {drivers_alpha_0_5, drivers_alpha_1_5};
-  const S drivers_alpha_2_5 = drivers.alpha[2][5];
-  const Lanes2 lanes59 = {drivers_alpha_2_5, drivers_alpha_2_5};
+  const S alpha_0_5 = drivers.alpha[0][5];
+  const S alpha_1_5 = drivers.alpha[1][5];
+  const Lanes2 lanes58 = {alpha_0_5, alpha_1_5};
+  const S alpha_2_5 = drivers.alpha[2][5];
+  const Lanes2 lanes59 = {alpha_2_5, alpha_2_5};
   const Lanes2 lanes60 = (-0.088f) * lanes58;
   const Lanes2 lanes61 = (-0.088f) * lanes59;
   const Lanes2 lanes62 = lanes56 + lanes60;

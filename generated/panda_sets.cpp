@@ -1785,19 +1785,19 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
 
   // ==== inward sweep, body 3: link panda_link3, joint panda_joint3 (revolute) ====
   // constraint_row: rows r_i = S_i^T F^A_cstr,i of the constraint forces (I2, I6)
-  const S drivers_alpha_0_0 = drivers.alpha[0][0];
+  const S alpha_0_0 = drivers.alpha[0][0];
   const S X_E_4_2 = state.X_E_4_2;
-  const S drivers_alpha_0_1 = drivers.alpha[0][1];
+  const S alpha_0_1 = drivers.alpha[0][1];
   const S X_E_4_0 = state.X_E_4_0;
   const S constraint_row_3_0_term = state.constraint_row_3_0_term;
-  const S drivers_alpha_0_2 = drivers.alpha[0][2];
-  const S drivers_alpha_0_5 = drivers.alpha[0][5];
-  const S constraint_row_3_0 = drivers_alpha_0_0 * X_E_4_2 + (drivers_alpha_0_1 * X_E_4_0 - constraint_row_3_0_term * drivers_alpha_0_2) - 0.0825 * drivers_alpha_0_5;
+  const S alpha_0_2 = drivers.alpha[0][2];
+  const S alpha_0_5 = drivers.alpha[0][5];
+  const S constraint_row_3_0 = alpha_0_0 * X_E_4_2 + (alpha_0_1 * X_E_4_0 - constraint_row_3_0_term * alpha_0_2) - 0.0825 * alpha_0_5;
   state.constraint_row_3_0 = constraint_row_3_0;
   // constraint_energy: constraint-space matrix E^A_cstr,i-1 (I3)
   const S inverse_D_4_0 = state.inverse_D_4_0;
-  const S e20 = inverse_D_4_0 * drivers_alpha_0_2;
-  const S constraint_energy_3_0 = drivers_alpha_0_2 * e20;
+  const S e20 = inverse_D_4_0 * alpha_0_2;
+  const S constraint_energy_3_0 = alpha_0_2 * e20;
   const S constraint_row_4_1 = state.constraint_row_4_1;
   const S constraint_energy_3_4 = constraint_row_4_1 * e20;
   const S constraint_row_4_2 = state.constraint_row_4_2;
@@ -1824,7 +1824,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   state.articulated_force_tau_ff_3_2 = articulated_force_tau_ff_3_2;
   const S articulated_force_tau_ff_3_3 = e24 * X_E_4_0 - e25 * X_E_4_2;
   // acceleration_energy_tau_ff: acceleration energy E^A_t,i-1 of the track (I5)
-  const S acceleration_energy_tau_ff_3_0 = e21 * drivers_alpha_0_2;
+  const S acceleration_energy_tau_ff_3_0 = e21 * alpha_0_2;
   const S acceleration_energy_tau_ff_3_1 = acceleration_energy_tau_ff_4_1 + e21 * constraint_row_4_1;
   const S acceleration_energy_tau_ff_3_2 = e21 * constraint_row_4_2 + acceleration_energy_tau_ff_4_2;
   const S acceleration_energy_tau_ff_3_3 = acceleration_energy_tau_ff_4_3 - e21 * constraint_row_4_3_term;
@@ -1852,12 +1852,12 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S constraint_row_2_0_term = state.constraint_row_2_0_term;
   const S constraint_row_2_0_term_6 = state.constraint_row_2_0_term_6;
   const S constraint_row_2_0_term_5 = state.constraint_row_2_0_term_5;
-  const S drivers_alpha_0_4 = drivers.alpha[0][4];
+  const S alpha_0_4 = drivers.alpha[0][4];
   const S constraint_row_2_0_term_2 = state.constraint_row_2_0_term_2;
   const S constraint_row_2_0_term_3 = state.constraint_row_2_0_term_3;
   const S constraint_row_2_0_term_4 = state.constraint_row_2_0_term_4;
-  const S drivers_alpha_0_3 = drivers.alpha[0][3];
-  const S constraint_row_2_0 = drivers_alpha_0_1 * constraint_row_2_0_term + constraint_row_2_0_term_6 * drivers_alpha_0_2 + drivers_alpha_0_0 * constraint_row_2_0_term_5 + (drivers_alpha_0_4 * constraint_row_2_0_term_2 - drivers_alpha_0_5 * constraint_row_2_0_term_3 + constraint_row_2_0_term_4 * drivers_alpha_0_3);
+  const S alpha_0_3 = drivers.alpha[0][3];
+  const S constraint_row_2_0 = alpha_0_1 * constraint_row_2_0_term + constraint_row_2_0_term_6 * alpha_0_2 + alpha_0_0 * constraint_row_2_0_term_5 + (alpha_0_4 * constraint_row_2_0_term_2 - alpha_0_5 * constraint_row_2_0_term_3 + constraint_row_2_0_term_4 * alpha_0_3);
   state.constraint_row_2_0 = constraint_row_2_0;
   // constraint_energy: constraint-space matrix E^A_cstr,i-1 (I3)
   const S inverse_D_3_0 = state.inverse_D_3_0;
@@ -1872,7 +1872,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   // acceleration_energy_bias: acceleration energy E^A_t,i-1 of the track (I5)
   const S articulated_force_bias_2_0_term = state.articulated_force_bias_2_0_term;
   const S articulated_force_bias_3_0_term = state.articulated_force_bias_3_0_term;
-  const S acceleration_energy_bias_2_0 = -(articulated_force_bias_2_0_term * constraint_row_3_0) - drivers_alpha_0_2 * articulated_force_bias_3_0_term;
+  const S acceleration_energy_bias_2_0 = -(articulated_force_bias_2_0_term * constraint_row_3_0) - alpha_0_2 * articulated_force_bias_3_0_term;
   // articulated_force_tau_ff: articulated force F^A_t,i-1 of the track (I4)
   const S drivers_tau_ff_2 = drivers.tau_ff[2];
   const S e34 = (drivers_tau_ff_2 - articulated_force_tau_ff_3_2) * inverse_D_3_0;
@@ -1908,7 +1908,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S articulated_force_contact_2_2 = 0.316 * articulated_force_contact_2_3 + (e40 * X_E_3_2 + e41 * X_E_3_0);
   state.articulated_force_contact_2_2 = articulated_force_contact_2_2;
   // acceleration_energy_contact: acceleration energy E^A_t,i-1 of the track (I5)
-  const S acceleration_energy_contact_2_0 = -(constraint_row_3_0 * e39) - e27 * drivers_alpha_0_2;
+  const S acceleration_energy_contact_2_0 = -(constraint_row_3_0 * e39) - e27 * alpha_0_2;
   const S acceleration_energy_contact_2_1 = acceleration_energy_contact_3_1 - e39 * constraint_row_3_1;
   const S acceleration_energy_contact_2_2 = acceleration_energy_contact_3_2 - e39 * constraint_row_3_2;
   const S acceleration_energy_contact_2_3 = acceleration_energy_contact_3_3 + constraint_row_3_3_term * e39;
@@ -1921,7 +1921,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S constraint_row_1_0_term_4 = state.constraint_row_1_0_term_4;
   const S constraint_row_1_0_term_5 = state.constraint_row_1_0_term_5;
   const S constraint_row_1_0_term_6 = state.constraint_row_1_0_term_6;
-  const S constraint_row_1_0 = drivers_alpha_0_3 * constraint_row_1_0_term + (drivers_alpha_0_4 * constraint_row_1_0_term_2 - constraint_row_1_0_term_3 * drivers_alpha_0_5) + (drivers_alpha_0_0 * constraint_row_1_0_term_4 + (drivers_alpha_0_1 * constraint_row_1_0_term_5 + constraint_row_1_0_term_6 * drivers_alpha_0_2));
+  const S constraint_row_1_0 = alpha_0_3 * constraint_row_1_0_term + (alpha_0_4 * constraint_row_1_0_term_2 - constraint_row_1_0_term_3 * alpha_0_5) + (alpha_0_0 * constraint_row_1_0_term_4 + (alpha_0_1 * constraint_row_1_0_term_5 + constraint_row_1_0_term_6 * alpha_0_2));
   state.constraint_row_1_0 = constraint_row_1_0;
   // constraint_energy: constraint-space matrix E^A_cstr,i-1 (I3)
   const S inverse_D_2_0 = state.inverse_D_2_0;
@@ -1977,7 +1977,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S acceleration_energy_bias_0_0_term_8 = state.acceleration_energy_bias_0_0_term_8;
   const S acceleration_energy_bias_0_0_term_3 = state.acceleration_energy_bias_0_0_term_3;
   const S acceleration_energy_bias_0_0_term_9 = state.acceleration_energy_bias_0_0_term_9;
-  const S acceleration_energy_bias_0_0 = acceleration_energy_bias_0_0_term_4 * drivers_alpha_0_2 + drivers_alpha_0_1 * acceleration_energy_bias_0_0_term_5 + drivers_alpha_0_0 * acceleration_energy_bias_0_0_term_6 + (drivers_alpha_0_3 * acceleration_energy_bias_0_0_term_7 + (drivers_alpha_0_4 * acceleration_energy_bias_0_0_term_8 - acceleration_energy_bias_0_0_term_3 * drivers_alpha_0_5)) + (acceleration_energy_bias_1_0 - acceleration_energy_bias_0_0_term_9 * constraint_row_1_0);
+  const S acceleration_energy_bias_0_0 = acceleration_energy_bias_0_0_term_4 * alpha_0_2 + alpha_0_1 * acceleration_energy_bias_0_0_term_5 + alpha_0_0 * acceleration_energy_bias_0_0_term_6 + (alpha_0_3 * acceleration_energy_bias_0_0_term_7 + (alpha_0_4 * acceleration_energy_bias_0_0_term_8 - acceleration_energy_bias_0_0_term_3 * alpha_0_5)) + (acceleration_energy_bias_1_0 - acceleration_energy_bias_0_0_term_9 * constraint_row_1_0);
   // acceleration_energy_tau_ff: acceleration energy E^A_t,i-1 of the track (I5)
   const S drivers_tau_ff_0 = drivers.tau_ff[0];
   const S e48 = inverse_D_1_0 * (drivers_tau_ff_0 - articulated_force_tau_ff_1_2);
@@ -2184,12 +2184,12 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   state.original_tau_cmd_6 = drivers_tau_ff_6;
   state.articulated_force_tau_ff_5_0_term = drivers_tau_ff_5;
   state.articulated_force_contact_5_2_term = drivers_contact_2;
-  state.constraint_row_4_0 = drivers_alpha_0_2;
-  state.constraint_force_4_0 = drivers_alpha_0_0;
-  state.constraint_force_4_1 = drivers_alpha_0_1;
-  state.constraint_force_4_3 = drivers_alpha_0_3;
-  state.constraint_force_4_4 = drivers_alpha_0_4;
-  state.constraint_force_4_5 = drivers_alpha_0_5;
+  state.constraint_row_4_0 = alpha_0_2;
+  state.constraint_force_4_0 = alpha_0_0;
+  state.constraint_force_4_1 = alpha_0_1;
+  state.constraint_force_4_3 = alpha_0_3;
+  state.constraint_force_4_4 = alpha_0_4;
+  state.constraint_force_4_5 = alpha_0_5;
   state.articulated_force_tau_ff_4_0_term = drivers_tau_ff_4;
   state.articulated_force_tau_ff_3_0_term = drivers_tau_ff_3;
   state.articulated_force_tau_ff_2_0_term = drivers_tau_ff_2;
@@ -5050,19 +5050,19 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
 
   // ==== inward sweep, body 3: link panda_link3, joint panda_joint3 (revolute) ====
   // constraint_row: rows r_i = S_i^T F^A_cstr,i of the constraint forces (I2, I6)
-  const S drivers_alpha_0_0 = drivers.alpha[0][0];
+  const S alpha_0_0 = drivers.alpha[0][0];
   const S X_E_4_2 = state.X_E_4_2;
-  const S drivers_alpha_0_1 = drivers.alpha[0][1];
+  const S alpha_0_1 = drivers.alpha[0][1];
   const S X_E_4_0 = state.X_E_4_0;
   const S constraint_row_3_0_term = state.constraint_row_3_0_term;
-  const S drivers_alpha_0_2 = drivers.alpha[0][2];
-  const S drivers_alpha_0_5 = drivers.alpha[0][5];
-  const S constraint_row_3_0 = drivers_alpha_0_0 * X_E_4_2 + (drivers_alpha_0_1 * X_E_4_0 - constraint_row_3_0_term * drivers_alpha_0_2) - 0.0825f * drivers_alpha_0_5;
+  const S alpha_0_2 = drivers.alpha[0][2];
+  const S alpha_0_5 = drivers.alpha[0][5];
+  const S constraint_row_3_0 = alpha_0_0 * X_E_4_2 + (alpha_0_1 * X_E_4_0 - constraint_row_3_0_term * alpha_0_2) - 0.0825f * alpha_0_5;
   state.constraint_row_3_0 = constraint_row_3_0;
   // constraint_energy: constraint-space matrix E^A_cstr,i-1 (I3)
   const S inverse_D_4_0 = state.inverse_D_4_0;
-  const S e20 = inverse_D_4_0 * drivers_alpha_0_2;
-  const S constraint_energy_3_0 = drivers_alpha_0_2 * e20;
+  const S e20 = inverse_D_4_0 * alpha_0_2;
+  const S constraint_energy_3_0 = alpha_0_2 * e20;
   const S constraint_row_4_1 = state.constraint_row_4_1;
   const S constraint_energy_3_4 = constraint_row_4_1 * e20;
   const S constraint_row_4_2 = state.constraint_row_4_2;
@@ -5089,7 +5089,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   state.articulated_force_tau_ff_3_2 = articulated_force_tau_ff_3_2;
   const S articulated_force_tau_ff_3_3 = e24 * X_E_4_0 - e25 * X_E_4_2;
   // acceleration_energy_tau_ff: acceleration energy E^A_t,i-1 of the track (I5)
-  const S acceleration_energy_tau_ff_3_0 = e21 * drivers_alpha_0_2;
+  const S acceleration_energy_tau_ff_3_0 = e21 * alpha_0_2;
   const S acceleration_energy_tau_ff_3_1 = acceleration_energy_tau_ff_4_1 + e21 * constraint_row_4_1;
   const S acceleration_energy_tau_ff_3_2 = e21 * constraint_row_4_2 + acceleration_energy_tau_ff_4_2;
   const S acceleration_energy_tau_ff_3_3 = acceleration_energy_tau_ff_4_3 - e21 * constraint_row_4_3_term;
@@ -5117,12 +5117,12 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S constraint_row_2_0_term = state.constraint_row_2_0_term;
   const S constraint_row_2_0_term_6 = state.constraint_row_2_0_term_6;
   const S constraint_row_2_0_term_5 = state.constraint_row_2_0_term_5;
-  const S drivers_alpha_0_4 = drivers.alpha[0][4];
+  const S alpha_0_4 = drivers.alpha[0][4];
   const S constraint_row_2_0_term_2 = state.constraint_row_2_0_term_2;
   const S constraint_row_2_0_term_3 = state.constraint_row_2_0_term_3;
   const S constraint_row_2_0_term_4 = state.constraint_row_2_0_term_4;
-  const S drivers_alpha_0_3 = drivers.alpha[0][3];
-  const S constraint_row_2_0 = drivers_alpha_0_1 * constraint_row_2_0_term + constraint_row_2_0_term_6 * drivers_alpha_0_2 + drivers_alpha_0_0 * constraint_row_2_0_term_5 + (drivers_alpha_0_4 * constraint_row_2_0_term_2 - drivers_alpha_0_5 * constraint_row_2_0_term_3 + constraint_row_2_0_term_4 * drivers_alpha_0_3);
+  const S alpha_0_3 = drivers.alpha[0][3];
+  const S constraint_row_2_0 = alpha_0_1 * constraint_row_2_0_term + constraint_row_2_0_term_6 * alpha_0_2 + alpha_0_0 * constraint_row_2_0_term_5 + (alpha_0_4 * constraint_row_2_0_term_2 - alpha_0_5 * constraint_row_2_0_term_3 + constraint_row_2_0_term_4 * alpha_0_3);
   state.constraint_row_2_0 = constraint_row_2_0;
   // constraint_energy: constraint-space matrix E^A_cstr,i-1 (I3)
   const S inverse_D_3_0 = state.inverse_D_3_0;
@@ -5137,7 +5137,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   // acceleration_energy_bias: acceleration energy E^A_t,i-1 of the track (I5)
   const S articulated_force_bias_2_0_term = state.articulated_force_bias_2_0_term;
   const S articulated_force_bias_3_0_term = state.articulated_force_bias_3_0_term;
-  const S acceleration_energy_bias_2_0 = -(articulated_force_bias_2_0_term * constraint_row_3_0) - drivers_alpha_0_2 * articulated_force_bias_3_0_term;
+  const S acceleration_energy_bias_2_0 = -(articulated_force_bias_2_0_term * constraint_row_3_0) - alpha_0_2 * articulated_force_bias_3_0_term;
   // articulated_force_tau_ff: articulated force F^A_t,i-1 of the track (I4)
   const S drivers_tau_ff_2 = drivers.tau_ff[2];
   const S e34 = (drivers_tau_ff_2 - articulated_force_tau_ff_3_2) * inverse_D_3_0;
@@ -5173,7 +5173,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S articulated_force_contact_2_2 = 0.316f * articulated_force_contact_2_3 + (e40 * X_E_3_2 + e41 * X_E_3_0);
   state.articulated_force_contact_2_2 = articulated_force_contact_2_2;
   // acceleration_energy_contact: acceleration energy E^A_t,i-1 of the track (I5)
-  const S acceleration_energy_contact_2_0 = -(constraint_row_3_0 * e39) - e27 * drivers_alpha_0_2;
+  const S acceleration_energy_contact_2_0 = -(constraint_row_3_0 * e39) - e27 * alpha_0_2;
   const S acceleration_energy_contact_2_1 = acceleration_energy_contact_3_1 - e39 * constraint_row_3_1;
   const S acceleration_energy_contact_2_2 = acceleration_energy_contact_3_2 - e39 * constraint_row_3_2;
   const S acceleration_energy_contact_2_3 = acceleration_energy_contact_3_3 + constraint_row_3_3_term * e39;
@@ -5186,7 +5186,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S constraint_row_1_0_term_4 = state.constraint_row_1_0_term_4;
   const S constraint_row_1_0_term_5 = state.constraint_row_1_0_term_5;
   const S constraint_row_1_0_term_6 = state.constraint_row_1_0_term_6;
-  const S constraint_row_1_0 = drivers_alpha_0_3 * constraint_row_1_0_term + (drivers_alpha_0_4 * constraint_row_1_0_term_2 - constraint_row_1_0_term_3 * drivers_alpha_0_5) + (drivers_alpha_0_0 * constraint_row_1_0_term_4 + (drivers_alpha_0_1 * constraint_row_1_0_term_5 + constraint_row_1_0_term_6 * drivers_alpha_0_2));
+  const S constraint_row_1_0 = alpha_0_3 * constraint_row_1_0_term + (alpha_0_4 * constraint_row_1_0_term_2 - constraint_row_1_0_term_3 * alpha_0_5) + (alpha_0_0 * constraint_row_1_0_term_4 + (alpha_0_1 * constraint_row_1_0_term_5 + constraint_row_1_0_term_6 * alpha_0_2));
   state.constraint_row_1_0 = constraint_row_1_0;
   // constraint_energy: constraint-space matrix E^A_cstr,i-1 (I3)
   const S inverse_D_2_0 = state.inverse_D_2_0;
@@ -5242,7 +5242,7 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   const S acceleration_energy_bias_0_0_term_8 = state.acceleration_energy_bias_0_0_term_8;
   const S acceleration_energy_bias_0_0_term_3 = state.acceleration_energy_bias_0_0_term_3;
   const S acceleration_energy_bias_0_0_term_9 = state.acceleration_energy_bias_0_0_term_9;
-  const S acceleration_energy_bias_0_0 = acceleration_energy_bias_0_0_term_4 * drivers_alpha_0_2 + drivers_alpha_0_1 * acceleration_energy_bias_0_0_term_5 + drivers_alpha_0_0 * acceleration_energy_bias_0_0_term_6 + (drivers_alpha_0_3 * acceleration_energy_bias_0_0_term_7 + (drivers_alpha_0_4 * acceleration_energy_bias_0_0_term_8 - acceleration_energy_bias_0_0_term_3 * drivers_alpha_0_5)) + (acceleration_energy_bias_1_0 - acceleration_energy_bias_0_0_term_9 * constraint_row_1_0);
+  const S acceleration_energy_bias_0_0 = acceleration_energy_bias_0_0_term_4 * alpha_0_2 + alpha_0_1 * acceleration_energy_bias_0_0_term_5 + alpha_0_0 * acceleration_energy_bias_0_0_term_6 + (alpha_0_3 * acceleration_energy_bias_0_0_term_7 + (alpha_0_4 * acceleration_energy_bias_0_0_term_8 - acceleration_energy_bias_0_0_term_3 * alpha_0_5)) + (acceleration_energy_bias_1_0 - acceleration_energy_bias_0_0_term_9 * constraint_row_1_0);
   // acceleration_energy_tau_ff: acceleration energy E^A_t,i-1 of the track (I5)
   const S drivers_tau_ff_0 = drivers.tau_ff[0];
   const S e48 = inverse_D_1_0 * (drivers_tau_ff_0 - articulated_force_tau_ff_1_2);
@@ -5449,12 +5449,12 @@ SWEEPGEN_HD bool decompose_of([[maybe_unused]] const D& drivers,
   state.original_tau_cmd_6 = drivers_tau_ff_6;
   state.articulated_force_tau_ff_5_0_term = drivers_tau_ff_5;
   state.articulated_force_contact_5_2_term = drivers_contact_2;
-  state.constraint_row_4_0 = drivers_alpha_0_2;
-  state.constraint_force_4_0 = drivers_alpha_0_0;
-  state.constraint_force_4_1 = drivers_alpha_0_1;
-  state.constraint_force_4_3 = drivers_alpha_0_3;
-  state.constraint_force_4_4 = drivers_alpha_0_4;
-  state.constraint_force_4_5 = drivers_alpha_0_5;
+  state.constraint_row_4_0 = alpha_0_2;
+  state.constraint_force_4_0 = alpha_0_0;
+  state.constraint_force_4_1 = alpha_0_1;
+  state.constraint_force_4_3 = alpha_0_3;
+  state.constraint_force_4_4 = alpha_0_4;
+  state.constraint_force_4_5 = alpha_0_5;
   state.articulated_force_tau_ff_4_0_term = drivers_tau_ff_4;
   state.articulated_force_tau_ff_3_0_term = drivers_tau_ff_3;
   state.articulated_force_tau_ff_2_0_term = drivers_tau_ff_2;

@@ -252,6 +252,17 @@ const std::vector<BadLine> kBadLines = {
     // JSON has no NaN or Inf; a number beyond double's range is the closest a line can come.
     {"a number that overflows double", R"({"q": [1e999, -0.5, 0.2, -2.0, 0.1, 1.8, 0.6], )" + kQd + "}",
      {"number overflow", "1e999"}},
+    // ... and one that underflows it, which would read as 0.
+    {"a number that underflows double", R"({"q": [0.1, -0.5, 0.2, -2.0, 0.1, 1.8, 0.6], "qd": [0.3, 1E-400, 0, 0, 0, 0, 0]})",
+     {"key 'qd[1]'", "1E-400 is too small for a double", "it would read as 0"}},
+    // A key given twice would keep the last value.
+    {"a key given twice", "{" + kState + R"(, "q": [0, 0, 0, 0, 0, 0, 0]})", {"key 'q'", "given twice in one object"}},
+    {"a key given twice in a nested object",
+     "{" + kState + R"(, "constraints": [{"link": "panda_link4", "alpha": [[1,0,0,0,0,0]], "beta": [0], "link": "panda_hand"}]})",
+     {"key 'constraints[0].link'", "given twice in one object"}},
+    // Answered like any other line, so that answers and lines pair one to one.
+    {"a blank line", "", {"a blank line; each line is one problem"}},
+    {"a line of white space", " \t ", {"a blank line; each line is one problem"}},
 };
 
 // A joint whose articulated inertia vanishes is locked (J1) and the status says so: a massless
@@ -309,18 +320,16 @@ TEST(CliSolve, EachBadLineIsReportedAloneAndTheOthersAreAnswered) {
   }
 }
 
-// All bad lines in one stream, with blank lines (skipped but counted) and valid lines between.
+// All bad lines in one stream, valid lines between: one answer per input line, in order.
 TEST(CliSolve, LineNumbersCountEveryInputLine) {
   std::vector<std::string> input;
   std::vector<int> expected_lines;  // for each output line: 0 = valid answer, else the error's line number
   for (std::size_t k = 0; k < kBadLines.size(); ++k) {
     input.push_back(kValid[k % 3]);
     expected_lines.push_back(0);
-    if (k % 4 == 0) input.push_back("   ");
     input.push_back(kBadLines[k].line);
     expected_lines.push_back(static_cast<int>(input.size()));
   }
-  input.push_back("");
   input.push_back(kValid[2]);
   expected_lines.push_back(0);
   CommandResult r;
@@ -660,6 +669,23 @@ TEST(CliGenerate, AFailedRunLeavesTheOutputUntouched) {
   expect_contains(r.err, unwritable_depfile);
   EXPECT_EQ(snapshot(out), before);
   EXPECT_FALSE(has_temporaries(out));
+}
+
+// --solver takes what the scene's `solver` takes, qualified names too, and the files are named
+// one to one after it: "a::b" and "a_b" write files of their own.
+TEST(CliGenerate, SolverNamesTheFilesOneToOne) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  for (const std::string solver : {"a::b", "a_b"}) {
+    const CommandResult r = sweepgen({"generate", "--urdf", kPlanar, "--solver", solver, "--out", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << describe(r);
+  }
+  EXPECT_EQ(names(snapshot(out)), (std::vector<std::string>{"a__b.cmake", "a__b.cpp", "a__b.cu", "a__b.hpp", "a_b.cmake",
+                                                            "a_b.cpp", "a_b.cu", "a_b.hpp"}));
+  expect_contains(test::read_text(out / "a__b.hpp"), "namespace a::b {");
+  const CommandResult macro = sweepgen({"generate", "--urdf", kPlanar, "--solver", "arm::M_PI", "--out", out.string()});
+  EXPECT_EQ(macro.exit_code, 1) << describe(macro);
+  expect_contains(macro.err, "--solver: solver: 'arm::M_PI' is not a C++ namespace name: 'M_PI' is a macro");
 }
 
 // A full disk, simulated by a file-size limit (ulimit -f, 512-byte blocks in sh) smaller than

@@ -107,7 +107,8 @@ std::string hostile_urdf(const std::string& payload) {
 // generate, then the .cpp (which includes the header) compiled by the system compiler with every
 // warning an error: a line break in a comment would leave `#error injected` a directive, `*/`
 // would end no comment but `/*` inside one is -Wcomment, "??/" is -Wtrigraphs, U+202E is
-// -Wbidi-chars, a trailing backslash would splice the next line into the comment.
+// -Wbidi-chars, a trailing backslash would splice the next line into the comment. Under
+// -std=gnu++17, CMake's default, where the compiler defines macros such as `linux` too.
 void expect_generated_code_compiles(const std::vector<std::string>& generate_args, const fs::path& out) {
   std::vector<std::string> args{"generate"};
   args.insert(args.end(), generate_args.begin(), generate_args.end());
@@ -123,7 +124,7 @@ void expect_generated_code_compiles(const std::vector<std::string>& generate_arg
     ++files;
     if (entry.path().extension() != ".cpp") continue;
     const CommandResult compiled = test::run_command(test::shell_command(
-        {"c++", "-std=c++17", "-fsyntax-only", "-Wall", "-Wextra", "-Wpedantic", "-Werror", entry.path().string()}));
+        {"c++", "-std=gnu++17", "-fsyntax-only", "-Wall", "-Wextra", "-Wpedantic", "-Werror", entry.path().string()}));
     EXPECT_EQ(compiled.exit_code, 0) << describe(compiled);
   }
   EXPECT_EQ(files, 4u);  // .hpp, .cpp, .cu (which includes the .cpp) and .cmake
@@ -210,6 +211,26 @@ TEST(HostileInputs, NamesFromASceneReachTheGeneratedCodeInert) {
                                       "    - {name: push, link: \"lower" + y + "\"}\n"
                                       "  constraints:\n    - {link: \"hand" + y + "\", count: 2}\n"
                                       "policies: [original, saturate]\nscalars: [double, float]\n");
+  expect_generated_code_compiles({"--scene", scene}, dir.path() / "out");
+}
+
+// Names that could clash with the generated code's own, in one scene, compiled: driver names
+// that are its locals, arguments, types and functions, a torque `alpha_0` beside the run-time
+// directions (whose locals are alpha_<k>_<i>, the torque's drivers_alpha_0_<i>), and a
+// namespace whose parts are the generated code's names. The names that cannot compile are
+// refused (tests/test_scene.cpp, SceneErrors.*CannotCompile).
+TEST(HostileInputs, NamesTheGeneratedCodeUsesItselfCompile) {
+  const test::TempDir dir;
+  dir.write("robot.urdf", hostile_urdf(""));
+  const std::string scene = dir.write(
+      "scene.yaml",
+      "sweepgen_scene: 1\nsolver: f64::Lanes::Batch::state::std_\nurdf: robot.urdf\ntip: hand\n"
+      "drivers:\n  torques: [alpha_0, alpha_1, alpha_0_1, i, k, n, q, qd, beta, in, out, cursor, residue, drivers_in,\n"
+      "            drivers, state, nq, std, Drivers, State, Solution, Lanes, Batch, FlatDrivers, f64, sin_q_1,\n"
+      "            status_ok, flat_in_size, outward, decompose, solve_original, derivatives_original]\n"
+      "  external_forces: [{name: alpha_1_0, link: hand}, {name: tau_ff, link: lower}]\n"
+      "  constraints: 2\n"
+      "policies: [original, prioritize_external, saturate, saturate_exact]\nscalars: [double, float]\nderivatives: true\n");
   expect_generated_code_compiles({"--scene", scene}, dir.path() / "out");
 }
 

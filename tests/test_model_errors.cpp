@@ -151,6 +151,28 @@ TEST(ModelErrors, MimicOfAMissingJoint) {
   expect_contains(message, "did you mean 'j1'");
 }
 
+// A joint that follows itself, or joints that follow each other, have no position to follow:
+// refused, naming the joints (not loaded as independent joints with a note).
+TEST(ModelErrors, MimicOfItselfOrInACycle) {
+  std::string itself = arm();
+  itself.replace(itself.find("<axis xyz=\"0 1 0\"/>"), 0, "<mimic joint=\"j2\"/>");
+  const std::string self_message = load_error(itself);
+  expect_contains(self_message, "joint 'j2' <mimic>: follows the joint itself");
+  std::string cycle = arm();
+  cycle.replace(cycle.find("<axis xyz=\"0 0 1\"/>"), 0, "<mimic joint=\"j2\"/>");
+  cycle.replace(cycle.find("<axis xyz=\"0 1 0\"/>"), 0, "<mimic joint=\"j1\"/>");
+  const std::string cycle_message = load_error(cycle);
+  expect_contains(cycle_message, "joint 'j1' <mimic>: the <mimic>s of joints 'j1' -> 'j2' -> 'j1' form a cycle");
+}
+
+// urdfdom reads a joint's first <mimic> and drops a second without a word: refused at its line.
+TEST(ModelErrors, ASecondMimicInAJoint) {
+  std::string urdf = arm();
+  urdf.replace(urdf.find("<axis xyz=\"0 1 0\"/>"), 0, "<mimic joint=\"j1\"/>\n    <mimic joint=\"j1\" multiplier=\"2\"/>");
+  const std::string message = load_error(urdf);
+  expect_contains(message, "robot.urdf:9:5: joint 'j2': a second <mimic> (the first at line 8); a joint follows one other joint");
+}
+
 TEST(ModelErrors, UnknownLinksGetANearestNameHint) {
   const std::string message = load_error(arm(), "base", "l3");
   expect_contains(message, "tip link 'l3'");

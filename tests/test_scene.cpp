@@ -5,9 +5,12 @@
 #include <algorithm>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "model/error.hpp"
+#include "scene/cpp_names.hpp"
 #include "scene/scene.hpp"
 #include "support/bundled_robots.hpp"
 #include "support/temp_dir.hpp"
@@ -387,7 +390,7 @@ TEST(Scene, DefaultScene) {
   // Every bundled robot gets a usable namespace.
   for (const auto& robot : test::bundled_robots()) {
     const Scene r = scene::default_scene(test::source_path(robot.urdf), robot.root, robot.tip);
-    EXPECT_TRUE(scene::is_identifier(r.solver)) << r.solver;
+    EXPECT_EQ(scene::solver_namespace_problem(r.solver), "");
   }
   EXPECT_EQ(scene::default_scene(test::source_path("robots/planar/planar_rpr.urdf")).solver, "planar_rpr");
 }
@@ -397,6 +400,13 @@ TEST(Scene, DefaultSceneNamespaceFromAnOddFileName) {
   const std::string copy = (dir.path() / "7dof-arm.v2.urdf").string();
   std::filesystem::copy_file(panda_urdf(), copy);
   EXPECT_EQ(scene::default_scene(copy).solver, "robot_7dof_arm_v2");
+  // A macro (under -std=gnu++17) and a name longer than a namespace may be.
+  const std::string linux_copy = (dir.path() / "linux.urdf").string();
+  std::filesystem::copy_file(panda_urdf(), linux_copy);
+  EXPECT_EQ(scene::default_scene(linux_copy).solver, "robot_linux");
+  const std::string long_copy = (dir.path() / (std::string(240, 'x') + ".urdf")).string();
+  std::filesystem::copy_file(panda_urdf(), long_copy);
+  EXPECT_EQ(scene::default_scene(long_copy).solver, std::string(200, 'x'));
 }
 
 TEST(Scene, DefaultSceneErrorsNameTheFlag) {
@@ -419,6 +429,18 @@ TEST(SceneErrors, YamlSyntaxError) {
   expect_contains(loaded.message, loaded.path + ":7:");
   expect_contains(loaded.message, "YAML: syntax error: ");
   expect_contains(loaded.message, "end of sequence flow not found");
+}
+
+// What YAML::Load would pass over without a word: a second document (it reads the first), and
+// tags, which the reader does not honour.
+TEST(SceneErrors, YamlSecondDocumentAndTags) {
+  expect_error(with_urdf(kFullScene + "---\nsolver: other\n"), "20:1", "YAML",
+               "a second document; a scene file holds one ('---' starts another)");
+  expect_error(with_urdf(kFullScene + "---\n"), "20:1", "YAML", "a second document");
+  const std::string str_tag = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: !!str panda_nc6"));
+  expect_error(str_tag, "2:9", "YAML", "a tag ('tag:yaml.org,2002:str'): the scene reads none; write the value without it");
+  const std::string custom_tag = with_urdf(replace(kFullScene, "gravity: [0, 0, -9.80665]", "gravity: !vector [0, 0, -9.80665]"));
+  expect_error(custom_tag, "6:10", "YAML", "a tag ('!vector')");
 }
 
 TEST(SceneErrors, MissingFile) {
@@ -519,6 +541,56 @@ TEST(SceneErrors, SolverNamespace) {
   expect_error(text, position(text, 2, "robots"), "solver", "'new' is a C++ keyword");
 }
 
+// Names that pass as identifiers but cannot compile as a namespace: a macro (of <cmath>, or of
+// the compiler under -std=gnu++17, CMake's default) is replaced by the preprocessor; a nested
+// `std` would hide the standard library's from the generated code.
+TEST(SceneErrors, SolverNamespaceThatCannotCompile) {
+  for (const std::string bad : {"NAN", "INFINITY", "robots::M_PI", "linux", "unix::arm", "EOF"}) {
+    const std::string text = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: " + bad));
+    expect_error(text, "2:9", "solver", "is a macro of the C library's headers or of the compiler");
+  }
+  const std::string nested_std = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: a::std"));
+  expect_error(nested_std, "2:9", "solver", "'a::std' is not a usable namespace: 'std' is reserved");
+}
+
+// The namespace names the generated files: bounded when the scene is read (200 characters), so
+// that neither a long name nor many nested parts reach the compiler or the file system.
+TEST(SceneErrors, SolverNamespaceLength) {
+  std::string nested = "a";
+  while (nested.size() < 2000) nested += "::a";  // 667 parts
+  for (const std::string& bad : {std::string(201, 'a'), std::string(245, 'n'), nested}) {
+    const std::string text = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: " + bad));
+    expect_error(text, "2:9", "solver",
+                 std::to_string(bad.size()) + " characters, more than the limit of 200 (README, \"Limits\"");
+  }
+  const std::string longest = with_urdf(replace(kFullScene, "solver: panda_nc6", "solver: " + std::string(200, 'a')));
+  test::TempDir dir;
+  EXPECT_EQ(load(dir, longest).message, "");
+}
+
+// Every non-reserved macro the system compiler defines after the C library's headers (under
+// -std=gnu++17, CMake's default) is refused: the table in generator/scene/cpp_names.cpp is
+// complete for this compiler.
+TEST(SceneNames, EveryMacroOfTheCLibraryIsRefused) {
+  test::TempDir dir;
+  std::string includes;
+  for (const char* header : {"cassert", "cctype", "cerrno", "cfloat", "cinttypes", "climits", "clocale", "cmath", "csetjmp",
+                             "csignal", "cstdarg", "cstddef", "cstdint", "cstdio", "cstdlib", "cstring", "ctime", "cwchar",
+                             "cwctype", "type_traits"})
+    includes += "#include <" + std::string(header) + ">\n";
+  const std::string source = dir.write("headers.cpp", includes);
+  const std::string macros = (dir.path() / "macros.txt").string();
+  ASSERT_EQ(std::system(("c++ -std=gnu++17 -dM -E " + source + " > " + macros).c_str()), 0);
+  std::ifstream in(macros);
+  std::size_t checked = 0;
+  for (std::string directive, name; in >> directive >> name && std::getline(in, directive);) {
+    name = name.substr(0, name.find('('));
+    if (!scene::identifier_problem(name).empty()) ++checked;
+    else ADD_FAILURE() << "macro " << name << " is accepted as a name";
+  }
+  EXPECT_GT(checked, 500u);
+}
+
 TEST(SceneErrors, DuplicateInstanceNames) {
   const std::string text = with_urdf(replace(kFullScene, "torques: [tau_ff]", "torques: [tau_ff, tau_ff]"));
   expect_error(text, position(text, 9, "tau_ff", 2), "drivers.torques[1]",
@@ -530,6 +602,22 @@ TEST(SceneErrors, DuplicateInstanceNames) {
   expect_error(text3, position(text3, 9, "bias"), "drivers.torques[0]", "'bias' is reserved");
   const std::string text4 = with_urdf(replace(kFullScene, "torques: [tau_ff]", "torques: [tau ff]"));
   expect_error(text4, position(text4, 9, "tau ff"), "drivers.torques[0]", "is not a usable C++ identifier");
+}
+
+// Driver names become members of the generated Drivers: the names the generated code declares
+// where those members are (their extents, types and views) and macros cannot be one.
+TEST(SceneErrors, DriverNamesThatCannotCompile) {
+  for (const std::string reserved : {"S", "Scalar", "SixRows", "dof", "constraints", "alpha"}) {
+    const std::string text = with_urdf(replace(kFullScene, "torques: [tau_ff]", "torques: [" + reserved + "]"));
+    expect_error(text, position(text, 9, reserved), "drivers.torques[0]", "'" + reserved + "' is reserved for ");
+    expect_contains(load(test::TempDir(), text).message,
+                    "(reserved driver names: bias, alpha, S, Scalar, SixRows, dof, constraints); pick another name");
+  }
+  for (const std::string macro : {"NAN", "M_PI"}) {
+    const std::string text = with_urdf(replace(kFullScene, "{name: push,", "{name: " + macro + ","));
+    expect_error(text, position(text, 12, macro), "drivers.external_forces[1].name",
+                 "'" + macro + "' is not a usable C++ identifier: it is a macro");
+  }
 }
 
 TEST(SceneErrors, DecompositionGroupNamesUnknownInstance) {

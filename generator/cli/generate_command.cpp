@@ -9,6 +9,7 @@
 #include "emit/templates.hpp"
 #include "model/error.hpp"
 #include "model/model_notes.hpp"
+#include "scene/cpp_names.hpp"
 #include "scene/scene.hpp"
 #include "solver/shared_body_sets.hpp"
 
@@ -68,8 +69,8 @@ scene::Scene resolve_scene(const SceneOptions& options) {
     if (options.literal_angles) s.chain.snap_quarter_turns = false;
   }
   if (!options.solver.empty()) {
-    if (!scene::is_identifier(options.solver))
-      throw InputError("--solver", quote_name(options.solver), "not a usable C++ identifier");
+    if (const std::string problem = scene::solver_namespace_problem(options.solver); !problem.empty())
+      throw InputError("--solver", "solver", problem);
     s.solver = options.solver;
   }
   if (options.floating_base) {

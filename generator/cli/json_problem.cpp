@@ -1,6 +1,7 @@
 #include "cli/json_problem.hpp"
 
 #include <cmath>
+#include <set>
 
 #include "model/error.hpp"
 
@@ -42,6 +43,75 @@ spatial::Mat3<double> base_rotation(const Eigen::VectorXd& q, const std::string&
                             std::to_string(orthonormality) + ", det " + std::to_string(rotation.determinant()) + ")");
   return rotation;
 }
+
+namespace {
+
+// The events of a line's JSON, for what its parsed value hides: a key given twice in one object
+// (the value keeps the last) and a number that underflows to 0 (1e-400). Each value is named as
+// the keys of KeyError name it: "q[2]", "constraints[0].link".
+class HiddenInJson : public nlohmann::json_sax<json> {
+ public:
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t number, const string_t& text) override {
+    const std::string name = element();
+    // A mantissa with a digit other than 0 that reads as 0: below the smallest subnormal.
+    if (number == 0 && text.find_first_of("123456789") < text.find_first_of("eE"))
+      throw KeyError(name, text + " is too small for a double (below about 4.9e-324): it would read as 0");
+    return true;
+  }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(false); }
+  bool key(string_t& name) override {
+    Scope& scope = scopes_.back();
+    scope.key = name;
+    if (!scope.keys.insert(name).second) throw KeyError(element_of(scope), "given twice in one object (the last would count)");
+    return true;
+  }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(true); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t, const std::string&, const json::exception&) override { return false; }
+
+ private:
+  struct Scope {
+    std::string name;
+    bool array = false;
+    std::size_t entries = 0;    // an array's values so far
+    std::set<std::string> keys;  // an object's keys so far
+    std::string key;            // the key of the object's value that comes next
+  };
+  static std::string element_of(const Scope& scope) {
+    if (scope.array) return scope.name + "[" + std::to_string(scope.entries) + "]";
+    return scope.name.empty() ? scope.key : scope.name + "." + scope.key;
+  }
+  // The name of the value that starts now.
+  std::string element() {
+    if (scopes_.empty()) return "";
+    const std::string name = element_of(scopes_.back());
+    if (scopes_.back().array) ++scopes_.back().entries;
+    return name;
+  }
+  bool value() {
+    element();
+    return true;
+  }
+  bool open(bool array) {
+    scopes_.push_back({element(), array, 0, {}, {}});
+    return true;
+  }
+  bool close() {
+    scopes_.pop_back();
+    return true;
+  }
+
+  std::vector<Scope> scopes_;
+};
+
+}  // namespace
 
 Problem parse_problem(const json& line, const model::Chain& chain) {
   if (!line.is_object()) throw KeyError("(line)", "expected a JSON object");
@@ -129,6 +199,11 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
     p.policy = *parsed;
   }
   return p;
+}
+
+void refuse_hidden_json(const std::string& text) {
+  HiddenInJson events;
+  json::sax_parse(text, &events);
 }
 
 std::string json_text(const nlohmann::ordered_json& value) {

@@ -39,6 +39,11 @@ Eigen::VectorXd numbers(const nlohmann::json& value, const std::string& key, std
 // naming `key` where they are not a rotation matrix within 1e-9.
 spatial::Mat3<double> base_rotation(const Eigen::VectorXd& q, const std::string& key);
 
+// Throws KeyError where the text of a line, valid JSON, holds what its parsed value would hide: a
+// key given twice in one object (the value keeps the last) or a number too small for a double,
+// which reads as 0 (1e-400).
+void refuse_hidden_json(const std::string& text);
+
 // Reads and checks a problem for `chain` (sizes, finiteness, link names). Throws KeyError.
 Problem parse_problem(const nlohmann::json& line, const model::Chain& chain);
 

@@ -135,9 +135,16 @@ int answer_lines(const SolveOptions& options, const Answer& answer) {
                        ", the limit (README, \"Limits\"); the input is not read further");
       break;
     }
-    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    // Answered like any line that is not a problem, so that answers and lines pair one to one.
+    if (text.find_first_not_of(" \t\r") == std::string::npos) {
+      report(line, "a blank line; each line is one problem, a JSON object");
+      continue;
+    }
     try {
-      std::cout << json_text(answer(nlohmann::json::parse(text))) << "\n";
+      const nlohmann::json parsed = nlohmann::json::parse(text);
+      refuse_hidden_json(text);
+      std::cout << json_text(answer(parsed)) << "
+";
     } catch (const nlohmann::json::parse_error& e) {
       report(line, json_error_reason(e));
     } catch (const std::exception& e) {

@@ -96,7 +96,7 @@ class Writer {
       std::string source;
       if (n.op == Op::input && plan_.stage[id] == f_.stage) {
         source = input_spelling(trace_, trace_.inputs[n.input]);
-        local_[id] = identifier(source);
+        local_[id] = input_local_name(trace_, trace_.inputs[n.input]);
       } else if (plan_.exposed_field.count(id)) {
         const Field& field = trace_.fields[plan_.exposed_field.at(id)];
         source = state_field_access(field);

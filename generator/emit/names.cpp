@@ -20,6 +20,9 @@ std::string input_spelling(const symbolic::Trace& trace, const symbolic::Input& 
   return "";
 }
 
+namespace {
+
+// An identifier for a spelling: "drivers.tau_ff[2]" -> "drivers_tau_ff_2".
 std::string identifier(const std::string& spelling) {
   std::string name;
   for (char c : spelling) {
@@ -27,6 +30,14 @@ std::string identifier(const std::string& spelling) {
     else if (c != ']') name += c;
   }
   return name;
+}
+
+}  // namespace
+
+std::string input_local_name(const symbolic::Trace& trace, const symbolic::Input& input) {
+  const std::string name = identifier(input_spelling(trace, input));
+  const std::string instances = "drivers_";
+  return input.quantity == symbolic::Quantity::constraint_direction ? name.substr(instances.size()) : name;
 }
 
 std::string field_name(const symbolic::Field& field, bool with_group) {
@@ -41,7 +52,7 @@ std::string function_of_input_name(const symbolic::Trace& trace, symbolic::NodeI
   if ((n.op != symbolic::Op::sin && n.op != symbolic::Op::cos) || trace.graph.node(n.args[0]).op != symbolic::Op::input)
     return "";
   return std::string(symbolic::op_name(n.op)) + "_" +
-         identifier(input_spelling(trace, trace.inputs[trace.graph.node(n.args[0]).input]));
+         input_local_name(trace, trace.inputs[trace.graph.node(n.args[0]).input]);
 }
 
 std::string state_field_access(const symbolic::Field& field) {

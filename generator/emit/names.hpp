@@ -14,8 +14,10 @@ namespace sweepgen::emit {
 // "drivers.alpha[1][4]", "beta[0]".
 std::string input_spelling(const symbolic::Trace& trace, const symbolic::Input& input);
 
-// An identifier for a spelling: "drivers.alpha[1][4]" -> "drivers_alpha_1_4".
-std::string identifier(const std::string& spelling);
+// The local a traced input is loaded into: "q_3", "drivers_tau_ff_2", "beta_0", and a run-time
+// direction "alpha_1_4". The instances' locals are drivers_<name>_<index>, one per name and index;
+// a direction's two indices behind "drivers_alpha" would spell a torque alpha_1's.
+std::string input_local_name(const symbolic::Trace& trace, const symbolic::Input& input);
 
 // "<array>_<body>_<component>", with "<group>_" in front for a solve's own field when asked.
 std::string field_name(const symbolic::Field& field, bool with_group);

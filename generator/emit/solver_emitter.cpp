@@ -390,15 +390,8 @@ std::vector<EmittedFile> render_files(const std::string& stem, data& values) {
 }  // namespace
 
 std::string file_stem(const std::string& solver_namespace) {
-  std::string stem;
-  for (std::size_t i = 0; i < solver_namespace.size(); ++i) {
-    if (solver_namespace.compare(i, 2, "::") == 0) {
-      stem += '_';
-      ++i;
-    } else {
-      stem += solver_namespace[i];
-    }
-  }
+  std::string stem = solver_namespace;
+  for (std::size_t at = stem.find("::"); at != std::string::npos; at = stem.find("::", at + 2)) stem.replace(at, 2, "__");
   return stem;
 }
 

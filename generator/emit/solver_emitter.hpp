@@ -46,7 +46,8 @@ struct EmittedSolver {
   solver::ConstraintRows constraint_rows = solver::ConstraintRows::inward_columns;
 };
 
-// File stem of a namespace: "a::b" -> "a_b".
+// File stem of a namespace: "a::b" -> "a__b", so that no two namespaces share one ("a_b" stays
+// "a_b": a namespace's parts cannot hold "__", reserved in C++), and as long as the namespace.
 std::string file_stem(const std::string& solver_namespace);
 
 EmittedSolver emit_solver(const model::Chain& chain, const EmitRequest& request);

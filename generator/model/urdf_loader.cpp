@@ -335,6 +335,32 @@ void note_mimic(const urdf::ModelInterface& model, const urdf::Joint& joint, con
   chain.mimics.push_back({joint.name, mimic.joint_name, mimic.multiplier, mimic.offset});
 }
 
+// A joint whose <mimic> follows itself, or a cycle of <mimic>s (a follows b, b follows a): none
+// of them has a position of its own that the others follow. Each joint is walked once.
+void refuse_mimic_cycles(const urdf::ModelInterface& model, const std::string& urdf) {
+  enum class Walk { on_the_path, done };
+  std::map<std::string, Walk> walked;
+  for (const auto& [start, first] : model.joints_) {
+    std::vector<std::string> path;  // joints of this walk, each following the one before
+    urdf::JointConstSharedPtr joint = first;
+    while (joint && !walked.count(joint->name)) {
+      walked[joint->name] = Walk::on_the_path;
+      path.push_back(joint->name);
+      const urdf::JointConstSharedPtr next = joint->mimic ? model.getJoint(joint->mimic->joint_name) : nullptr;
+      joint = next;
+      if (!next || walked.count(next->name) == 0 || walked.at(next->name) == Walk::done) continue;
+      if (next->name == path.back())
+        throw InputError(urdf, named("joint", next->name) + " <mimic>", "follows the joint itself");
+      std::string cycle;
+      for (auto it = std::find(path.begin(), path.end(), next->name); it != path.end(); ++it) cycle += quote_name(*it) + " -> ";
+      throw InputError(urdf, named("joint", next->name) + " <mimic>",
+                       "the <mimic>s of joints " + cycle + quote_name(next->name) +
+                           " form a cycle: none of them has a position of its own to follow");
+    }
+    for (const std::string& name : path) walked[name] = Walk::done;
+  }
+}
+
 // The branches that leave the chain (chain.hpp), lumped into the body that carries them (F4):
 // behind moving joints held at their locked position, so that every link a moving body carries
 // counts.
@@ -549,6 +575,7 @@ Chain load_chain(const ChainSpec& spec) {
       throw InputError(urdf_path, "<robot>",
                        "not a valid URDF: " + (console.messages().empty() ? "urdfdom rejected it" : console.messages()));
   }
+  refuse_mimic_cycles(*model, urdf_path);
 
   Chain chain;
   chain.source = urdf_path;

@@ -5,12 +5,37 @@
 #include "model/error.hpp"
 
 namespace sweepgen::model {
+namespace {
+
+std::string row_and_column(const TiXmlBase& node) {
+  return ":" + std::to_string(node.Row()) + ":" + std::to_string(node.Column());
+}
+
+// urdfdom reads a joint's first <mimic> and drops any further one without a word.
+void refuse_second_mimic(const TiXmlDocument& document, const std::string& file) {
+  const TiXmlElement* robot = document.FirstChildElement("robot");
+  if (!robot) return;  // urdfdom says so
+  for (const TiXmlElement* joint = robot->FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+    const TiXmlElement* first = joint->FirstChildElement("mimic");
+    if (const TiXmlElement* second = first ? first->NextSiblingElement("mimic") : nullptr) {
+      const char* name = joint->Attribute("name");
+      throw InputError(file + row_and_column(*second), "joint " + quote_name(name ? name : ""),
+                       "a second <mimic> (the first at line " + std::to_string(first->Row()) +
+                           "); a joint follows one other joint");
+    }
+  }
+}
+
+}  // namespace
 
 void check_xml_syntax(const std::string& text, const std::string& file) {
   TiXmlDocument document;
   document.SetTabSize(1);  // columns count characters, a tab as one, as the scene's positions do
   document.Parse(text.c_str());
-  if (!document.Error()) return;
+  if (!document.Error()) {
+    refuse_second_mimic(document, file);
+    return;
+  }
   const std::string place = document.ErrorRow() > 0 ? ":" + std::to_string(document.ErrorRow()) + ":" +
                                                           std::to_string(document.ErrorCol())
                                                     : "";

@@ -1,50 +1,22 @@
 #include "scene/scene.hpp"
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
-#include <set>
 #include <sstream>
 
 #include "model/error.hpp"
 #include "model/input_limits.hpp"
+#include "scene/cpp_names.hpp"
 #include "solver/constraint_row_steps.hpp"
 
 namespace sweepgen::scene {
 namespace {
-
-const std::set<std::string>& cpp_keywords() {
-  static const std::set<std::string> words = {
-      "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case",
-      "catch", "char", "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval",
-      "constexpr", "constinit", "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype",
-      "default", "delete", "do", "double", "dynamic_cast", "else", "enum", "explicit", "export", "extern",
-      "false", "float", "for", "friend", "goto", "if", "inline", "int", "long", "mutable", "namespace", "new",
-      "noexcept", "not", "not_eq", "nullptr", "operator", "or", "or_eq", "private", "protected", "public",
-      "register", "reinterpret_cast", "requires", "return", "short", "signed", "sizeof", "static",
-      "static_assert", "static_cast", "struct", "switch", "template", "this", "thread_local", "throw", "true",
-      "try", "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void", "volatile",
-      "wchar_t", "while", "xor", "xor_eq"};
-  return words;
-}
-
-// Why `name` is not a usable identifier, or "".
-std::string identifier_problem(const std::string& name) {
-  if (name.empty()) return "is empty";
-  const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
-  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
-  if (!letter(name[0])) return "must start with a letter or '_'";
-  for (char c : name)
-    if (!letter(c) && !digit(c)) return "may contain only letters, digits and '_'";
-  if (cpp_keywords().count(name)) return "is a C++ keyword";
-  if (name.find("__") != std::string::npos || (name.size() > 1 && name[0] == '_' && name[1] >= 'A' && name[1] <= 'Z'))
-    return "is reserved in C++ (contains '__' or starts with '_' and an upper-case letter)";
-  return "";
-}
 
 std::string join(const std::vector<std::string>& items) {
   std::string out;
@@ -55,6 +27,51 @@ std::string join(const std::vector<std::string>& items) {
 std::string format_mark(const std::string& file, const YAML::Mark& mark) {
   if (mark.is_null()) return file;
   return file + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+}
+
+// What YAML::Load passes over without a word: a second document (it reads the first), and tags
+// (`!!str`, `!custom`), which the reader would not honour. Seen in the parser's events, each
+// once: an alias is not followed again.
+class UnreadYaml : public YAML::EventHandler {
+ public:
+  explicit UnreadYaml(std::string file) : file_(std::move(file)) {}
+
+  void OnDocumentStart(const YAML::Mark& mark) override {
+    if (++documents_ > 1)
+      throw InputError(format_mark(file_, mark), "YAML", "a second document; a scene file holds one ('---' starts another)");
+  }
+  void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t, const std::string&) override { check(mark, tag); }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    check(mark, tag);
+  }
+  void OnMapStart(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    check(mark, tag);
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnSequenceEnd() override {}
+  void OnMapEnd() override {}
+
+ private:
+  // "?": untagged, "!": quoted (or the bare '!', which means just that).
+  void check(const YAML::Mark& mark, const std::string& tag) const {
+    if (tag != "?" && tag != "!" && !tag.empty())
+      throw InputError(format_mark(file_, mark), "YAML",
+                       "a tag (" + quote_name(tag) + "): the scene reads none; write the value without it");
+  }
+
+  std::string file_;
+  std::size_t documents_ = 0;
+};
+
+// Throws InputError where `text` holds more than one document or a tag (UnreadYaml).
+void refuse_unread_yaml(const std::string& text, const std::string& file) {
+  std::istringstream stream(text);
+  YAML::Parser parser(stream);
+  UnreadYaml handler(file);
+  while (parser.HandleNextDocument(handler)) {
+  }
 }
 
 // A node of the scene document with its element path and position.
@@ -112,13 +129,6 @@ class Reader {
   std::string string(const Item& item) const {
     if (!item.node.IsScalar()) fail(item, "expected a string, got " + kind(item.node));
     return item.node.Scalar();
-  }
-
-  std::string identifier(const Item& item) const {
-    const std::string name = string(item);
-    if (const std::string problem = identifier_problem(name); !problem.empty())
-      fail(item, quote_name(name) + " is not a usable C++ identifier: it " + problem);
-    return name;
   }
 
   double number(const Item& item) const {
@@ -288,10 +298,8 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
 // with its item, for the decomposition.
 void read_drivers(const Reader& reader, const Item& drivers, Scene& scene, std::map<std::string, Item>& instances) {
   const auto add_instance = [&](const Item& item) {
-    const std::string name = reader.identifier(item);
-    if (name == "bias") reader.fail(item, "'bias' is reserved for the velocity-product track; pick another name");
-    if (name == "alpha")
-      reader.fail(item, "'alpha' is reserved for the constraint directions in generated code; pick another name");
+    const std::string name = reader.string(item);
+    if (const std::string problem = driver_name_problem(name); !problem.empty()) reader.fail(item, problem);
     if (const auto previous = instances.find(name); previous != instances.end())
       reader.fail(item, "duplicate driver instance name " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
     instances.emplace(name, item);
@@ -390,24 +398,7 @@ std::string unseparable_external_force(const solver::DriverLayout& layout) {
   return "";
 }
 
-std::string solver_namespace_problem(const std::string& text) {
-  std::size_t start = 0;
-  bool first = true;
-  while (true) {
-    const std::size_t end = text.find("::", start);
-    const std::string part = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    if (const std::string problem = identifier_problem(part); !problem.empty())
-      return quote_name(text) + " is not a C++ namespace name: " + (part.empty() ? "a component" : quote_name(part)) + " " + problem;
-    if (first && part == "std") return quote_name(text) + " is not a usable namespace: 'std' is reserved";
-    first = false;
-    if (end == std::string::npos) return "";
-    start = end + 2;
-  }
-}
-
 }  // namespace
-
-bool is_identifier(const std::string& name) { return identifier_problem(name).empty(); }
 
 const std::vector<std::string>& scene_keys() {
   static const std::vector<std::string> keys = {
@@ -442,6 +433,7 @@ Scene load_scene(const std::string& path) {
   const std::string text = read_input_file(path, kMaxSceneBytes, "scene");
   YAML::Node document;
   try {
+    refuse_unread_yaml(text, path);
     document = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
     throw InputError(format_mark(path, e.mark), "YAML",
@@ -775,9 +767,11 @@ Scene default_scene(const std::string& urdf, const std::string& root, const std:
   for (char& c : name)
     if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_')) c = '_';
   while (name.find("__") != std::string::npos) name.replace(name.find("__"), 2, "_");
-  if (name.empty() || !is_identifier(name) || name == "std") name = "robot_" + name;
+  name.resize(std::min(name.size(), kMaxSolverNamespaceBytes));
+  if (!solver_namespace_problem(name).empty()) name = "robot_" + name;  // "7dof_arm", "std", "linux"
   while (name.find("__") != std::string::npos) name.replace(name.find("__"), 2, "_");
-  if (!is_identifier(name)) name = "robot";
+  name.resize(std::min(name.size(), kMaxSolverNamespaceBytes));
+  if (!solver_namespace_problem(name).empty()) name = "robot";
   scene.solver = name;
 
   scene.chain.urdf = urdf;

@@ -74,7 +74,8 @@ Scene load_scene(const std::string& path);
 model::Chain load_scene_chain(const Scene& scene);
 
 // The scene used when there is no scene file (`--urdf --root --tip` only): namespace from the
-// URDF file's stem (made an identifier: 'panda.urdf' -> panda, '7dof-arm.urdf' -> robot_7dof_arm);
+// URDF file's stem (made a usable namespace, solver_namespace_problem: 'panda.urdf' -> panda,
+// '7dof-arm.urdf' -> robot_7dof_arm, 'linux.urdf' -> robot_linux; cut to kMaxSolverNamespaceBytes);
 // one torque instance "tau_ff"; one external force "f_ext_tip" on the tip link; Nc = 6 with
 // run-time directions; every policy; decomposed (Alg. 2); scalars [double]; outputs only; default
 // gravity and pivot tolerance. Loads the URDF to resolve an empty root/tip (so both are filled
@@ -85,9 +86,6 @@ model::Chain load_scene_chain(const Scene& scene);
 Scene default_scene(const std::string& urdf, const std::string& root = "", const std::string& tip = "",
                     const std::vector<std::string>& branch_tips = {}, bool snap_quarter_turns = true,
                     const std::string& command = "sweepgen generate");
-
-// Whether `name` is a usable C++ identifier (not a keyword, not reserved).
-bool is_identifier(const std::string& name);
 
 // Every key of the scene format by its path: "drivers.torques" is key torques of the drivers
 // mapping, "drivers.constraints[].link" key link of each mapping in the constraints list. The
