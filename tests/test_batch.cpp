@@ -283,10 +283,9 @@ TEST(Batch, EveryStateAsItsFlatCall) {
       ASSERT_TRUE(lines) << "state " << state;
       EXPECT_EQ(batch[layout.status()], flat[layout.status()]) << "state " << state;
       differing_states += batch != flat;
-      if (judged.skip(state < kParting && state % 3 == 0, "parted from its group by hand")) continue;
-      if (judged.skip(static_cast<unsigned>(flat[layout.status()]) & solver::status_constraint_rank_deficient,
-                      "rank-deficient"))
-        continue;
+      const bool parted = state < kParting && state % 3 == 0;
+      const bool deficient = static_cast<unsigned>(flat[layout.status()]) & solver::status_constraint_rank_deficient;
+      if (judged.skip(parted || deficient, parted ? "parted from its group by hand" : "rank-deficient")) continue;
       reference.prepare(drawn[static_cast<std::size_t>(state)].cast<long double>());
       const double k = report::kappa(oracle::scaled_condition_number(reference.articulated().body[0].constraint_energy),
                                      static_cast<double>(solver::min_relative_joint_inertia(reference.model(), reference.articulated())));
