@@ -39,23 +39,6 @@ bool reads_as(int fd, const std::string& text) {
   }
 }
 
-// Whether `path` is a regular file holding exactly `text`. A link (to /dev/zero, say), a FIFO, a
-// device or a file of another size is not read at all: it is simply replaced, the link itself and
-// not what it points to.
-bool holds(const std::string& path, const std::string& text) {
-  struct stat named;
-  if (::lstat(path.c_str(), &named) != 0 || !S_ISREG(named.st_mode) || static_cast<std::size_t>(named.st_size) != text.size())
-    return false;
-  // O_NOFOLLOW and O_NONBLOCK: should a link or a FIFO take the name after lstat, opening it
-  // neither follows the link nor waits for a writer, and fstat sees it is no regular file.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) return false;
-  struct stat opened;
-  const bool same = ::fstat(fd, &opened) == 0 && S_ISREG(opened.st_mode) && reads_as(fd, text);
-  ::close(fd);
-  return same;
-}
-
 // A suffix nobody can predict (16 letters and digits): a temporary's name must not be one that
 // another user could have prepared, as a link or a file, before the run.
 std::string unguessable_suffix() {
@@ -125,6 +108,20 @@ std::string write_temporary(const OutputFile& file) {
 }
 
 }  // namespace
+
+bool holds(const std::string& path, const std::string& text) {
+  struct stat named;
+  if (::lstat(path.c_str(), &named) != 0 || !S_ISREG(named.st_mode) || static_cast<std::size_t>(named.st_size) != text.size())
+    return false;
+  // O_NOFOLLOW and O_NONBLOCK: should a link or a FIFO take the name after lstat, opening it
+  // neither follows the link nor waits for a writer, and fstat sees it is no regular file.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct stat opened;
+  const bool same = ::fstat(fd, &opened) == 0 && S_ISREG(opened.st_mode) && reads_as(fd, text);
+  ::close(fd);
+  return same;
+}
 
 void write_files_atomically(const std::vector<OutputFile>& files) {
   std::vector<std::string> temporaries;

@@ -23,6 +23,11 @@ struct OutputFile {
 // beside others of a concurrent one (the generated solver's files check each other for that).
 void write_files_atomically(const std::vector<OutputFile>& files);
 
+// Whether `path` is a regular file holding exactly `text`. A link (to /dev/zero, say), a FIFO, a
+// device or a file of another size is not read at all (false), so that no comparison can hang,
+// read without end or read through a link.
+bool holds(const std::string& path, const std::string& text);
+
 class IoError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
