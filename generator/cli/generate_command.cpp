@@ -156,14 +156,22 @@ std::string file_stem_problem(const std::string& stem) {
   return "";
 }
 
-// A path as a Makefile depfile spells it (space, '#' and '$' escaped), or an InputError for one
-// no depfile can hold (a line break).
+// A path as a depfile spells it for both GNU make and Ninja: space, '#' and ':' after a backslash,
+// '$' doubled; any other backslash is read as it is by both. An InputError for a path no depfile
+// can hold alike for both: a line break or other control character, or a backslash before a
+// space, '#', ':' or at the end (make halves such a run of backslashes, Ninja keeps all but one).
 std::string depfile_path(const std::string& path, const std::string& element) {
+  const auto refuse = [&](const std::string& what) {
+    throw InputError(element, quote_name(path), "a path with " + what + " cannot be written to --depfile");
+  };
+  const std::string escaped = " #:";
   std::string out;
-  for (char c : path) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      throw InputError(element, quote_name(path), "a path with a control character cannot be written to --depfile");
-    if (c == ' ' || c == '#') out += '\\';
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const char c = path[i];
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) refuse("a control character");
+    if (c == '\\' && (i + 1 == path.size() || escaped.find(path[i + 1]) != std::string::npos))
+      refuse("a backslash before a space, '#', ':' or at its end");
+    if (escaped.find(c) != std::string::npos) out += '\\';
     if (c == '$') out += '$';
     out += c;
   }

@@ -15,6 +15,7 @@
 #include "emit/names.hpp"
 #include "emit/struct_text.hpp"
 #include "emit/templates.hpp"
+#include "io/output_files.hpp"
 #include "model/inert_text.hpp"
 #include "model/model_notes.hpp"
 #include "symbolic/trace_derivatives.hpp"
@@ -374,16 +375,35 @@ data file_values(const model::Chain& chain, const EmitRequest& request, const Fi
   return values;
 }
 
+// Where the set's identity goes while it is computed: a byte that neither a template nor any
+// text from the input (inert_text escapes control bytes) can hold.
+constexpr char kOutputSetSlot[] = "\x01";
+
+// `text` with every `slot` replaced by `value`.
+std::string filled(std::string text, const std::string& slot, const std::string& value) {
+  for (auto at = text.find(slot); at != std::string::npos; at = text.find(slot, at + value.size()))
+    text.replace(at, slot.size(), value);
+  return text;
+}
+
 // The files of one scene, each from its template (templates/): the header, the source (every
 // function for one state and for a Batch of states), the CUDA kernels and launchers, the CMake
-// snippet.
+// snippet. Each carries the set's identity (`output_set`), a hash of the four texts as they read
+// with the slot in its place: the same scene gives the same bytes, two that differ anywhere two
+// identities that the files check against each other.
 std::vector<EmittedFile> render_files(const std::string& stem, data& values) {
   values.set("header_name", stem + ".hpp");
   values.set("source_name", stem + ".cpp");
   values.set("target", stem);
+  values.set("output_set", kOutputSetSlot);
   std::vector<EmittedFile> files;
-  for (const std::string extension : {"hpp", "cpp", "cu", "cmake"})
+  std::string set_text;
+  for (const std::string extension : {"hpp", "cpp", "cu", "cmake"}) {
     files.push_back({stem + "." + extension, render("solver." + extension + ".mustache", values)});
+    set_text += files.back().name + '\0' + files.back().text + '\0';
+  }
+  const std::string identity = "0x" + io::fnv1a64(set_text) + "ull";
+  for (auto& file : files) file.text = filled(std::move(file.text), kOutputSetSlot, identity);
   return files;
 }
 

@@ -25,11 +25,6 @@ void make_directory(const std::filesystem::path& dir) {
   if (error) throw io::IoError(dir.string() + ": cannot create directory (" + error.message() + ")");
 }
 
-// Whether `path` holds exactly `text`.
-bool holds(const std::filesystem::path& path, const std::string& text) {
-  return std::filesystem::is_regular_file(path) && io::read_file(path.string()) == text;
-}
-
 }  // namespace
 
 scene::Scene report_scene(scene::Scene s, std::vector<solver::Policy> policies) {
@@ -75,7 +70,7 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
                                      library, isa, optimisation);
   files.push_back({(build_dir / "compile.command").string(), command_line(compiled.command) + "\n"});
   compiled.reused = std::filesystem::exists(library) &&
-                    std::all_of(files.begin(), files.end(), [](const io::OutputFile& f) { return holds(f.path, f.text); });
+                    std::all_of(files.begin(), files.end(), [](const io::OutputFile& f) { return io::holds(f.path, f.text); });
   if (compiled.reused) {
     progress.detail("up to date: " + library);
   } else {
