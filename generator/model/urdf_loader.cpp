@@ -120,6 +120,9 @@ Inertia link_inertia(const urdf::Link& link, const ChainSpec& spec, Chain& chain
   const std::string element = named("link", link.name) + " <inertial>";
   require_finite(file, element, {in.mass, in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz});
   if (in.mass < 0) throw InputError(file, element, "negative mass " + std::to_string(in.mass));
+  for (const auto& [name, value] : {std::pair<const char*, double>{"mass", in.mass}, {"ixx", in.ixx}, {"iyy", in.iyy}, {"izz", in.izz}})
+    if (const std::string problem = magnitude_problem(value); !problem.empty())
+      throw InputError(file, element, std::string(name) + " " + problem);
   Mat3 inertia_com;
   inertia_com << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Mat3>(inertia_com).eigenvalues();

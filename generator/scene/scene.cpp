@@ -531,7 +531,11 @@ Scene load_scene(const std::string& path) {
   if (const auto item = get("gravity")) {
     const auto components = reader.sequence(*item);
     if (components.size() != 3) reader.fail(*item, "expected 3 numbers [x, y, z], got " + std::to_string(components.size()));
-    for (int i = 0; i < 3; ++i) scene.gravity[i] = reader.number(components[i]);
+    for (int i = 0; i < 3; ++i) {
+      scene.gravity[i] = reader.number(components[i]);
+      if (const std::string problem = magnitude_problem(scene.gravity[i]); !problem.empty())
+        reader.fail(components[i], "gravity component " + problem);
+    }
   }
 
   // rotor_inertia and locked_joints: mappings from joint name to a number.
