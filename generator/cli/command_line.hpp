@@ -16,6 +16,10 @@
 
 namespace sweepgen::cli {
 
+// A path option's check: an empty one names no file or directory (a usage error, exit 2).
+inline const CLI::Validator kNonEmptyPath(
+    [](const std::string& path) { return path.empty() ? std::string("an empty path") : std::string(); }, "PATH");
+
 // The exit code of an internal error (README.md, "Exit codes").
 constexpr int kInternalError = 5;
 

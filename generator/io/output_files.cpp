@@ -39,14 +39,14 @@ void write_files_atomically(const std::vector<OutputFile>& files) {
     if (!out) {
       const std::string reason = std::strerror(errno);
       discard();
-      throw IoError(file.path + ": cannot write (" + reason + ")");
+      throw IoError(file.path, "cannot write (" + reason + ")");
     }
   }
   for (std::size_t i = 0; i < changed.size(); ++i) {
     if (std::rename(temporaries[i].c_str(), changed[i]->path.c_str()) != 0) {
       const std::string reason = std::strerror(errno);
       discard();
-      throw IoError(changed[i]->path + ": cannot replace (" + reason + ")");
+      throw IoError(changed[i]->path, "cannot replace (" + reason + ")");
     }
   }
 }
@@ -64,7 +64,7 @@ std::string fnv1a64(const std::string& bytes) {
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot be read");
+  if (!in) throw IoError(path, "cannot be read");
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

@@ -497,6 +497,12 @@ Chain load_chain(const ChainSpec& spec) {
       throw InputError(urdf_path, "<robot>",
                        std::to_string(count) + " " + kind + " elements, more than the limit of " + std::to_string(limit) +
                            " (README, \"Limits\")");
+  if (outline.declaration_line != 0)
+    throw InputError(urdf_path + ":" + std::to_string(outline.declaration_line) + ":" +
+                         std::to_string(outline.declaration_column),
+                     "XML",
+                     "a document type declaration (<!DOCTYPE ...>): a URDF has no DTD, and TinyXML, the XML reader "
+                     "under urdfdom, reads none (it then finds no 'robot' element); remove it");
 
   urdf::ModelInterfaceSharedPtr model;
   // urdfdom's links own their children: a long chain would be freed by one destructor calling the

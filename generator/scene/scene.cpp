@@ -732,7 +732,8 @@ model::Chain load_scene_chain(const Scene& scene) {
       return model::load_chain(s);
     } catch (const InputError& e) {
       const std::string message = e.what();
-      if (message.rfind(s.urdf + ":", 0) != 0) throw;  // already names the scene (rotor inertia)
+      const bool from_urdf = e.file() == s.urdf || e.file().rfind(s.urdf + ":", 0) == 0;
+      if (!from_urdf) throw;  // already names the scene (rotor inertia)
       std::string element = "urdf";  // names are compared as the message spells them (message_text)
       if (!s.root_link.empty() && message.find(message_text("root link " + quote_name(s.root_link))) != std::string::npos)
         element = "root";
