@@ -14,17 +14,20 @@ using symbolic::Node;
 using symbolic::NodeId;
 using symbolic::Op;
 
-// Whether the literal of `value` in `scalar` would be a number (emit/literal.hpp rounds to it).
-bool finite_in(double value, const std::string& scalar) {
-  return scalar == "float" ? std::isfinite(static_cast<float>(value)) : std::isfinite(value);
+// Whether `value` is a constant the generated code can hold in `scalar`: not NaN, and not a finite
+// number that the scalar rounds to Inf (emit/literal.hpp spells an Inf of the trace, an unlimited
+// joint's effort bound, as HUGE_VAL; a float overflow it would spell "inff").
+bool representable(double value, const std::string& scalar) {
+  if (std::isnan(value)) return false;
+  return !std::isfinite(value) || scalar != "float" || std::isfinite(static_cast<float>(value));
 }
 
 bool reads_bad_constant(const symbolic::Graph& graph, NodeId id, const std::string& scalar) {
   const Node& n = graph.node(id);
-  if (n.op == Op::constant) return !finite_in(n.value, scalar);
+  if (n.op == Op::constant) return !representable(n.value, scalar);
   for (int k = 0; k < symbolic::arity(n.op); ++k) {
     const Node& operand = graph.node(n.args[k]);
-    if (operand.op == Op::constant && !finite_in(operand.value, scalar)) return true;
+    if (operand.op == Op::constant && !representable(operand.value, scalar)) return true;
   }
   return false;
 }
@@ -66,8 +69,8 @@ void check_constants_finite(const symbolic::Trace& trace, const Plan& plan, cons
                             const solver::SolverOptions& options, const std::string& scalar) {
   const auto fail = [&](const FunctionPlan& f, std::size_t field) {
     throw InputError(chain.source, "generated " + f.name,
-                     (field == kNoAnchor ? std::string("a value") : field_text(trace.fields[field], chain)) + " is computed from a constant that is not a number in " + scalar +
-                         " (Inf or NaN): the robot's or the scene's numbers are far outside a robot's range (" +
+                     (field == kNoAnchor ? std::string("a value") : field_text(trace.fields[field], chain)) + " is computed from a constant that is NaN or too large for " + scalar +
+                         ": the robot's or the scene's numbers are far outside a robot's range (" +
                          model_numbers(chain, options) + ")");
   };
   for (const FunctionPlan& f : plan.functions) {
