@@ -470,6 +470,13 @@ TEST(HostileInputs, MassesAndInertiasFarOutsideARobotsRangeAreRefused) {
                             "ixx=\"4.9e-324\" ixy=\"0\" ixz=\"0\" iyy=\"4.9e-324\" iyz=\"0\" izz=\"4.9e-324\""));
   expect_refused(dir, planar_scene(tiny, "[0, -9.81, 0]", "{directions: [[0,0,0,1,0,0]]}"),
                  {"link 'link1' <inertial>: ixx 4.9406564584124654e-324 is outside the range of a robot's numbers"});
+  // Inertia 1e308 on the last body was "has no inertia about this joint's axis" (its trace overflowed).
+  const std::string huge = dir.write(
+      "huge.urdf", replaced("ixx=\"0.00013333333333333334\" ixy=\"0\" ixz=\"0\" iyy=\"0.0038166666666666666\" iyz=\"0\" "
+                            "izz=\"0.0038166666666666666\"",
+                            "ixx=\"1e308\" ixy=\"0\" ixz=\"0\" iyy=\"1e308\" iyz=\"0\" izz=\"1e308\""));
+  expect_refused(dir, planar_scene(huge, "[0, -9.81, 0]", "{directions: [[0,0,0,1,0,0]]}"),
+                 {"link 'link3' <inertial>: ixx 1e+308 is outside the range of a robot's numbers"});
 }
 
 // Numbers within the bounds whose constants still leave the scalar's range (gravity 1e60 is a
