@@ -5,7 +5,9 @@
 // stays inside --out; messages stay short. The large inputs are made here, on the fly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -429,6 +431,116 @@ TEST(HostileInputs, MessagesStayShort) {
   EXPECT_EQ(json.exit_code, 1) << describe(json);
   EXPECT_LT(json.err.size(), 1000u) << json.err.substr(0, 1000);
   EXPECT_LT(json.out.size(), 1000u);
+}
+
+// Issue 49: inputs the bundled planar arm used to abort on (std::logic_error from the literal of
+// a NaN constant). `generate` and `info` both answer with exit 1 and the reason; nothing is written.
+const std::string kPlanarUrdf = std::string(SWEEPGEN_SOURCE_DIR) + "/robots/planar/planar_rpr.urdf";
+
+std::string planar_scene(const std::string& urdf, const std::string& gravity, const std::string& constraints) {
+  return "sweepgen_scene: 1\nsolver: planar\nurdf: " + urdf + "\ntip: tool\ngravity: " + gravity +
+         "\ndrivers:\n  torques: [tau_ff]\n  constraints: " + constraints + "\npolicies: [original]\nscalars: [double]\n";
+}
+
+// `generate` and `info` on the scene: exit 1, each part of `message` on standard error, no abort,
+// nothing under --out.
+void expect_refused(const test::TempDir& dir, const std::string& scene_text, const std::vector<std::string>& message) {
+  const std::string scene = dir.write("scene.yaml", scene_text);
+  const fs::path out = dir.path() / "out";
+  for (const std::string command : {"generate", "info"}) {
+    std::vector<std::string> args{command, "--scene", scene};
+    if (command == std::string("generate")) args.insert(args.end(), {"--out", out.string()});
+    const CommandResult r = sweepgen(args);
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    for (const std::string& part : message) EXPECT_TRUE(contains(r.err, part)) << part << "\n" << describe(r);
+    EXPECT_FALSE(contains(r.err, "terminate")) << describe(r);
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(HostileInputs, AFixedDirectionNoJointMovesIsRefusedAtItsEntry) {
+  const test::TempDir dir;
+  expect_refused(dir,
+                 planar_scene(kPlanarUrdf, "[0, -9.81, 0]",
+                              "[{link: link2, count: 1}, {link: tool, directions: [[0,0,0,0,0,1]]}]"),
+                 {"scene.yaml:8:", "drivers.constraints[1].directions[0]: no joint moves link 'tool' along [0, 0, 0, 0, 0, 1]"});
+}
+
+TEST(HostileInputs, GravityFarOutsideARobotsRangeIsRefused) {
+  const test::TempDir dir;
+  expect_refused(dir, planar_scene(kPlanarUrdf, "[0, 0, 1e308]", "{directions: [[0,0,0,1,0,0]]}"),
+                 {"scene.yaml:5:", "gravity[2]: gravity component 1e+308 is outside the range of a robot's numbers"});
+}
+
+// The URDF's masses and inertia diagonals likewise, each at its link.
+TEST(HostileInputs, MassesAndInertiasFarOutsideARobotsRangeAreRefused) {
+  const test::TempDir dir;
+  std::ifstream in(kPlanarUrdf);
+  const std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = urdf;
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  };
+  const std::string heavy = dir.write("heavy.urdf", replaced("<mass value=\"2\"/>", "<mass value=\"1e308\"/>"));
+  expect_refused(dir, planar_scene(heavy, "[0, -9.81, 0]", "{directions: [[0,0,0,1,0,0]]}"),
+                 {"link 'link1' <inertial>: mass 1e+308 is outside the range of a robot's numbers"});
+  const std::string tiny = dir.write(
+      "tiny.urdf", replaced("ixx=\"0.0008333333333333335\" ixy=\"0\" ixz=\"0\" iyy=\"0.042083333333333334\" iyz=\"0\" "
+                            "izz=\"0.042083333333333334\"",
+                            "ixx=\"4.9e-324\" ixy=\"0\" ixz=\"0\" iyy=\"4.9e-324\" iyz=\"0\" izz=\"4.9e-324\""));
+  expect_refused(dir, planar_scene(tiny, "[0, -9.81, 0]", "{directions: [[0,0,0,1,0,0]]}"),
+                 {"link 'link1' <inertial>: ixx 4.9406564584124654e-324 is outside the range of a robot's numbers"});
+  // Inertia 1e308 on the last body was "has no inertia about this joint's axis" (its trace overflowed).
+  const std::string huge = dir.write(
+      "huge.urdf", replaced("ixx=\"0.00013333333333333334\" ixy=\"0\" ixz=\"0\" iyy=\"0.0038166666666666666\" iyz=\"0\" "
+                            "izz=\"0.0038166666666666666\"",
+                            "ixx=\"1e308\" ixy=\"0\" ixz=\"0\" iyy=\"1e308\" iyz=\"0\" izz=\"1e308\""));
+  expect_refused(dir, planar_scene(huge, "[0, -9.81, 0]", "{directions: [[0,0,0,1,0,0]]}"),
+                 {"link 'link3' <inertial>: ixx 1e+308 is outside the range of a robot's numbers"});
+}
+
+// Numbers within the bounds whose constants still leave the scalar's range (gravity 1e60 is a
+// float's Inf): the emitter names the quantity and the numbers, instead of writing "inff".
+TEST(HostileInputs, AConstantThatIsNotANumberInTheScalarNamesTheQuantity) {
+  const test::TempDir dir;
+  std::string scene = planar_scene(kPlanarUrdf, "[0, 0, 1e60]", "{directions: [[0,0,0,1,0,0]]}");
+  scene.replace(scene.find("scalars: [double]"), 17, "scalars: [float]");
+  expect_refused(dir, scene,
+                 {"planar_rpr.urdf: generated ", "is computed from a constant that is NaN or too large for float",
+                  "gravity [0, 0, 1e+60]", "masses from "});
+}
+
+// Item 7 of issue 49: a DOCTYPE is refused where it stands; a path with a line break is shown
+// escaped, on one line; `--out ''` is a usage error.
+TEST(HostileInputs, ADoctypeIsRefusedWithItsPlace) {
+  const test::TempDir dir;
+  const std::string urdf = dir.write("dtd.urdf", "<?xml version=\"1.0\"?>\n  <!DOCTYPE robot>\n<robot name=\"r\"/>\n");
+  const CommandResult r = sweepgen({"info", "--urdf", urdf});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  EXPECT_TRUE(contains(r.err, "dtd.urdf:2:3: XML: a document type declaration (<!DOCTYPE ...>): a URDF has no DTD"))
+      << describe(r);
+}
+
+TEST(HostileInputs, APathWithALineBreakIsShownOnOneLine) {
+  const test::TempDir dir;
+  const std::string scene = dir.write("bad\nname.yaml", "sweepgen_scene: 1\nsolver: [\n");
+  const fs::path out = dir.path() / "out";
+  const CommandResult r = sweepgen({"generate", "--scene", scene, "--out", out.string()});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  EXPECT_TRUE(contains(r.err, "bad\\nname.yaml")) << describe(r);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
+  EXPECT_FALSE(fs::exists(out));
+  const CommandResult missing = sweepgen({"generate", "--scene", (dir.path() / "no\nfile.yaml").string(), "--out", out.string()});
+  EXPECT_EQ(missing.exit_code, 1) << describe(missing);
+  EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << describe(missing);
+}
+
+TEST(HostileInputs, AnEmptyOutIsAUsageError) {
+  const CommandResult r =
+      sweepgen({"generate", "--scene", std::string(SWEEPGEN_SOURCE_DIR) + "/robots/planar/planar_nc2.yaml", "--out", ""});
+  EXPECT_EQ(r.exit_code, 2) << describe(r);
+  EXPECT_TRUE(contains(r.err, "--out: an empty path")) << describe(r);
 }
 
 }  // namespace SWEEPGEN_TEST_FILE

@@ -16,6 +16,13 @@
 
 namespace sweepgen::cli {
 
+// A path option's check: an empty one names no file or directory (a usage error, exit 2).
+inline const CLI::Validator kNonEmptyPath(
+    [](const std::string& path) { return path.empty() ? std::string("an empty path") : std::string(); }, "PATH");
+
+// The exit code of an internal error (README.md, "Exit codes").
+constexpr int kInternalError = 5;
+
 // Parses `args` (the words after the program's name) with `app`, then returns `run()`'s exit
 // code, or the exit code of the error it throws, said on standard error.
 inline int run_command_line(CLI::App& app, std::vector<std::string> args, const std::function<int()>& run) {
@@ -36,6 +43,11 @@ inline int run_command_line(CLI::App& app, std::vector<std::string> args, const 
   } catch (const io::IoError& e) {
     std::cerr << "sweepgen: error: " << e.what() << "\n";
     return 3;
+  } catch (const std::exception& e) {
+    // Anything else is sweepgen's own fault, not the input's: said, with its own exit code,
+    // instead of std::terminate's abort.
+    std::cerr << "sweepgen: internal error (please report it with the input): " << e.what() << "\n";
+    return kInternalError;
   }
 }
 

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cli/command_line.hpp"
 #include "io/output_files.hpp"
 #include "family/family.hpp"
 
@@ -11,7 +12,7 @@ namespace sweepgen::cli {
 void add_family_command(CLI::App& app, FamilyOptions& options) {
   CLI::App* command = app.add_subcommand(
       "family", "Write the synthetic robots of the numerical-stability suite: DIR/<case>.urdf and DIR/<case>.yaml");
-  command->add_option("--out", options.out, "output directory")->capture_default_str();
+  command->add_option("--out", options.out, "output directory")->capture_default_str()->check(kNonEmptyPath);
   command->add_flag("--list", options.list, "list the cases and what each stresses, write nothing");
   command->add_option("--case", options.cases, "write only this case (repeatable)");
 }
@@ -29,7 +30,7 @@ int run_family(const FamilyOptions& options) {
   for (const auto& name : names) cases.push_back(family::family_case(name));  // all names checked before writing
   std::error_code error;
   std::filesystem::create_directories(options.out, error);
-  if (error) throw io::IoError(options.out + ": cannot create directory (" + error.message() + ")");
+  if (error) throw io::IoError(options.out, "cannot create directory (" + error.message() + ")");
   std::vector<io::OutputFile> files;
   for (const auto& c : cases) {
     const std::filesystem::path stem = std::filesystem::path(options.out) / c.name;

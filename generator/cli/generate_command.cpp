@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cli/command_line.hpp"
 #include "io/output_files.hpp"
 #include "emit/scene_request.hpp"
 #include "emit/solver_emitter.hpp"
@@ -126,7 +127,7 @@ void add_generate_command(CLI::App& app, GenerateOptions& options) {
   CLI::App* command = app.add_subcommand("generate", "Emit the solver a scene describes");
   options.scene.command = "sweepgen generate";
   add_scene_options(command, options.scene);
-  command->add_option("--out", options.out, "output directory (created if missing)")->capture_default_str();
+  command->add_option("--out", options.out, "output directory (created if missing)")->capture_default_str()->check(kNonEmptyPath);
   command->add_option("--file-stem", options.file_stem,
                       "name of the output files inside --out, STEM.hpp/.cpp/.cu/.cmake: letters, digits, '_', '-', '.' "
                       "(default: from the namespace)");
@@ -190,7 +191,7 @@ int run_generate(const GenerateOptions& options) {
 
   std::error_code error;
   std::filesystem::create_directories(options.out, error);
-  if (error) throw io::IoError(options.out + ": cannot create directory (" + error.message() + ")");
+  if (error) throw io::IoError(options.out, "cannot create directory (" + error.message() + ")");
   const std::string default_stem = emit::file_stem(s.solver);
   std::vector<io::OutputFile> files;
   for (auto& file : emitted.files) {

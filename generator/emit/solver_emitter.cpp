@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "emit/constant_check.hpp"
 #include "emit/constraint_rows_choice.hpp"
 #include "emit/derivative_text.hpp"
 #include "emit/function_plan.hpp"
@@ -179,6 +180,7 @@ data derivative_values(const model::Chain& chain, const EmitRequest& request, co
   const std::size_t n = chain.dof(), nc = request.trace.layout.constraints;
   const symbolic::Trace trace = symbolic::trace_derivatives(chain, trace_request, request.derivative_outputs);
   const Plan plan = make_single_pass_plan(trace, "derivatives_");
+  check_constants_finite(trace, plan, chain, trace_request.options, scalar);
   variant.set("derivatives_members", array_members(trace, plan.functions.front().fields, n + 1, true));
   variant.set("batch_derivatives_members", array_members(trace, plan.functions.front().fields, n + 1, true, kBatchMembers));
   data functions{data::type::list};
@@ -227,6 +229,7 @@ data variant_values(const model::Chain& chain, const EmitRequest& request, const
   variant.set("solution_members", array_members(trace, solution_fields, n + 1, true));
   variant.set("batch_solution_members", array_members(trace, solution_fields, n + 1, true, kBatchMembers));
 
+  check_constants_finite(trace, plan, chain, trace_request.options, scalar);
   std::size_t vector_expressions = 0;
   const auto written = write_functions(trace, plan, chain, scalar, vector_expressions);
   variant.set("solves", solve_values(written, request, scalar, variant, result, tally));

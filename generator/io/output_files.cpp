@@ -21,7 +21,7 @@ namespace {
 // An IoError naming `path` (escaped: a path may hold a line break or a terminal's escape), what
 // failed and the system's reason.
 IoError io_error(const std::string& path, const std::string& what, int error) {
-  return IoError(inert_text(path, kShownPathBytes) + ": " + what + " (" + std::strerror(error) + ")");
+  return IoError(path, what + " (" + std::strerror(error) + ")");
 }
 
 // Whether the open file `fd` holds exactly `text`: read block by block, never more than one block
@@ -158,7 +158,7 @@ std::string fnv1a64(const std::string& bytes) {
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot be read");
+  if (!in) throw IoError(path, "cannot be read");
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "model/inert_text.hpp"
+
 namespace sweepgen::io {
 
 struct OutputFile {
@@ -28,9 +30,12 @@ void write_files_atomically(const std::vector<OutputFile>& files);
 // read without end or read through a link.
 bool holds(const std::string& path, const std::string& text);
 
+// A failure to read or write `path`: the path is shown through inert_text, as in InputError.
 class IoError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  IoError(const std::string& path, const std::string& reason)
+      : std::runtime_error(inert_text(path, kShownPathBytes) + ": " + reason) {}
 };
 
 // FNV-1a, 64 bit, as 16 hex digits: the provenance hash of inputs (not a security measure).

@@ -25,10 +25,18 @@ inline std::string message_text(const std::string& text) {
 // '-'), quoted otherwise.
 std::string element_path(const std::string& parent, const std::string& key);
 
+// `file`: the input's path, alone or with ":line:column" (or "command line", an option): shown
+// through inert_text, so that a path holding a line break or a quote cannot split or blur the
+// message. `element` and `reason` quote what they take from the input themselves (quote_name).
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, const std::string& element, const std::string& reason)
-      : std::runtime_error(message_text(file + ": " + element + ": " + reason)) {}
+      : std::runtime_error(message_text(inert_text(file, kShownPathBytes) + ": " + element + ": " + reason)), file_(file) {}
+  // The file part as given, unescaped.
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
 };
 
 // " (did you mean 'x'?)" for the candidate closest to `name` by edit distance, or "".

@@ -1,10 +1,21 @@
 #include "model/input_limits.hpp"
 
+#include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "model/error.hpp"
 
 namespace sweepgen {
+
+std::string magnitude_problem(double value) {
+  const double magnitude = std::abs(value);
+  if (magnitude == 0 || (magnitude >= kSmallestModelNumber && magnitude <= kLargestModelNumber)) return "";
+  std::ostringstream text;
+  text.precision(17);
+  text << value << " is outside the range of a robot's numbers: 0, or 1e-60 to 1e60 in magnitude (README, \"Limits\")";
+  return text.str();
+}
 
 std::string size_text(std::size_t bytes) {
   if (bytes % (std::size_t{1} << 20) == 0) return std::to_string(bytes >> 20) + " MiB";

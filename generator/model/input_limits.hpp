@@ -28,6 +28,18 @@ constexpr std::size_t kMaxInstances = 10000;  // driver instances of a scene (to
 // 1 400-joint chain (solver/constraint_row_steps.hpp).
 constexpr std::size_t kMaxOutwardRowSteps = 1000000;
 
+// The magnitude of a robot's physical numbers (a mass, a diagonal moment of inertia, a gravity
+// component): 0, or within [kSmallestModelNumber, kLargestModelNumber]. Real robots lie within
+// 1e-20..1e20 in SI units (arm_micro's inertias ~1e-11 kg m^2, arm_giant's 1e7); the sweeps
+// multiply and divide up to about five such numbers (m l^2, its inverse, squared in E^A_cstr),
+// which stays within double's 1e+-308 from numbers within 1e+-60, where 1e308 overflows to Inf
+// and a subnormal 4.9e-324 makes 1/D overflow and 0 * Inf a NaN.
+constexpr double kSmallestModelNumber = 1e-60;
+constexpr double kLargestModelNumber = 1e60;
+
+// "" for a number within those bounds, else the reason naming them.
+std::string magnitude_problem(double value);
+
 // "32 MiB" for a size in bytes.
 std::string size_text(std::size_t bytes);
 

@@ -120,6 +120,9 @@ Inertia link_inertia(const urdf::Link& link, const ChainSpec& spec, Chain& chain
   const std::string element = named("link", link.name) + " <inertial>";
   require_finite(file, element, {in.mass, in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz});
   if (in.mass < 0) throw InputError(file, element, "negative mass " + std::to_string(in.mass));
+  for (const auto& [name, value] : {std::pair<const char*, double>{"mass", in.mass}, {"ixx", in.ixx}, {"iyy", in.iyy}, {"izz", in.izz}})
+    if (const std::string problem = magnitude_problem(value); !problem.empty())
+      throw InputError(file, element, std::string(name) + " " + problem);
   Mat3 inertia_com;
   inertia_com << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Mat3>(inertia_com).eigenvalues();
@@ -546,6 +549,12 @@ Chain load_chain(const ChainSpec& spec) {
       throw InputError(urdf_path, "<robot>",
                        std::to_string(count) + " " + kind + " elements, more than the limit of " + std::to_string(limit) +
                            " (README, \"Limits\")");
+  if (outline.declaration_line != 0)
+    throw InputError(urdf_path + ":" + std::to_string(outline.declaration_line) + ":" +
+                         std::to_string(outline.declaration_column),
+                     "XML",
+                     "a document type declaration (<!DOCTYPE ...>): a URDF has no DTD, and TinyXML, the XML reader "
+                     "under urdfdom, reads none (it then finds no 'robot' element); remove it");
 
   urdf::ModelInterfaceSharedPtr model;
   // urdfdom's links own their children: a long chain would be freed by one destructor calling the

@@ -34,6 +34,10 @@ XmlOutline xml_outline(std::string_view text) {
     } else if (starts("<?")) {
       skip_past(i + 2, "?>");
     } else if (starts("<!")) {
+      if (outline.declaration_line == 0) {
+        outline.declaration_line = line;
+        outline.declaration_column = i - (i == 0 ? 0 : text.rfind('\n', i - 1) + 1) + 1;  // npos + 1 is 0
+      }
       skip_past(i + 2, ">");
     } else if (starts("</")) {
       depth -= depth > 0 ? 1 : 0;

@@ -14,6 +14,9 @@ struct XmlOutline {
   std::size_t deepest_line = 0;  // the line (from 1) where that depth is first reached
   std::size_t links = 0;       // <link> elements directly inside the root element
   std::size_t joints = 0;      // <joint> elements directly inside the root element
+  // The first document type declaration (<!DOCTYPE ...>, or any <!...> but a comment or CDATA):
+  // its line and column (from 1; line 0: none).
+  std::size_t declaration_line = 0, declaration_column = 0;
 };
 
 // Scans elements as TinyXML does: comments, CDATA, declarations and <!...> skipped, quoted

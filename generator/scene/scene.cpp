@@ -14,6 +14,7 @@
 #include "model/input_limits.hpp"
 #include "scene/cpp_names.hpp"
 #include "solver/constraint_row_steps.hpp"
+#include "solver/reference_solver.hpp"
 
 namespace sweepgen::scene {
 namespace {
@@ -198,8 +199,10 @@ const std::vector<std::string>& scalar_names() {
 }
 
 // Fixed directions: a list of 6-vectors [moment; force], 1..6 of them, each taken as its unit
-// vector; one not written as unit is said in `notes` (as the URDF loader says of joint axes).
-std::vector<spatial::Force<double>> read_directions(const Reader& reader, const Item& list, std::vector<std::string>& notes) {
+// vector; one not written as unit is said in the scene's notes (as the URDF loader says of joint
+// axes). Each direction's position is recorded under its element path ("...directions[k]"), for
+// the check against the chain (unmovable_direction).
+std::vector<spatial::Force<double>> read_directions(const Reader& reader, const Item& list, Scene& scene) {
   const auto directions = reader.sequence(list);
   if (directions.empty() || directions.size() > solver::kMaxSetDirections)
     reader.fail(list, "at least 1 and at most 6 constraint directions in a set (a body has six), got " +
@@ -224,12 +227,13 @@ std::vector<spatial::Force<double>> read_directions(const Reader& reader, const 
     if (!(v.norm() > 1e-12)) reader.fail(direction, "a zero direction constrains nothing (norm " + std::to_string(v.norm()) + ")");
     v /= v.norm();
     if (v != written)
-      notes.push_back(reader.where(direction) + ": constraint direction " + text(written) + " taken as the unit vector " +
-                      text(v));
+      scene.notes.push_back(reader.where(direction) + ": constraint direction " + text(written) +
+                            " taken as the unit vector " + text(v));
     spatial::Force<double> f;
     f.moment = v.head<3>();
     f.force = v.tail<3>();
     fixed.push_back(f);
+    scene.locations[direction.element] = reader.where(direction);
   }
   return fixed;
 }
@@ -246,7 +250,7 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
   if (value.node.IsMap()) {
     const auto fields = reader.entries(value, keys_under("drivers.constraints"));
     if (fields.empty()) reader.fail(value, "missing key 'directions'");
-    auto fixed = read_directions(reader, fields[0].second, scene.notes);
+    auto fixed = read_directions(reader, fields[0].second, scene);
     add({"", fixed.size(), fixed});
   } else if (value.node.IsSequence()) {
     const auto sets = reader.sequence(value);
@@ -276,7 +280,7 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
                                        std::to_string(count));
         set.count = static_cast<std::size_t>(count);
       } else {
-        set.fixed = read_directions(reader, *directions_item, scene.notes);
+        set.fixed = read_directions(reader, *directions_item, scene);
         set.count = set.fixed.size();
       }
       scene.locations["drivers.constraints[" + std::to_string(c) + "].link"] = reader.where(*link_item);
@@ -529,7 +533,11 @@ Scene load_scene(const std::string& path) {
   if (const auto item = get("gravity")) {
     const auto components = reader.sequence(*item);
     if (components.size() != 3) reader.fail(*item, "expected 3 numbers [x, y, z], got " + std::to_string(components.size()));
-    for (int i = 0; i < 3; ++i) scene.gravity[i] = reader.number(components[i]);
+    for (int i = 0; i < 3; ++i) {
+      scene.gravity[i] = reader.number(components[i]);
+      if (const std::string problem = magnitude_problem(scene.gravity[i]); !problem.empty())
+        reader.fail(components[i], "gravity component " + problem);
+    }
   }
 
   // rotor_inertia and locked_joints: mappings from joint name to a number.
@@ -672,6 +680,52 @@ Scene load_scene(const std::string& path) {
   return scene;
 }
 
+// The element path of fixed direction k of set c: a single set on the tip is the mapping form
+// `constraints: {directions: [...]}`, every other set an entry of the list form.
+std::string direction_element(const solver::ConstraintSet& set, std::size_t c, std::size_t k) {
+  return (set.link.empty() ? std::string("drivers.constraints") : "drivers.constraints[" + std::to_string(c) + "]") +
+         ".directions[" + std::to_string(k) + "]";
+}
+
+// A fixed constraint direction that no joint moves in any configuration (a force along z on a
+// planar arm): its row of the constraint Jacobian is zero, so is its diagonal entry of
+// E^A_cstr,0 (I3), and the pivoted factorisation (C2) would drop it in every state, reporting
+// constraint_rank_deficient on every solve; like a structurally over-determined group of sets,
+// the scene's error. The entry is evaluated once, at an arbitrary state: an exact zero there is a
+// zero of the chain's geometry (the sweeps' products with it are exactly zero), anything else
+// vanishes at such a state with probability zero. Throws InputError at the direction's entry.
+void check_fixed_directions_move(const Scene& scene, const model::Chain& chain) {
+  if (chain.floating_base || scene.layout.constraints == 0) return;  // a free base moves along every direction
+  solver::ReferenceSolver<double> reference(chain, scene.layout, scene.solver_options());
+  solver::SolveInputs<double> inputs;
+  const std::size_t n = chain.dof();
+  inputs.q = solver::JointVector<double>::LinSpaced(static_cast<Eigen::Index>(n), 0.3, 1.7);  // no quarter turn
+  inputs.qd = solver::JointVector<double>::Zero(static_cast<Eigen::Index>(n));
+  inputs.torques.assign(scene.layout.torques.size(), inputs.qd);
+  inputs.wrenches.resize(scene.layout.external_forces.size());
+  inputs.alpha = solver::directions_with(scene.layout, [] { return spatial::Force<double>{{0, 0, 0}, {0, 0, 1}}; });
+  inputs.beta = solver::ConstraintVector<double>::Zero(static_cast<Eigen::Index>(scene.layout.constraints));
+  reference.prepare(inputs);
+  const auto& energy = reference.articulated().body[0].constraint_energy;
+  const std::vector<std::string> links = solver::direction_links(scene.layout, chain);
+  Eigen::Index row = 0;
+  for (std::size_t c = 0; c < scene.layout.sets.size(); ++c) {
+    const solver::ConstraintSet& set = scene.layout.sets[c];
+    for (std::size_t k = 0; k < set.count; ++k, ++row) {
+      if (!set.directions_fixed() || energy(row, row) != 0) continue;
+      const spatial::Force<double>& alpha = set.fixed[k];
+      std::ostringstream direction;
+      direction << "[" << alpha.moment[0] << ", " << alpha.moment[1] << ", " << alpha.moment[2] << ", " << alpha.force[0]
+                << ", " << alpha.force[1] << ", " << alpha.force[2] << "]";
+      const std::string element = direction_element(set, c, k);
+      throw InputError(scene.location(element), element,
+                       "no joint moves link " + quote_name(links[static_cast<std::size_t>(row)]) + " along " +
+                           direction.str() + " in any configuration: the direction would be dropped in every state "
+                           "(status constraint_rank_deficient on every solve); leave it out");
+    }
+  }
+}
+
 model::Chain load_scene_chain(const Scene& scene) {
   const model::ChainSpec& spec = scene.chain;
   // URDF problems carry the URDF's own file/element/reason; prefix the scene entry that led there.
@@ -680,7 +734,8 @@ model::Chain load_scene_chain(const Scene& scene) {
       return model::load_chain(s);
     } catch (const InputError& e) {
       const std::string message = e.what();
-      if (message.rfind(s.urdf + ":", 0) != 0) throw;  // already names the scene (rotor inertia)
+      const bool from_urdf = e.file() == s.urdf || e.file().rfind(s.urdf + ":", 0) == 0;
+      if (!from_urdf) throw;  // already names the scene (rotor inertia)
       std::string element = "urdf";  // names are compared as the message spells them (message_text)
       if (!s.root_link.empty() && message.find(message_text("root link " + quote_name(s.root_link))) != std::string::npos)
         element = "root";
@@ -748,6 +803,7 @@ model::Chain load_scene_chain(const Scene& scene) {
   if (const std::string problem = solver::structurally_overdetermined(scene.layout.constraint_sets(), chain); !problem.empty())
     throw InputError(scene.location("drivers.constraints"), "drivers.constraints", problem);
   solver::validate(scene.layout, chain, scene.path.empty() ? "command line" : scene.path);
+  check_fixed_directions_move(scene, chain);
   // The rows (I6) take steps with the square of a chain's length (solver/constraint_row_steps.hpp).
   if (scene.constraint_rows == solver::ConstraintRows::outward_rows) {
     const solver::ConstraintRowSteps steps = solver::constraint_row_steps(chain, scene.layout);
