@@ -14,11 +14,17 @@ struct XmlOutline {
   std::size_t deepest_line = 0;  // the line (from 1) where that depth is first reached
   std::size_t links = 0;       // <link> elements directly inside the root element
   std::size_t joints = 0;      // <joint> elements directly inside the root element
+  // Elements at any depth, counted to one past kMaxXmlElements, where the scan stops: the element
+  // that passes the limit (the name as written) and its line, where one does.
+  std::size_t elements = 0;
+  std::string_view element_past_limit;
+  std::size_t element_past_limit_line = 0;
 };
 
 // Scans elements as TinyXML does: comments, CDATA, declarations and <!...> skipped, quoted
 // attribute values stepped over, `<name ... />` empty; the text ends at its first NUL (where
 // the parser stops). Never below what the parser nests: a malformed file may count deeper.
+// The text's characters up to the element past kMaxXmlElements, none after.
 XmlOutline xml_outline(std::string_view text);
 
 }  // namespace sweepgen::model
