@@ -1029,6 +1029,44 @@ TEST(CliInputs, ASceneInAPipeAndItsUrdfInAPipeAreReadOnce) {
   EXPECT_EQ(snapshot(from_pipes), snapshot(from_files));
 }
 
+// ---- What the provenance line hashes ----------------------------------------------------------
+
+// The header's first line hashes the model and scene as read, not the files' bytes: a comment or
+// white space added to the URDF and the scene leaves every output byte as it was (a build
+// recompiles nothing); one digit of a mass changes the line.
+TEST(CliGenerate, EditsThatChangeNoNumberOrNameLeaveTheOutputAsItWas) {
+  test::TempDir dir;
+  const std::string urdf = test::read_text(kPlanar);
+  const std::string scene = test::read_text(kSource + "/robots/planar/planar_nc2.yaml");
+  const auto generate = [&](const std::string& name, const std::string& urdf_text, const std::string& scene_text) {
+    fs::create_directories(dir.path() / name);
+    std::ofstream(dir.path() / name / "planar_rpr.urdf", std::ios::binary) << urdf_text;
+    std::ofstream(dir.path() / name / "planar_nc2.yaml", std::ios::binary) << scene_text;
+    const fs::path out = dir.path() / name / "out";
+    const CommandResult r = sweepgen({"generate", "--scene", (dir.path() / name / "planar_nc2.yaml").string(), "--out", out.string()});
+    EXPECT_EQ(r.exit_code, 0) << describe(r);
+    return snapshot(out);
+  };
+  const auto as_read = generate("as_read", urdf, scene);
+  ASSERT_EQ(names(as_read), (std::vector<std::string>{"planar_nc2.cmake", "planar_nc2.cpp", "planar_nc2.cu", "planar_nc2.hpp"}));
+
+  const auto replaced = [](std::string text, const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  };
+  const std::string commented_urdf = replaced(replaced(urdf, "<mass value=\"5\"/>", "<mass   value = \"5\" />\n<!-- edited -->"),
+                                              "</robot>", "\n\n</robot>\n<!-- the end -->");
+  const std::string commented_scene =
+      replaced(replaced(scene, "tip: tool", "tip:   tool   # the tool\n\n"), "gravity: [0, -9.81, 0]", "gravity: [ 0,-9.81,  0 ]");
+  EXPECT_EQ(generate("commented", commented_urdf, commented_scene), as_read);
+
+  const auto heavier = generate("heavier", replaced(urdf, "<mass value=\"5\"/>", "<mass value=\"6\"/>"), scene);
+  const auto first_line = [](const std::string& text) { return text.substr(0, text.find('\n')); };
+  EXPECT_NE(first_line(heavier.at("planar_nc2.hpp")), first_line(as_read.at("planar_nc2.hpp")));
+  expect_contains(first_line(as_read.at("planar_nc2.hpp")), "of their numbers and names as read, not of the files' bytes");
+}
+
 }  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen
