@@ -65,8 +65,8 @@ struct Scene {
 Scene load_scene(const std::string& path);
 
 // Reads the scene's URDF into scene.chain.urdf_bytes, unless it has been read: every later
-// load_scene_chain (and an oracle reading the same robot) takes those bytes, so a command reads
-// each input once. Errors as load_scene_chain's, at the scene's 'urdf' entry.
+// load_scene_chain takes those bytes, so a command reads each input once. Errors as
+// load_scene_chain's, at the scene's 'urdf' entry.
 void read_scene_urdf(Scene& scene);
 
 // Loads the scene's chain (model::load_chain) and checks the scene's names against it: rotor
