@@ -997,6 +997,102 @@ TEST(CliGenerate, UnchangedOutputIsLeftUntouched) {
   EXPECT_FALSE(has_temporaries(dir.path()));
 }
 
+
+// ---- Each input read once --------------------------------------------------------------------
+
+// `args` run while each of `pipes` (a named pipe made here, by path) is filled once from its
+// source file by a writer of its own, as `--urdf <(cat r.urdf)` fills one: a second open of a
+// pipe waits for a writer that never comes, so the command and each writer run under a timeout
+// (the command's exit 124), and a regression fails instead of hanging.
+CommandResult sweepgen_with_pipes(const std::vector<std::string>& args, const std::map<fs::path, std::string>& pipes) {
+  std::string command;
+  for (const auto& [pipe, source] : pipes)
+    command += "mkfifo " + test::shell_quote(pipe.string()) + " && { timeout 60 sh -c " +
+               test::shell_quote("cat " + test::shell_quote(source) + " > " + test::shell_quote(pipe.string())) +
+               " >/dev/null 2>&1 & } && ";
+  std::vector<std::string> words{"timeout", "60", SWEEPGEN_EXECUTABLE};
+  words.insert(words.end(), args.begin(), args.end());
+  return test::run_command(command + test::shell_command(words));
+}
+
+// A URDF in a pipe: info, generate (the same files as from the file) and solve read it once. The
+// URDF was read three times (the default scene's chain, the command's, the provenance hash).
+TEST(CliInputs, AUrdfInAPipeIsReadOnce) {
+  test::TempDir dir;
+  const fs::path pipe = dir.path() / "planar_rpr.urdf";  // the name the files are named after
+  const CommandResult info = sweepgen_with_pipes({"info", "--urdf", pipe.string()}, {{pipe, kPlanar}});
+  EXPECT_EQ(info.exit_code, 0) << describe(info);
+  expect_contains(info.out, "3 moving joints");
+  fs::remove(pipe);
+
+  const fs::path from_pipe = dir.path() / "from_pipe", from_file = dir.path() / "from_file";
+  const CommandResult piped =
+      sweepgen_with_pipes({"generate", "--urdf", pipe.string(), "--out", from_pipe.string()}, {{pipe, kPlanar}});
+  EXPECT_EQ(piped.exit_code, 0) << describe(piped);
+  fs::remove(pipe);
+  ASSERT_EQ(sweepgen({"generate", "--urdf", kPlanar, "--out", from_file.string()}).exit_code, 0);
+  EXPECT_EQ(snapshot(from_pipe), snapshot(from_file));
+
+  const CommandResult solve = sweepgen_with_pipes({"solve", "--urdf", pipe.string(), "--tip", "tool", "--input",
+                                                   dir.write("in.jsonl", "{\"q\": [0, 0, 0], \"qd\": [0, 0, 0]}\n")},
+                                                  {{pipe, kPlanar}});
+  EXPECT_EQ(solve.exit_code, 0) << describe(solve);
+  expect_contains(solve.out, "\"qdd\"");
+}
+
+// A scene in a pipe naming a URDF in a pipe, with rotor inertias (whose names the scene reader
+// checks on a chain loaded without them, before the chain with them): each read once. The scene
+// was read twice (the reader, the provenance hash), the URDF three times.
+TEST(CliInputs, ASceneInAPipeAndItsUrdfInAPipeAreReadOnce) {
+  test::TempDir dir;
+  const fs::path scene = dir.path() / "planar_nc2.yaml", urdf = dir.path() / "planar_rpr.urdf";
+  const std::string scene_source = kSource + "/robots/planar/planar_nc2.yaml";
+  const fs::path from_pipes = dir.path() / "from_pipes", from_files = dir.path() / "from_files";
+  const CommandResult r = sweepgen_with_pipes({"generate", "--scene", scene.string(), "--out", from_pipes.string()},
+                                              {{scene, scene_source}, {urdf, kPlanar}});
+  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  ASSERT_EQ(sweepgen({"generate", "--scene", scene_source, "--out", from_files.string()}).exit_code, 0);
+  EXPECT_EQ(snapshot(from_pipes), snapshot(from_files));
+}
+
+// ---- What the provenance line hashes ----------------------------------------------------------
+
+// The header's first line hashes the model and scene as read, not the files' bytes: a comment or
+// white space added to the URDF and the scene leaves every output byte as it was (a build
+// recompiles nothing); one digit of a mass changes the line.
+TEST(CliGenerate, EditsThatChangeNoNumberOrNameLeaveTheOutputAsItWas) {
+  test::TempDir dir;
+  const std::string urdf = test::read_text(kPlanar);
+  const std::string scene = test::read_text(kSource + "/robots/planar/planar_nc2.yaml");
+  const auto generate = [&](const std::string& name, const std::string& urdf_text, const std::string& scene_text) {
+    fs::create_directories(dir.path() / name);
+    std::ofstream(dir.path() / name / "planar_rpr.urdf", std::ios::binary) << urdf_text;
+    std::ofstream(dir.path() / name / "planar_nc2.yaml", std::ios::binary) << scene_text;
+    const fs::path out = dir.path() / name / "out";
+    const CommandResult r = sweepgen({"generate", "--scene", (dir.path() / name / "planar_nc2.yaml").string(), "--out", out.string()});
+    EXPECT_EQ(r.exit_code, 0) << describe(r);
+    return snapshot(out);
+  };
+  const auto as_read = generate("as_read", urdf, scene);
+  ASSERT_EQ(names(as_read), (std::vector<std::string>{"planar_nc2.cmake", "planar_nc2.cpp", "planar_nc2.cu", "planar_nc2.hpp"}));
+
+  const auto replaced = [](std::string text, const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  };
+  const std::string commented_urdf = replaced(replaced(urdf, "<mass value=\"5\"/>", "<mass   value = \"5\" />\n<!-- edited -->"),
+                                              "</robot>", "\n\n</robot>\n<!-- the end -->");
+  const std::string commented_scene =
+      replaced(replaced(scene, "tip: tool", "tip:   tool   # the tool\n\n"), "gravity: [0, -9.81, 0]", "gravity: [ 0,-9.81,  0 ]");
+  EXPECT_EQ(generate("commented", commented_urdf, commented_scene), as_read);
+
+  const auto heavier = generate("heavier", replaced(urdf, "<mass value=\"5\"/>", "<mass value=\"6\"/>"), scene);
+  const auto first_line = [](const std::string& text) { return text.substr(0, text.find('\n')); };
+  EXPECT_NE(first_line(heavier.at("planar_nc2.hpp")), first_line(as_read.at("planar_nc2.hpp")));
+  expect_contains(first_line(as_read.at("planar_nc2.hpp")), "of their numbers and names as read, not of the files' bytes");
+}
+
 }  // namespace SWEEPGEN_TEST_FILE
 }  // namespace
 }  // namespace sweepgen

@@ -404,6 +404,37 @@ TEST(HostileInputs, OtherLimitsAreNamed) {
   EXPECT_TRUE(contains(c.err, "key 'constraints': at most 24 directions in all, got 25 sets")) << c.err;
 }
 
+// Inputs within the size limits cost some 300 times their size in the readers' trees: an 8 MiB
+// scene `gravity: [0,0,0,...]` took 31 s and 2.5 GB before "expected 3 numbers", a 32 MiB URDF of
+// `<a/>` elements 19 s and 1.9 GB before it was accepted. Both are now refused by their outline,
+// before the trees (the messages are the outline checks'; bench/input_scaling.sh measures time
+// and memory).
+TEST(HostileInputs, LongSequencesAndManyElementsAreRefusedByTheirOutline) {
+  const test::TempDir dir;
+  std::string zeros = "sweepgen_scene: 1\nsolver: s\nurdf: robot.urdf\ngravity: [0";
+  while (zeros.size() < kMaxSceneBytes - 16) zeros += ",0";
+  const CommandResult gravity = sweepgen({"info", "--scene", dir.write("gravity.yaml", zeros + "]\n")});
+  EXPECT_EQ(gravity.exit_code, 1) << describe(gravity);
+  EXPECT_TRUE(contains(gravity.err, "gravity.yaml:4:10: gravity: a sequence of more than 100000 entries, more than any "
+                                    "scene key takes (the limit")) << gravity.err;
+
+  // Short sequences, many of them: the count of all values.
+  std::string lists = "sweepgen_scene: 1\nsolver: s\nurdf: robot.urdf\ngravity: [";
+  std::string hundred = "[0";  // a sequence and 99 numbers
+  for (int k = 1; k < 99; ++k) hundred += ",0";
+  for (std::size_t k = 0; k <= kMaxYamlNodes / 100; ++k) lists += hundred + "],";
+  const CommandResult values = sweepgen({"info", "--scene", dir.write("values.yaml", lists + "]\n")});
+  EXPECT_EQ(values.exit_code, 1) << describe(values);
+  EXPECT_TRUE(contains(values.err, ": gravity[")) << values.err;
+  EXPECT_TRUE(contains(values.err, "]: more than 200000 values in the scene, the limit")) << values.err;
+
+  std::string elements = "<robot name=\"r\">\n";
+  while (elements.size() < kMaxUrdfBytes - 16) elements += "<a/>";
+  const CommandResult a = sweepgen({"info", "--urdf", dir.write("elements.urdf", elements + "\n</robot>\n")});
+  EXPECT_EQ(a.exit_code, 1) << describe(a);
+  EXPECT_TRUE(contains(a.err, "elements.urdf:2: <a>: more than 1000000 XML elements, the limit")) << a.err;
+}
+
 // A list of 10 000 children and a 1 MB token were echoed whole (an 89 KB line; the token twice).
 TEST(HostileInputs, MessagesStayShort) {
   const test::TempDir dir;

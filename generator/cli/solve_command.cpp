@@ -143,8 +143,7 @@ int answer_lines(const SolveOptions& options, const Answer& answer) {
     try {
       const nlohmann::json parsed = nlohmann::json::parse(text);
       refuse_hidden_json(text);
-      std::cout << json_text(answer(parsed)) << "
-";
+      std::cout << json_text(answer(parsed)) << "\n";
     } catch (const nlohmann::json::parse_error& e) {
       report(line, json_error_reason(e));
     } catch (const std::exception& e) {

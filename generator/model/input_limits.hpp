@@ -20,6 +20,16 @@ constexpr std::size_t kMaxJudgedBytes = std::size_t{256} << 20;
 constexpr std::size_t kMaxXmlDepth = 100;
 // Collections inside collections in a scene: the YAML reader's own guard (yaml-cpp's DepthGuard).
 constexpr std::size_t kMaxYamlDepth = 2000;
+// Entries of one sequence or mapping in a scene: ten times what any key takes (driver instances,
+// locked joints and tips are bounded by kMaxInstances, kMaxJoints and kMaxLinks), so that a key's
+// own limit speaks first.
+constexpr std::size_t kMaxYamlItems = 100000;
+// Values (scalars and collections) in a scene: the YAML reader spends some 600 bytes on each,
+// counted before it builds them (scene/yaml_outline.hpp).
+constexpr std::size_t kMaxYamlNodes = 200000;
+// Elements in a URDF: TinyXML spends some 250 bytes on each, counted before it reads them
+// (xml_nesting.hpp); a link or joint takes a few to a few dozen.
+constexpr std::size_t kMaxXmlElements = 1000000;
 constexpr std::size_t kMaxLinks = 10000;   // <link> elements of a URDF
 constexpr std::size_t kMaxJoints = 10000;  // <joint> elements of a URDF
 constexpr std::size_t kMaxInstances = 10000;  // driver instances of a scene (torques and external forces)

@@ -533,11 +533,16 @@ void apply_rotor_inertia(Chain& chain, const std::map<std::string, double>& roto
 
 }  // namespace
 
+std::shared_ptr<const std::string> read_urdf(const std::string& path) {
+  return std::make_shared<const std::string>(read_input_file(path, kMaxUrdfBytes, "URDF"));
+}
+
 Chain load_chain(const ChainSpec& spec) {
   const std::string& urdf_path = spec.urdf;
   const std::string& root_link = spec.root_link;
   const std::string& tip_link = spec.tip_link;
-  const std::string text = read_input_file(urdf_path, kMaxUrdfBytes, "URDF");
+  const std::shared_ptr<const std::string> bytes = spec.urdf_bytes ? spec.urdf_bytes : read_urdf(urdf_path);
+  const std::string& text = *bytes;
   // Before the parser: its recursion follows the nesting, its memory the elements.
   const XmlOutline outline = xml_outline(text);
   if (outline.depth > kMaxXmlDepth)
@@ -555,6 +560,11 @@ Chain load_chain(const ChainSpec& spec) {
                      "XML",
                      "a document type declaration (<!DOCTYPE ...>): a URDF has no DTD, and TinyXML, the XML reader "
                      "under urdfdom, reads none (it then finds no 'robot' element); remove it");
+  if (outline.elements > kMaxXmlElements)
+    throw InputError(urdf_path + ":" + std::to_string(outline.element_past_limit_line),
+                     "<" + inert_text(outline.element_past_limit) + ">",
+                     "more than " + std::to_string(kMaxXmlElements) +
+                         " XML elements, the limit (README, \"Limits\"; a link or joint takes a few to a few dozen); not read further");
 
   urdf::ModelInterfaceSharedPtr model;
   // urdfdom's links own their children: a long chain would be freed by one destructor calling the

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,14 @@ struct ChainSpec {
   // How the user names the tip, for the message when an empty tip_link cannot be found (the tree
   // branches): the scene's keys, or the command line's flags with the command that was run.
   std::string naming_the_tip = "the scene key 'tip' (for a tree, 'tips')";
+  // The URDF's bytes once read (read_urdf), parsed in place of reading `urdf` again: a command
+  // reads each input once, so that a pipe (--urdf <(cat r.urdf)) works and every step of the
+  // command sees the same bytes. Null: load_chain reads `urdf` itself.
+  std::shared_ptr<const std::string> urdf_bytes;
 };
+
+// The bytes of the URDF file at `path`, at most kMaxUrdfBytes of them (read_input_file).
+std::shared_ptr<const std::string> read_urdf(const std::string& path);
 
 // Reads and validates the chain, lumping every link that a moving body carries (chain.hpp).
 // Throws InputError naming the file, element and reason on anything invalid, including a last

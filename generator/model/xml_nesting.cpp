@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "model/input_limits.hpp"
+
 namespace sweepgen::model {
 
 XmlOutline xml_outline(std::string_view text) {
@@ -51,6 +53,11 @@ XmlOutline xml_outline(std::string_view text) {
       std::size_t end = i + 1;
       while (end < text.size() && text[end] != '>' && text[end] != '/' && static_cast<unsigned char>(text[end]) > ' ') ++end;
       const std::string_view name = text.substr(i + 1, end - i - 1);
+      if (++outline.elements > kMaxXmlElements) {
+        outline.element_past_limit = name;
+        outline.element_past_limit_line = line;
+        break;
+      }
       if (depth == 2) {
         outline.links += name == "link" ? 1 : 0;
         outline.joints += name == "joint" ? 1 : 0;

@@ -17,11 +17,17 @@ struct XmlOutline {
   // The first document type declaration (<!DOCTYPE ...>, or any <!...> but a comment or CDATA):
   // its line and column (from 1; line 0: none).
   std::size_t declaration_line = 0, declaration_column = 0;
+  // Elements at any depth, counted to one past kMaxXmlElements, where the scan stops: the element
+  // that passes the limit (the name as written) and its line, where one does.
+  std::size_t elements = 0;
+  std::string_view element_past_limit;
+  std::size_t element_past_limit_line = 0;
 };
 
 // Scans elements as TinyXML does: comments, CDATA, declarations and <!...> skipped, quoted
 // attribute values stepped over, `<name ... />` empty; the text ends at its first NUL (where
 // the parser stops). Never below what the parser nests: a malformed file may count deeper.
+// The text's characters up to the element past kMaxXmlElements, none after.
 XmlOutline xml_outline(std::string_view text);
 
 }  // namespace sweepgen::model

@@ -13,6 +13,7 @@
 #include "model/error.hpp"
 #include "model/input_limits.hpp"
 #include "scene/cpp_names.hpp"
+#include "scene/yaml_outline.hpp"
 #include "solver/constraint_row_steps.hpp"
 #include "solver/reference_solver.hpp"
 
@@ -437,6 +438,7 @@ Scene load_scene(const std::string& path) {
   const std::string text = read_input_file(path, kMaxSceneBytes, "scene");
   YAML::Node document;
   try {
+    check_yaml_outline(text, path);  // before the nodes: their memory follows the entries
     refuse_unread_yaml(text, path);
     document = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
@@ -680,6 +682,8 @@ Scene load_scene(const std::string& path) {
   return scene;
 }
 
+namespace {
+
 // The element path of fixed direction k of set c: a single set on the tip is the mapping form
 // `constraints: {directions: [...]}`, every other set an entry of the list form.
 std::string direction_element(const solver::ConstraintSet& set, std::size_t c, std::size_t k) {
@@ -726,33 +730,48 @@ void check_fixed_directions_move(const Scene& scene, const model::Chain& chain) 
   }
 }
 
+// `step` (reading or loading the URDF of `s`, the scene's chain) with the URDF's own
+// file/element/reason prefixed by the scene entry that led there.
+template <class Step>
+auto at_scene_entry(const Scene& scene, const model::ChainSpec& s, const Step& step) {
+  try {
+    return step();
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    const bool from_urdf = e.file() == s.urdf || e.file().rfind(s.urdf + ":", 0) == 0;
+    if (!from_urdf) throw;  // already names the scene (rotor inertia)
+    std::string element = "urdf";  // names are compared as the message spells them (message_text)
+    if (!s.root_link.empty() && message.find(message_text("root link " + quote_name(s.root_link))) != std::string::npos)
+      element = "root";
+    // A tip the message names ("tip link 'x'", or "links 'root' and 'x'" not connected): at its
+    // own entry of a `tips` list where the scene has one.
+    std::vector<std::string> tips;
+    if (!s.tip_link.empty()) tips.push_back(s.tip_link);
+    tips.insert(tips.end(), s.branch_tips.begin(), s.branch_tips.end());
+    for (std::size_t k = 0; k < tips.size(); ++k)
+      if (message.find(message_text("tip link " + quote_name(tips[k]))) != std::string::npos ||
+          message.find(message_text("and " + quote_name(tips[k]) + ":")) != std::string::npos) {
+        const std::string entry = "tips[" + std::to_string(k) + "]";
+        element = scene.locations.count(entry) ? entry : "tip";
+      }
+    throw InputError(scene.location(element), element, message);
+  }
+}
+
+// The scene's URDF bytes: those already read, else the file's.
+std::shared_ptr<const std::string> urdf_bytes(const Scene& scene) {
+  if (scene.chain.urdf_bytes) return scene.chain.urdf_bytes;
+  return at_scene_entry(scene, scene.chain, [&] { return model::read_urdf(scene.chain.urdf); });
+}
+
+}  // namespace
+
+void read_scene_urdf(Scene& scene) { scene.chain.urdf_bytes = urdf_bytes(scene); }
+
 model::Chain load_scene_chain(const Scene& scene) {
-  const model::ChainSpec& spec = scene.chain;
-  // URDF problems carry the URDF's own file/element/reason; prefix the scene entry that led there.
-  const auto load = [&](const model::ChainSpec& s) {
-    try {
-      return model::load_chain(s);
-    } catch (const InputError& e) {
-      const std::string message = e.what();
-      const bool from_urdf = e.file() == s.urdf || e.file().rfind(s.urdf + ":", 0) == 0;
-      if (!from_urdf) throw;  // already names the scene (rotor inertia)
-      std::string element = "urdf";  // names are compared as the message spells them (message_text)
-      if (!s.root_link.empty() && message.find(message_text("root link " + quote_name(s.root_link))) != std::string::npos)
-        element = "root";
-      // A tip the message names ("tip link 'x'", or "links 'root' and 'x'" not connected): at its
-      // own entry of a `tips` list where the scene has one.
-      std::vector<std::string> tips;
-      if (!s.tip_link.empty()) tips.push_back(s.tip_link);
-      tips.insert(tips.end(), s.branch_tips.begin(), s.branch_tips.end());
-      for (std::size_t k = 0; k < tips.size(); ++k)
-        if (message.find(message_text("tip link " + quote_name(tips[k]))) != std::string::npos ||
-            message.find(message_text("and " + quote_name(tips[k]) + ":")) != std::string::npos) {
-          const std::string entry = "tips[" + std::to_string(k) + "]";
-          element = scene.locations.count(entry) ? entry : "tip";
-        }
-      throw InputError(scene.location(element), element, message);
-    }
-  };
+  model::ChainSpec spec = scene.chain;
+  spec.urdf_bytes = urdf_bytes(scene);  // read once for both loads below
+  const auto load = [&](const model::ChainSpec& s) { return at_scene_entry(scene, s, [&] { return model::load_chain(s); }); };
 
   // Check the rotor-inertia names at their own positions first (the loader knows only one
   // position for the whole map). Without the rotor inertias the chain may fail the D_N check;
@@ -841,6 +860,7 @@ Scene default_scene(const std::string& urdf, const std::string& root, const std:
   if (!tip.empty()) scene.locations["tip"] = "--tip";
   if (!branch_tips.empty()) scene.locations["tip"] = "--branch-tip";
   scene.layout.decompose_all();  // the bias alone, until the tip is known
+  read_scene_urdf(scene);  // kept: the command's later load_scene_chain parses the same bytes
   const model::Chain chain = load_scene_chain(scene);  // resolves root and tip
   scene.chain.root_link = chain.root_link;
   scene.chain.tip_link = chain.tip_link;

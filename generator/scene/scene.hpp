@@ -67,6 +67,11 @@ struct Scene {
 // YAML syntax errors included.
 Scene load_scene(const std::string& path);
 
+// Reads the scene's URDF into scene.chain.urdf_bytes, unless it has been read: every later
+// load_scene_chain takes those bytes, so a command reads each input once. Errors as
+// load_scene_chain's, at the scene's 'urdf' entry.
+void read_scene_urdf(Scene& scene);
+
 // Loads the scene's chain (model::load_chain) and checks the scene's names against it: rotor
 // inertia joints exist, external-force links are on the chain and not fixed to the base, and
 // solver::validate. Errors name the scene location of the offending entry; errors inside the
