@@ -3,7 +3,7 @@
 # peer's problems: Nc = 0, ∂q̈/∂(q, q̇, τ); a 6-D contact at the hand, ∂q̈ and ∂ν) in instructions per
 # call of derivatives_original_flat at `-O2` and at `-O3 -march=x86-64-v3`, beside Pinocchio 3.7 +
 # CppADCodeGen's figures (measured outside this repository), and the ratio ours / peer's
-# (bench/README.md, "Derivatives").
+# (bench/docs/generated-code.md, "Derivatives").
 #
 #   bash bench/derivatives_against_peer.sh [build dir, default build]     (CALLS, default 100)
 #

@@ -74,7 +74,7 @@ function(sweepgen_cuda_library target)
 endfunction()
 
 # The ISAs whose batch entry points a solver library built without ARCH carries beside the
-# baseline's on x86-64 with GCC or clang (README, "Batches and GPUs"): each a second compile of the
+# baseline's on x86-64 with GCC or clang (docs/generated-code.md, "Batches and GPUs"): each a second compile of the
 # generated source with -march=<isa> -ffp-contract=off (no fused multiply-adds: every state's
 # values stay the flat call's, bit for bit). Empty: none (the batch entry points then run in the
 # baseline's two-double lanes). The batch code's compile time, once per ISA: bench/README.md.

@@ -329,7 +329,7 @@ std::size_t policy_index(const Table& table, const std::string& policy) {
   }
 
 // Index of `policy` among a variant's derivative functions. A policy of the scene without one is
-// not differentiable (README, "Derivatives": the saturating policies clamp, a kink in the solve):
+// not differentiable (docs/generated-code.md, "Derivatives": the saturating policies clamp, a kink in the solve):
 // the ValueError says so, not that the scene lacks the policy.
 template <class Derived>
 std::size_t derivative_index(const std::string& policy) {

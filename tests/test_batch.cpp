@@ -6,7 +6,7 @@
 // direction twice, both rank-deficient, so (C4)'s pivoted path; a NaN in one input; the torques
 // 1000 times their range, saturation); 64 states drawn alone follow, so that every lane width has
 // whole groups that do not part, and 267 states leave a partial group at the end.
-// Three builds of the scene (README, "Batches and GPUs"):
+// Three builds of the scene (docs/generated-code.md, "Batches and GPUs"):
 //  - sweepgen_add_solver's without ARCH (cmake/SweepgenAddSolver.cmake, sweepgen_solver_library):
 //    the source at the x86-64 baseline with SWEEPGEN_BATCH_X86_64_V3 and _V4, and once more per
 //    ISA with SWEEPGEN_BATCH_ISA, -march=<ISA> -ffp-contract=off. The entry points the program

@@ -1,4 +1,4 @@
-// Bad inputs at run time, reference solver (README, "Bad input at run time"): NaN or Inf in
+// Bad inputs at run time, reference solver (docs/generated-code.md, "Bad input at run time"): NaN or Inf in
 // any input (q, q̇, τff, F_ext, α, E_cstr) raises status_not_finite, a clean problem does not,
 // and the flag follows each sweep's own inputs (a clean re-decompose or re-solve clears it).
 // A zero constraint direction is a rank-deficient constraint, not a non-finite one. The

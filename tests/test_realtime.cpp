@@ -1,4 +1,4 @@
-// Real-time guarantees of the generated code (README, "Real-time use"), proven on the code itself:
+// Real-time guarantees of the generated code (docs/generated-code.md, "Real-time use"), proven on the code itself:
 //   - no heap allocation: this binary replaces operator new/delete (every variant) and the
 //     malloc family, counts every call while the generated functions run on random inputs, and
 //     asserts zero (and that the counter does count: AllocationCounter.SeesAnAllocation);

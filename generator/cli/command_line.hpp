@@ -20,7 +20,7 @@ namespace sweepgen::cli {
 inline const CLI::Validator kNonEmptyPath(
     [](const std::string& path) { return path.empty() ? std::string("an empty path") : std::string(); }, "PATH");
 
-// The exit code of an internal error (README.md, "Exit codes").
+// The exit code of an internal error (docs/exit-codes.md, "Exit codes").
 constexpr int kInternalError = 5;
 
 // Parses `args` (the words after the program's name) with `app`, then returns `run()`'s exit

@@ -325,7 +325,7 @@ class ModuleTest:
 
 
 class DerivativeModuleTest:
-    """derivatives() of a module whose scene has derivatives: true (README "Derivatives"); subclassed per
+    """derivatives() of a module whose scene has derivatives: true (docs/generated-code.md, "Derivatives"); subclassed per
     scene below (STEM, SCENE).
       - batched calls return (K, rows, columns) blocks equal to single calls bit for bit;
       - the values qdd, nu, tau_cmd against solve() on the same state: the same traced operations in
