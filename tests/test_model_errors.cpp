@@ -76,7 +76,8 @@ TEST(ModelErrors, LoadedInertiasAreExactlySymmetric) {
 // XML that urdfdom rejects, with urdfdom's reason.
 TEST(ModelErrors, MalformedXml) {
   const std::string message = load_error("<robot name='x'><link name='a'></robot");
-  expect_contains(message, "robot.urdf:1:32: XML: not well-formed: ");
+  // The end tag </robot> comes while <link> is open: said where <link> opened (xml_syntax).
+  expect_contains(message, "robot.urdf:1:17: <link>: not well-formed: this element has no end tag (</robot> at 1:32 comes first)");
   const std::string urdf = load_error("<robot name='x'>\n  <link name='a'/>\n  <joint name='j' type='sliding'/>\n</robot>");
   expect_contains(urdf, "robot.urdf: <robot>: not a valid URDF");
 }

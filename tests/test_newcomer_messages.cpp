@@ -39,7 +39,7 @@ std::string link(const std::string& name) {
 std::string joint(const std::string& name, const std::string& type, const std::string& parent, const std::string& child,
                   const std::string& extra = "") {
   return "<joint name=\"" + name + "\" type=\"" + type + "\"><parent link=\"" + parent + "\"/><child link=\"" + child +
-         "\"/><origin xyz=\"0 0 0.1\"/><axis xyz=\"0 0 1\"/>" +
+         "\"/><origin xyz=\"0.1 0 0.1\"/><axis xyz=\"0 0 1\"/>" +
          (type == "fixed" ? "" : "<limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"1\"/>") + extra + "</joint>\n";
 }
 
@@ -139,6 +139,25 @@ TEST(NewcomerMessages, KdlRowSuggestsTheRootBelowTheFixedJoints) {
   EXPECT_TRUE(contains(why, "world_joint is fixed before the last moving joint; root: base_link (the scene key)")) << why;
   spec.root_link = "base_link";
   EXPECT_TRUE(oracle::kdl_chain(spec.urdf, model::load_chain(spec), kdl, why)) << why;
+}
+
+// A missing end tag is said where its element opened, not where the parser gave up.
+TEST(NewcomerMessages, AMissingEndTagIsSaidWhereItsElementOpened) {
+  test::TempDir dir;
+  const struct {
+    std::string urdf, message;
+  } cases[] = {
+      {"<robot name=\"r\">\n  <link name=\"a\">\n    <inertial>\n      <mass value=\"1\"/>\n  </link>\n</robot>\n",
+       "x.urdf:3:5: <inertial>: not well-formed: this element has no end tag (</link> at 5:3 comes first)"},
+      {"<robot name=\"r\">\n  <link name=\"a\">\n    <inertial/>\n  <link name=\"b\"/>\n</robot>\n",
+       "x.urdf:2:3: <link>: not well-formed: this element has no end tag (</robot> at 5:1 comes first)"},
+      {"<robot name=\"r\">\n  <link name=\"a\"/>\n", "x.urdf:1:1: <robot>: not well-formed: this element has no end tag (the text ends first)"},
+  };
+  for (const auto& c : cases) {
+    const CommandResult r = sweepgen({"info", "--urdf", dir.write("x.urdf", c.urdf)});
+    EXPECT_EQ(r.exit_code, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, c.message)) << describe(r);
+  }
 }
 
 // A fixed direction written to four digits is scaled to unit length and said, not refused; a zero

@@ -1,6 +1,7 @@
 #include "model/xml_nesting.hpp"
 
 #include <algorithm>
+#include <vector>
 
 #include "model/input_limits.hpp"
 
@@ -19,6 +20,18 @@ XmlOutline xml_outline(std::string_view text) {
     i = stop;
   };
   const auto starts = [&](std::string_view prefix) { return text.compare(i, prefix.size(), prefix) == 0; };
+  const auto column_of = [&text](std::size_t at) { return at - (at == 0 ? 0 : text.rfind('\n', at - 1) + 1) + 1; };  // npos + 1 is 0
+  // The elements open, innermost last (as far as a URDF may nest: deeper files are refused anyway).
+  struct Open {
+    std::string_view name;
+    std::size_t line, column;
+  };
+  std::vector<Open> open;
+  const auto leave_open = [&outline](const Open& element) {
+    outline.unclosed = element.name;
+    outline.unclosed_line = element.line;
+    outline.unclosed_column = element.column;
+  };
   const auto name_start = [](unsigned char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':' || c >= 0x7f;  // TinyXML: >= 127
   };
@@ -38,11 +51,21 @@ XmlOutline xml_outline(std::string_view text) {
     } else if (starts("<!")) {
       if (outline.declaration_line == 0) {
         outline.declaration_line = line;
-        outline.declaration_column = i - (i == 0 ? 0 : text.rfind('\n', i - 1) + 1) + 1;  // npos + 1 is 0
+        outline.declaration_column = column_of(i);
       }
       skip_past(i + 2, ">");
     } else if (starts("</")) {
       depth -= depth > 0 ? 1 : 0;
+      std::size_t name_end = i + 2;
+      while (name_end < text.size() && text[name_end] != '>' && static_cast<unsigned char>(text[name_end]) > ' ') ++name_end;
+      const std::string_view name = text.substr(i + 2, name_end - i - 2);
+      if (!open.empty() && open.back().name != name && outline.unclosed_line == 0) {
+        leave_open(open.back());
+        outline.closed_instead = name;
+        outline.closed_instead_line = line;
+        outline.closed_instead_column = column_of(i);
+      }
+      if (!open.empty()) open.pop_back();
       skip_past(i + 2, ">");
     } else if (i + 1 < text.size() && name_start(static_cast<unsigned char>(text[i + 1]))) {
       ++depth;
@@ -50,6 +73,7 @@ XmlOutline xml_outline(std::string_view text) {
         outline.depth = depth;
         outline.deepest_line = line;
       }
+      const std::size_t opened_line = line;
       std::size_t end = i + 1;
       while (end < text.size() && text[end] != '>' && text[end] != '/' && static_cast<unsigned char>(text[end]) > ' ') ++end;
       const std::string_view name = text.substr(i + 1, end - i - 1);
@@ -83,12 +107,17 @@ XmlOutline xml_outline(std::string_view text) {
           value_next = false;
         }
       }
-      if (end < text.size() && end > i && text[end - 1] == '/' && !quote) --depth;
+      const bool empty = end < text.size() && end > i && text[end - 1] == '/' && !quote;
+      if (empty)
+        --depth;
+      else if (open.size() <= kMaxXmlDepth)
+        open.push_back({name, opened_line, column_of(i)});
       i = end + 1;
     } else {
       ++i;
     }
   }
+  if (!open.empty() && outline.unclosed_line == 0) leave_open(open.back());
   return outline;
 }
 

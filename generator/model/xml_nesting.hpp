@@ -22,6 +22,13 @@ struct XmlOutline {
   std::size_t elements = 0;
   std::string_view element_past_limit;
   std::size_t element_past_limit_line = 0;
+  // The first element left open: the innermost one open where an end tag names another, or where
+  // the text ends (a missing end tag, which the parser reports only there): its name, line and
+  // column (line 0: none), and the end tag that came first (its line 0: the text's end).
+  std::string_view unclosed;
+  std::size_t unclosed_line = 0, unclosed_column = 0;
+  std::string_view closed_instead;
+  std::size_t closed_instead_line = 0, closed_instead_column = 0;
 };
 
 // Scans elements as TinyXML does: comments, CDATA, declarations and <!...> skipped, quoted

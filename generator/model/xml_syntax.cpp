@@ -3,6 +3,7 @@
 #include <tinyxml.h>
 
 #include "model/error.hpp"
+#include "model/xml_nesting.hpp"
 
 namespace sweepgen::model {
 namespace {
@@ -35,6 +36,18 @@ void check_xml_syntax(const std::string& text, const std::string& file) {
   if (!document.Error()) {
     refuse_second_mimic(document, file);
     return;
+  }
+  // A missing end tag is TinyXML's error only where another end tag, or the text's end, comes:
+  // the element left open is said where it opened.
+  const XmlOutline outline = xml_outline(text);
+  if (document.ErrorId() == TiXmlBase::TIXML_ERROR_READING_END_TAG && outline.unclosed_line != 0) {
+    const std::string instead = outline.closed_instead_line == 0
+                                    ? "the text ends first"
+                                    : "</" + inert_text(outline.closed_instead) + "> at " +
+                                          std::to_string(outline.closed_instead_line) + ":" +
+                                          std::to_string(outline.closed_instead_column) + " comes first";
+    throw InputError(file + ":" + std::to_string(outline.unclosed_line) + ":" + std::to_string(outline.unclosed_column),
+                     "<" + inert_text(outline.unclosed) + ">", "not well-formed: this element has no end tag (" + instead + ")");
   }
   const std::string place = document.ErrorRow() > 0 ? ":" + std::to_string(document.ErrorRow()) + ":" +
                                                           std::to_string(document.ErrorCol())
