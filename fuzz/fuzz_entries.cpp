@@ -15,6 +15,7 @@
 #include "cli/json_problem.hpp"
 #include "model/error.hpp"
 #include "model/urdf_loader.hpp"
+#include "scene/cpp_names.hpp"
 #include "scene/scene.hpp"
 
 namespace sweepgen::fuzz {
@@ -222,9 +223,9 @@ void check_scene(const scene::Scene& s) {
   for (const auto& [joint, d] : s.chain.rotor_inertia)
     if (!(std::isfinite(d) && d >= 0)) violation("rotor inertia of '" + joint + "'");
   for (const auto& name : layout.torques)
-    if (!scene::is_identifier(name)) violation("torque instance '" + name + "' is not an identifier");
+    if (!scene::driver_name_problem(name).empty()) violation("torque instance '" + name + "' is not a usable name");
   for (const auto& force : layout.external_forces)
-    if (!scene::is_identifier(force.name) || force.link.empty()) violation("external force '" + force.name + "'");
+    if (!scene::driver_name_problem(force.name).empty() || force.link.empty()) violation("external force '" + force.name + "'");
   // Every instance, and the bias, on exactly one track.
   std::size_t bias = 0;
   std::vector<int> torque_tracks(layout.torques.size()), force_tracks(layout.external_forces.size());
@@ -367,6 +368,7 @@ Outcome solve_line_input(const std::string& input) {
     return {false, e.what()};
   }
   try {
+    cli::refuse_hidden_json(input);  // as `sweepgen solve` reads each line
     check_problem(cli::parse_problem(line, chain), chain);
     return {true, ""};
   } catch (const cli::KeyError& e) {

@@ -40,10 +40,10 @@ Outcome urdf_input(const std::string& input);
 // scene::load_scene_chain. Documented error: InputError.
 Outcome scene_input(const std::string& input);
 
-// One `sweepgen solve` input line: nlohmann::json::parse, then cli::parse_problem for the
-// bundled Panda (robots/panda/panda.urdf, default root and tip). Documented errors:
-// nlohmann::json::exception from json::parse (the line is not JSON), cli::KeyError from
-// parse_problem.
+// One `sweepgen solve` input line: nlohmann::json::parse, then cli::refuse_hidden_json (a key
+// twice, a number that reads as 0) and cli::parse_problem for the bundled Panda
+// (robots/panda/panda.urdf, default root and tip). Documented errors: nlohmann::json::exception
+// from json::parse (the line is not JSON), cli::KeyError from the other two.
 Outcome solve_line_input(const std::string& input);
 
 }  // namespace sweepgen::fuzz
