@@ -723,7 +723,8 @@ TEST(SceneErrors, FixedDirectionZeroOrNotSix) {
   test::TempDir dir;
   const Scene s = scene::load_scene(
       dir.write("scene.yaml", with_urdf(replace(kFullScene, "constraints: 6", "constraints: {directions: [[0,0,1,0,0,1], [0,0,0,1,0,0]]}"))));
-  const auto& fixed = s.layout.constraint_sets().at(0).fixed;
+  const std::vector<solver::ConstraintSet> sets = s.layout.constraint_sets();  // a copy: held below
+  const auto& fixed = sets.at(0).fixed;
   EXPECT_EQ(fixed.at(0).moment.z(), 1 / std::sqrt(2.0));  // v / |v|, as read
   EXPECT_EQ(fixed.at(0).force.z(), 1 / std::sqrt(2.0));
   ASSERT_EQ(s.notes.size(), 1u);  // the unit one is taken as written, unsaid
