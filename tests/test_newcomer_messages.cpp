@@ -152,6 +152,9 @@ TEST(NewcomerMessages, AMissingEndTagIsSaidWhereItsElementOpened) {
       {"<robot name=\"r\">\n  <link name=\"a\">\n    <inertial/>\n  <link name=\"b\"/>\n</robot>\n",
        "x.urdf:2:3: <link>: not well-formed: this element has no end tag (</robot> at 5:1 comes first)"},
       {"<robot name=\"r\">\n  <link name=\"a\"/>\n", "x.urdf:1:1: <robot>: not well-formed: this element has no end tag (the text ends first)"},
+      // A prefixed name (XML allows ':' in names) is quoted, so the element still ends at ": ".
+      {"<robot name=\"r\">\n  <lin: name=\"a\">\n</robot>\n",
+       "x.urdf:2:3: <'lin:'>: not well-formed: this element has no end tag (</robot> at 3:1 comes first)"},
   };
   for (const auto& c : cases) {
     const CommandResult r = sweepgen({"info", "--urdf", dir.write("x.urdf", c.urdf)});

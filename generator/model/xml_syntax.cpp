@@ -27,6 +27,14 @@ void refuse_second_mimic(const TiXmlDocument& document, const std::string& file)
   }
 }
 
+// An element's tag as a message's element: `<link>`, or the name quoted (quote_name) where it
+// holds a ':' (a namespace prefix, which XML allows) or anything inert_text would escape, so the
+// element still ends at the first ": " (model/error.hpp).
+std::string tag_element(std::string_view name) {
+  const std::string shown = inert_text(name);
+  return "<" + (shown.find(':') == std::string::npos ? shown : quote_name(name)) + ">";
+}
+
 }  // namespace
 
 void check_xml_syntax(const std::string& text, const std::string& file) {
@@ -47,7 +55,7 @@ void check_xml_syntax(const std::string& text, const std::string& file) {
                                           std::to_string(outline.closed_instead_line) + ":" +
                                           std::to_string(outline.closed_instead_column) + " comes first";
     throw InputError(file + ":" + std::to_string(outline.unclosed_line) + ":" + std::to_string(outline.unclosed_column),
-                     "<" + inert_text(outline.unclosed) + ">", "not well-formed: this element has no end tag (" + instead + ")");
+                     tag_element(outline.unclosed), "not well-formed: this element has no end tag (" + instead + ")");
   }
   const std::string place = document.ErrorRow() > 0 ? ":" + std::to_string(document.ErrorRow()) + ":" +
                                                           std::to_string(document.ErrorCol())
