@@ -7,7 +7,9 @@
 # with it its embedded templates) change. ARCH compiles the generated source (only) with
 # -march=<isa>, e.g. x86-64-v3 (AVX2, FMA: fewer instructions, FMA contraction changes the last
 # bits) or native; the default is the compiler's baseline, which runs on every CPU of the
-# architecture. The generated code uses plain arrays, so its ABI does not change with ARCH.
+# architecture, and on x86-64 the batch entry points are compiled once more for each ISA of
+# SWEEPGEN_BATCH_ISAS and pick the widest the running CPU has (sweepgen_solver_library). The
+# generated code uses plain arrays, so its ABI does not change with ARCH.
 # CUDA also builds <target>_cuda from the generated <target>.cu: the kernels and their launchers
 # (<solve>_cuda, <solve>_cuda_host) beside every host function, so a program links it instead of
 # <target>. It needs the CUDA language enabled first (project(... LANGUAGES CXX CUDA) or
@@ -71,14 +73,50 @@ function(sweepgen_cuda_library target)
   target_compile_features(${target} PUBLIC cxx_std_17 cuda_std_17)
 endfunction()
 
+# The ISAs whose batch entry points a solver library built without ARCH carries beside the
+# baseline's on x86-64 with GCC or clang (docs/generated-code.md, "Batches and GPUs"): each a second compile of the
+# generated source with -march=<isa> -ffp-contract=off (no fused multiply-adds: every state's
+# values stay the flat call's, bit for bit). Empty: none (the batch entry points then run in the
+# baseline's two-double lanes). The batch code's compile time, once per ISA: bench/README.md.
+set(SWEEPGEN_BATCH_ISAS "x86-64-v3;x86-64-v4" CACHE STRING
+  "ISAs (x86-64-v3, x86-64-v4) the batch entry points of solvers built without ARCH are compiled for, chosen at run time")
+
 # The static library of a generated solver: its sources, public include directories, C++17 and,
-# with ARCH, -march=ARCH once the compiler is known to take it. sweepgen_add_solver's, and the
-# bundled scenes' when they are built from the committed generated/ files (cmake/BundledScenes.cmake).
+# with ARCH, -march=ARCH once the compiler is known to take it; without ARCH, on x86-64, the batch
+# entry points once more per ISA of SWEEPGEN_BATCH_ISAS (the generated source included by a file
+# that defines SWEEPGEN_BATCH_ISA, compiled with -march=<isa> -ffp-contract=off: the top of the
+# generated .cpp says how the two find each other). sweepgen_add_solver's, and the bundled scenes'
+# when they are built from the committed generated/ files (cmake/BundledScenes.cmake).
 function(sweepgen_solver_library target)
   cmake_parse_arguments(PARSE_ARGV 1 arg "" "ARCH" "SOURCES;INCLUDE_DIRS")
   add_library(${target} STATIC ${arg_SOURCES})
   target_include_directories(${target} PUBLIC ${arg_INCLUDE_DIRS})
   target_compile_features(${target} PUBLIC cxx_std_17)
+  if(NOT arg_ARCH AND SWEEPGEN_BATCH_ISAS AND CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$"
+     AND CMAKE_SIZEOF_VOID_P EQUAL 8 AND CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    list(FILTER arg_SOURCES INCLUDE REGEX "\\.cpp$")
+    list(GET arg_SOURCES 0 source)
+    get_filename_component(source "${source}" ABSOLUTE)
+    include(CheckCXXCompilerFlag)
+    foreach(isa ${SWEEPGEN_BATCH_ISAS})
+      if(NOT isa MATCHES "^x86-64-v[34]$")
+        message(FATAL_ERROR "SWEEPGEN_BATCH_ISAS: ${isa} is not one of x86-64-v3, x86-64-v4")
+      endif()
+      string(MAKE_C_IDENTIFIER "${isa}" name)  # x86_64_v3: the ISA's namespace in the generated code
+      string(TOUPPER "${name}" upper)
+      string(MAKE_C_IDENTIFIER "SWEEPGEN_MARCH_${isa}" flag_ok)
+      check_cxx_compiler_flag("-march=${isa}" ${flag_ok})
+      if(NOT ${flag_ok})
+        continue()  # an older compiler: the batch entry points run in the baseline's lanes
+      endif()
+      set(wrapper "${CMAKE_CURRENT_BINARY_DIR}/sweepgen_batch/${target}_${name}.cpp")
+      file(CONFIGURE OUTPUT "${wrapper}" CONTENT
+           "// The batch entry points of ${source} for ${isa} (sweepgen_solver_library).\n#define SWEEPGEN_BATCH_ISA ${name}\n#include \"${source}\"\n")
+      target_sources(${target} PRIVATE "${wrapper}")
+      set_source_files_properties("${wrapper}" PROPERTIES COMPILE_OPTIONS "-march=${isa};-ffp-contract=off")
+      target_compile_definitions(${target} PRIVATE SWEEPGEN_BATCH_${upper})
+    endforeach()
+  endif()
   if(arg_ARCH)
     include(CheckCXXCompilerFlag)
     string(MAKE_C_IDENTIFIER "SWEEPGEN_MARCH_${arg_ARCH}" flag_ok)

@@ -1,8 +1,12 @@
 // The consumer project's program: one state through the generated solver's structured API
 // (outward, decompose, solve_original) and its flat entry point; checks that the results are
-// finite and that both paths agree exactly (they run the same code). Exit code 0 on success.
+// finite and that both paths agree exactly (they run the same code); then the state five times
+// through the batch entry point, which must give the flat call's values bit for bit in the widest
+// lanes the CPU runs (sweepgen_add_solver without ARCH on x86-64: eight doubles with AVX-512, four
+// with AVX2). Exit code 0 on success.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "planar_arm_solver.hpp"
 
@@ -100,6 +104,27 @@ int main() {
   // [0,0,0,0,1,0]) equals beta.
   check(std::fabs(solution.tip_acceleration[3] - beta[0]) < 1e-9 && std::fabs(solution.tip_acceleration[4] - beta[1]) < 1e-9,
         "tip acceleration along the constraint directions equals beta");
+
+  // The batch entry point: the same state five times (a whole group of lanes and a partial one).
+  constexpr int n = 5;
+  double rows[solver::flat_in_size * n], batch_out[solver::flat_out_size * n];
+  for (int k = 0; k < solver::flat_in_size; ++k)
+    for (int s = 0; s < n; ++s) rows[k * n + s] = in[k];
+  solver::solve_original_batch(n, rows, batch_out);
+  bool same = true;
+  for (int k = 0; k < solver::flat_out_size; ++k)
+    for (int s = 0; s < n; ++s) same = same && std::memcmp(&batch_out[k * n + s], &out[k], sizeof(double)) == 0;
+  check(same, "batch == flat, bit for bit");
+#if defined(__x86_64__) && defined(__GNUC__)
+  __builtin_cpu_init();
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+                    __builtin_cpu_supports("bmi2");
+  const bool avx512 = avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+                      __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+                      __builtin_cpu_supports("avx512vl");
+  check(solver::batch_lanes() == (avx512 ? 8 : avx2 ? 4 : 1), "the batch in the widest lanes the CPU runs");
+#endif
+  std::printf("batch: %d doubles a vector\n", solver::batch_lanes());
 
   std::printf("qdd =");
   for (double v : solution.qdd) std::printf(" %.17g", v);
