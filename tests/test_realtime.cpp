@@ -385,10 +385,12 @@ struct Function {
 
 std::vector<Function> functions(const std::vector<std::string>& lines) {
   static const std::regex definition(
-      R"(^(?:SWEEPGEN_FLAT_SOLVE )?(?:SWEEPGEN_HD )?(?:SWEEPGEN_INLINE )?(void|bool|Drivers|typename Arrays<S>::Drivers|FlatDrivers<S>) (\w+)\()");
+      R"(^(?:SWEEPGEN_FLAT_SOLVE )?(?:SWEEPGEN_HD )?(?:SWEEPGEN_INLINE )?(void|bool|int|Drivers|typename Arrays<S>::Drivers|FlatDrivers<S>) (\w+)\()");
   std::vector<Function> result;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     std::smatch m;
+    const auto end = lines[i].find_last_not_of(' ');
+    if (end != std::string::npos && lines[i][end] == ';') continue;  // a declaration (an ISA object's entry point)
     if (std::regex_search(lines[i], m, definition)) {
       // A wrapper defined on its line (`{ <call>; }`) ends there.
       const bool one_line = lines[i].find('{') != std::string::npos && lines[i].find_last_not_of(' ') == lines[i].rfind('}');
@@ -407,14 +409,16 @@ TEST(GeneratedSources, ExistAndIncludeOnlyTheirHeaderAndMath) {
     const std::string own = "#include \"" + file.stem().string() + ".hpp\"";
     // Besides the includes, the template's few preprocessor lines: the GCC-only attribute that
     // fuses a flat solve, the diagnostic pragma around the (C4) path blocks, the choice of the
-    // lanes' types (vectors, or arrays), the batch entry points (not in a CUDA build), the output
-    // set's check against the .cmake snippet's.
+    // lanes' types (vectors, or arrays), the batch entry points (not in a CUDA build; each an ISA
+    // object's, a call of the widest one, or in this object's lanes: the runtime says which), the
+    // output set's check against the .cmake snippet's.
     static const std::set<std::string> preprocessor = {
         "#if defined(SWEEPGEN_BATCH_BYTES)", "#if !defined(__CUDACC__)",
         "#if defined(__GNUC__) && !defined(__clang__)", "#pragma GCC diagnostic push",
         "#pragma GCC diagnostic ignored \"-Wmaybe-uninitialized\"", "#pragma GCC diagnostic pop", "#endif", "#else",
         "#if defined(__GNUC__)", "#define SWEEPGEN_FLAT_SOLVE __attribute__((flatten))", "#define SWEEPGEN_FLAT_SOLVE",
-        "#undef SWEEPGEN_FLAT_SOLVE", "#if defined(SWEEPGEN_OUTPUT_SET)"};
+        "#undef SWEEPGEN_FLAT_SOLVE", "#if defined(SWEEPGEN_OUTPUT_SET)", "#if defined(SWEEPGEN_BATCH_ISA)", "#if !defined(SWEEPGEN_BATCH_ISA)",
+        "#if defined(SWEEPGEN_BATCH_CALLS_V4)", "#if defined(SWEEPGEN_BATCH_CALLS_V3)", "#if defined(SWEEPGEN_BATCH_OWN_LANES)"};
     for (std::string line : own_lines(file, false)) {
       if (line.rfind("#", 0) != 0) continue;
       line.erase(line.find_last_not_of(' ') + 1);  // a trailing comment's place
@@ -473,7 +477,10 @@ TEST(GeneratedSources, TheRuntimeIsTheTemplatesAndBoundsItsLoops) {
   // the states given (rows, and a group's count): a batch call takes time linear in its states,
   // each state's solve is bounded like the scalar one (own_lines checks that every source holds
   // this text verbatim). No loop body writes its counter but the `+= width` of its header.
-  const auto lines = code_lines_of(runtime_text(), true);
+  // The only string literals: the CPU features batch_isa() asks __builtin_cpu_supports for (its
+  // argument must be one), blanked before the checks below.
+  static const std::regex cpu_feature(R"re(__builtin_cpu_supports\("[a-z0-9]+"\))re");
+  const auto lines = code_lines_of(std::regex_replace(runtime_text(), cpu_feature, "__builtin_cpu_supports()"), true);
   static const std::regex any_for(R"(\bfor\b)");
   static const std::regex loop(
       R"(^ *(?:else )?for \((?:int|std::ptrdiff_t) (\w+) = (?:0|1|first); (\w+) < (width|n|in_size|out_size|count|Lanes<\w+>::width|rows|first \+ count)(?: && first \+ \w+ < n)?; (?:\+\+(\w+)|(\w+) \+= width)\))");
@@ -533,18 +540,25 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   // drivers_from_flat's `return drivers;`, flat_drivers_of's list of pointers into its input
   // (`return {drivers_in, drivers_in + dof, SixRows<S>{drivers_in + dof + 6}};`), the batch entry's
   // call of its lanes, and the lanes' operators (a lane, or the array the operator filled lane by
-  // lane in a loop of literal bound).
+  // lane in a loop of literal bound). A batch entry point's (and batch_lanes') other `if`s choose
+  // the ISA object it hands the whole call to: the same choice on every call, made before any
+  // state is read; batch_lanes returns a width.
   static const std::regex any_if(R"(\bif\b)");
   static const std::regex path_condition(R"(^  const auto (path_\d+) = [\w.]+ > \w+; *$)");
   static const std::regex stage_test(R"(^  if \(!\w+_of<S>\(.*\)\)(?: return false;)?$)");
+  static const std::regex isa_choice(R"(^  if \(batch_isa\(\) == ([34])\) return x86_64_v\1::(\w+_batch\(n, in, out\)|batch_lanes\(\));$)");
   static const std::regex any_return(R"(\breturn\b)");
   static const std::regex allowed_return(
-      R"(^  return (true|drivers);$|^  return \{(SixRows<S>\{drivers_in[\w +*]*\}|drivers_in[\w +*]*|, )*\};$|^SWEEPGEN_HD Drivers drivers_from_flat\(const Scalar\* drivers_in\) noexcept \{ return drivers_from_flat_of<Scalar>\(drivers_in\); \}$|^    return false;$|^  if \(!\w+_of<S>\(.*\)\) return false;$|^    if \(Lanes<S>::any\(path_\d+\)\) return false;  $|^      n, in, out, \[\]\(const Batch\* lanes_in, Batch\* lanes_out\) \{ return \w+_flat_of<Batch>\(lanes_in, lanes_out\); \}, &\w+_flat\);$|^  SWEEPGEN_HD S operator\[\]\(int l\) const \{ return lane\[l\]; \}$|^  friend SWEEPGEN_HD LaneArray operator[-+*/]\((LaneArray|T) [as](, (LaneArray|T) [bs])?\) \{ for \(int l = 0; l < 2; \+\+l\) [ab]\.lane\[l\] = [^;{}]*; return [ab]; \}$)");
-  long path_blocks = 0, stage_tests = 0, selects = 0, returns = 0;
+      R"(^  return (true|drivers);$|^  return \{(SixRows<S>\{drivers_in[\w +*]*\}|drivers_in[\w +*]*|, )*\};$|^SWEEPGEN_HD Drivers drivers_from_flat\(const Scalar\* drivers_in\) noexcept \{ return drivers_from_flat_of<Scalar>\(drivers_in\); \}$|^    return false;$|^  if \(!\w+_of<S>\(.*\)\) return false;$|^    if \(Lanes<S>::any\(path_\d+\)\) return false;  $|^      n, in, out, \[\]\(const Batch\* lanes_in, Batch\* lanes_out\) \{ return \w+_flat_of<Batch>\(lanes_in, lanes_out\); \}, &(?:\w+::)?\w+_flat\);$|^  return (Lanes<Batch>::width|1);$|^  SWEEPGEN_HD S operator\[\]\(int l\) const \{ return lane\[l\]; \}$|^  friend SWEEPGEN_HD LaneArray operator[-+*/]\((LaneArray|T) [as](, (LaneArray|T) [bs])?\) \{ for \(int l = 0; l < 2; \+\+l\) [ab]\.lane\[l\] = [^;{}]*; return [ab]; \}$)");
+  long path_blocks = 0, stage_tests = 0, isa_choices = 0, selects = 0, returns = 0;
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
       selects += std::count(lines[i].begin(), lines[i].end(), '?');
+      if (std::regex_search(lines[i], isa_choice)) {
+        ++isa_choices;
+        continue;
+      }
       if (std::regex_search(lines[i], any_return)) {
         EXPECT_TRUE(std::regex_search(lines[i], allowed_return)) << file << ":" << i + 1 << ": '" << lines[i] << "'";
         ++returns;
@@ -573,8 +587,8 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
       ++stage_tests;
     }
   }
-  std::cout << selects << " ?: selects; " << path_blocks << " path blocks; " << stage_tests << " stage tests; " << returns
-            << " returns\n";
+  std::cout << selects << " ?: selects; " << path_blocks << " path blocks; " << stage_tests << " stage tests; "
+            << isa_choices << " choices of an ISA object; " << returns << " returns\n";
   EXPECT_GT(path_blocks, 0);
   EXPECT_GT(selects, 0);
 }
@@ -582,13 +596,18 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
 TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
   // Every call in a function body is to another generated function (the call graph has no
   // cycle: no recursion), or to the runtime's constant-time math and lane helpers
-  // (TheRuntimeIsTheTemplatesAndBoundsItsLoops), static_cast, or the batch loops.
+  // (TheRuntimeIsTheTemplatesAndBoundsItsLoops), static_cast, the batch loops, or an ISA object's
+  // batch entry point of the same name: that object is this source compiled with
+  // SWEEPGEN_BATCH_ISA, where no entry point calls another object (SWEEPGEN_BATCH_CALLS_*), so
+  // the call adds no edge.
   static const std::regex call(R"(([A-Za-z_][A-Za-z0-9_:]*(?:<[^()]*>)?(?:::\w+)?)\s*\()");
   static const std::regex template_arguments(R"(<[^()]*>)");
   static const std::set<std::string> runtime = {
       "sincos_each",  "sin_of",       "cos_of",        "abs_of",       "min_of",           "max_of",
       "equilibration_scale", "Lanes::all", "Lanes::any",  "Lanes::count", "Lanes::flag",      "Lanes::of",
-      "Lanes::value", "Lanes::status_if", "Lanes::raise_if", "static_cast", "solve_in_lanes", "solve_state_by_state"};
+      "Lanes::value", "Lanes::status_if", "Lanes::raise_if", "static_cast", "solve_in_lanes", "solve_state_by_state",
+      "batch_isa"};
+  static const std::regex isa_object_call(R"(^x86_64_v[34]::(\w+)$)");
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
     const auto fs = functions(lines);
@@ -601,8 +620,11 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
         for (std::sregex_iterator it(lines[i].begin(), lines[i].end(), call), end; it != end; ++it) {
           const std::string name = std::regex_replace((*it)[1].str(), template_arguments, "");
           if (name == "for" || name == "if" || name == "operator") continue;
+          std::smatch isa;
           if (defined.count(name)) {
             out.insert(name);
+          } else if (std::regex_match(name, isa, isa_object_call)) {
+            EXPECT_TRUE(defined.count(isa[1]) && isa[1] == f.name) << file << ":" << i + 1 << ": call to " << name;
           } else {
             EXPECT_TRUE(runtime.count(name)) << file << ":" << i + 1 << ": call to " << name;
           }
@@ -665,7 +687,12 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
       std::smatch m;
       ASSERT_TRUE(std::regex_search(line, m, su_line)) << file << ": " << line;
       Frame f{m[1], std::stol(m[2]), m[3]};
-      EXPECT_EQ(f.qualifier, "static") << file << ": " << f.function << " has a dynamic frame";
+      // An ISA object (sweepgen_batch/) may realign its frame to its vectors' 32 or 64 bytes, beyond
+      // the ABI's 16: GCC then says "dynamic,bounded", the size an upper bound known at compile
+      // time. Plain "dynamic" (a VLA, alloca) is refused everywhere.
+      const bool isa_object = file.find("/sweepgen_batch/") != std::string::npos;
+      EXPECT_TRUE(f.qualifier == "static" || (isa_object && f.qualifier == "dynamic,bounded"))
+          << file << ": " << f.function << " has a " << f.qualifier << " frame";
       EXPECT_LT(f.bytes, kFrameBound) << file << ": " << f.function;
       if (f.bytes > worst_frame) worst_frame = f.bytes, worst_frame_name = f.function;
       // A function template's instances (a scalar's and a Batch's) share a name: the larger frame.
