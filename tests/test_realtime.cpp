@@ -8,7 +8,7 @@
 //     the (C4) path blocks and a flat solve's tests of its stages (which fail only in lanes);
 //   - bounded stack: the scene libraries are compiled with -fstack-usage (tests/CMakeLists.txt,
 //     "Hardening" block); every frame is static (no VLA/alloca) and below kFrameBound, and so is
-//     the deepest call chain of one solve.
+//     the deepest call chain of one solve; a batch entry point's, below kBatchFrameBound.
 // No exceptions: tests/realtime/noexcept_solve.cpp (ctest realtime_no_exceptions) builds the
 // generated sources with -fno-exceptions -fno-rtti -Werror.
 #include <gtest/gtest.h>
@@ -385,7 +385,7 @@ struct Function {
 
 std::vector<Function> functions(const std::vector<std::string>& lines) {
   static const std::regex definition(
-      R"(^(?:SWEEPGEN_FLAT_SOLVE )?(?:SWEEPGEN_HD )?(?:SWEEPGEN_INLINE )?(void|bool|int|Drivers|typename Arrays<S>::Drivers|FlatDrivers<S>) (\w+)\()");
+      R"(^(?:\[\[maybe_unused\]\] )?(?:SWEEPGEN_FLAT_SOLVE )?(?:SWEEPGEN_HD )?(?:SWEEPGEN_INLINE )?(void|bool|int|Drivers|typename Arrays<S>::Drivers|FlatDrivers<S>|FlatDrivers<Scalar>) (\w+)\()");
   std::vector<Function> result;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     std::smatch m;
@@ -509,13 +509,15 @@ TEST(GeneratedSources, HaveNoUnboundedOrHiddenControlFlow) {
   // hidden state.
   static const std::regex forbidden(
       R"(\b(while|do|goto|switch|case|break|continue|throw|try|catch|new|delete|malloc|calloc|realloc|free|alloca|setjmp|longjmp|static|thread_local|virtual|asm|typeid|dynamic_cast)\b|"|/\*)");
-  // `else` only as the second branch of a (C4) path block (BranchOnlyThroughSelects).
+  // `else` only as the second branch of a (C4) path block (BranchOnlyThroughSelects), at a
+  // function's top level or a part's.
   static const std::regex any_else(R"(\belse\b)");
+  static const std::regex path_else(R"(^(  |    )\} else \{$)");
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
       if (std::regex_search(lines[i], any_else)) {
-        EXPECT_EQ(lines[i], "  } else {") << file << ":" << i + 1;
+        EXPECT_TRUE(std::regex_match(lines[i], path_else)) << file << ":" << i + 1 << ": " << lines[i];
       }
       std::smatch m;
       EXPECT_FALSE(std::regex_search(lines[i], m, forbidden)) << file << ":" << i + 1 << ": '" << m.str() << "' in "
@@ -527,16 +529,20 @@ TEST(GeneratedSources, HaveNoUnboundedOrHiddenControlFlow) {
 TEST(GeneratedSources, BranchOnlyThroughSelects) {
   // Data-dependent choices (pivot test, saturation, largest-energy selection) are ?: selects
   // and min_of/max_of, which compile to branch-free conditional moves (or blends in lanes). The
-  // `if`s are the path blocks of (C4) (docs/derivation.md), at a function's top level:
+  // `if`s are the path blocks of (C4) (docs/derivation.md), at a function's top level or a part's
+  // (a long function's lambda of its own, SWEEPGEN_PART, two spaces further in):
   //     const auto path_N = a > b;      (a a name or a literal)
   //     if (Lanes<S>::all(path_N)) {
   //       straight-line code
   //     } else {
-  //       if (Lanes<S>::any(path_N)) return false;   (lanes on both paths: never for a scalar)
-  //       straight-line code
+  //       if (Lanes<S>::any(path_N)) return false;   (lanes on both paths: never for a scalar;
+  //                                                   in a part `return Part_M{};`, its ok false)
+  //       straight-line code, or the pivoted path as a cold lambda called there:
+  //       struct Pivoted_M { ... };  const Pivoted_M pivoted = [...]() SWEEPGEN_COLD {
+  //         straight-line code  return Pivoted_M{...};  }();  then its values read
   //     }
-  // and a flat solve's test of its stages' results, `if (!<stage>_of<S>(...)) return false;`
-  // (false only from that line). The other returns: `return true;` at a function's end,
+  // a flat solve's test of its stages' results, `if (!<stage>_of<S>(...)) return false;`
+  // (false only from that line), and a part's, `if (!part_M.ok) return false;`. The other returns: `return true;` at a function's end,
   // drivers_from_flat's `return drivers;`, flat_drivers_of's list of pointers into its input
   // (`return {drivers_in, drivers_in + dof, SixRows<S>{drivers_in + dof + 6}};`), the batch entry's
   // call of its lanes, and the lanes' operators (a lane, or the array the operator filled lane by
@@ -544,12 +550,14 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   // the ISA object it hands the whole call to: the same choice on every call, made before any
   // state is read; batch_lanes returns a width.
   static const std::regex any_if(R"(\bif\b)");
-  static const std::regex path_condition(R"(^  const auto (path_\d+) = [\w.]+ > \w+; *$)");
-  static const std::regex stage_test(R"(^  if \(!\w+_of<S>\(.*\)\)(?: return false;)?$)");
+  static const std::regex path_condition(R"(^(  |    )const auto (path_\d+) = [\w.]+ > \w+; *$)");
+  static const std::regex stage_test(R"(^  if \(!\w+_of<S>\(.*\)\)(?: return false;)?$|^  if \(!part_\d+\.ok\) return false;  $)");
+  // A cold lambda's or a part's values handed back (each a name of its own body).
+  static const std::regex handed_back(R"(^ +return (Pivoted|Part)_\d+\{(true|[\w]+)?(, \w+)*\};$)");
   static const std::regex isa_choice(R"(^  if \(batch_isa\(\) == ([34])\) return x86_64_v\1::(\w+_batch\(n, in, out\)|batch_lanes\(\));$)");
   static const std::regex any_return(R"(\breturn\b)");
   static const std::regex allowed_return(
-      R"(^  return (true|drivers);$|^  return \{(SixRows<S>\{drivers_in[\w +*]*\}|drivers_in[\w +*]*|, )*\};$|^SWEEPGEN_HD Drivers drivers_from_flat\(const Scalar\* drivers_in\) noexcept \{ return drivers_from_flat_of<Scalar>\(drivers_in\); \}$|^    return false;$|^  if \(!\w+_of<S>\(.*\)\) return false;$|^    if \(Lanes<S>::any\(path_\d+\)\) return false;  $|^      n, in, out, \[\]\(const Batch\* lanes_in, Batch\* lanes_out\) \{ return \w+_flat_of<Batch>\(lanes_in, lanes_out\); \}, &(?:\w+::)?\w+_flat\);$|^  return (Lanes<Batch>::width|1);$|^  SWEEPGEN_HD S operator\[\]\(int l\) const \{ return lane\[l\]; \}$|^  friend SWEEPGEN_HD LaneArray operator[-+*/]\((LaneArray|T) [as](, (LaneArray|T) [bs])?\) \{ for \(int l = 0; l < 2; \+\+l\) [ab]\.lane\[l\] = [^;{}]*; return [ab]; \}$)");
+      R"(^  return (true|drivers);$|^  return \{(SixRows<S>\{drivers_in[\w +*]*\}|drivers_in[\w +*]*|, )*\};$|^SWEEPGEN_HD Drivers drivers_from_flat\(const Scalar\* drivers_in\) noexcept \{ return drivers_from_flat_of<Scalar>\(drivers_in\); \}$|^    return false;$|^  if \(!\w+_of<S>\(.*\)\) return false;$|^    if \(Lanes<S>::any\(path_\d+\)\) return false;  $|^      n, in, out, \[\]\(const Batch\* lanes_in, Batch\* lanes_out\) \{ return \w+_flat_of<Batch>\(lanes_in, lanes_out\); \}, &(?:\w+::)?\w+_flat\);$|^  return (Lanes<Batch>::width|1);$|^  if \(!part_\d+\.ok\) return false;  $|^  return \{(SixRows<Scalar>\{drivers\.\w+\[0\]\}|drivers\.\w+|, )*\};$|^  SWEEPGEN_HD S operator\[\]\(int l\) const \{ return lane\[l\]; \}$|^  friend SWEEPGEN_HD LaneArray operator[-+*/]\((LaneArray|T) [as](, (LaneArray|T) [bs])?\) \{ for \(int l = 0; l < 2; \+\+l\) [ab]\.lane\[l\] = [^;{}]*; return [ab]; \}$)");
   long path_blocks = 0, stage_tests = 0, isa_choices = 0, selects = 0, returns = 0;
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
@@ -559,6 +567,10 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
         ++isa_choices;
         continue;
       }
+      if (std::regex_search(lines[i], handed_back)) {
+        ++returns;
+        continue;
+      }
       if (std::regex_search(lines[i], any_return)) {
         EXPECT_TRUE(std::regex_search(lines[i], allowed_return)) << file << ":" << i + 1 << ": '" << lines[i] << "'";
         ++returns;
@@ -566,18 +578,19 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
       std::smatch m;
       if (std::regex_search(lines[i], m, path_condition)) {
         ++path_blocks;
-        const std::string path = m[1];
+        const std::string indent = m[1], path = m[2];
         ASSERT_LT(i + 1, lines.size());
-        EXPECT_EQ(lines[i + 1], "  if (Lanes<S>::all(" + path + ")) {") << file << ":" << i + 2;
+        EXPECT_EQ(lines[i + 1], indent + "if (Lanes<S>::all(" + path + ")) {") << file << ":" << i + 2;
         std::size_t j = i + 2;  // its else at the same depth, then its end
-        while (j < lines.size() && lines[j] != "  } else {") {
-          EXPECT_EQ(lines[j].rfind("  }", 0), std::string::npos) << file << ":" << j + 1 << ": a path block ends without else";
+        while (j < lines.size() && lines[j] != indent + "} else {") {
+          EXPECT_EQ(lines[j].rfind(indent + "}", 0), std::string::npos) << file << ":" << j + 1 << ": a path block ends without else";
           EXPECT_FALSE(std::regex_search(lines[j], any_if)) << file << ":" << j + 1 << ": a branch in a path block";
           ++j;
         }
         ASSERT_LT(j + 1, lines.size()) << file << ":" << i + 1;
-        EXPECT_EQ(lines[j + 1], "    if (Lanes<S>::any(" + path + ")) return false;  ") << file << ":" << j + 2;
-        for (std::size_t k = j + 2; k < lines.size() && lines[k] != "  }"; ++k)
+        const std::regex lanes_exit(indent + "  if \\(Lanes<S>::any\\(" + path + "\\)\\) return (false|Part_\\d+\\{\\});  ");
+        EXPECT_TRUE(std::regex_match(lines[j + 1], lanes_exit)) << file << ":" << j + 2 << ": " << lines[j + 1];
+        for (std::size_t k = j + 2; k < lines.size() && lines[k] != indent + "}"; ++k)
           EXPECT_FALSE(std::regex_search(lines[k], any_if)) << file << ":" << k + 1 << ": a branch in a path block";
         i = j + 1;
         continue;
@@ -651,11 +664,16 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
 // Bound on each function's frame and on the deepest call chain of one solve (README,
 // "Real-time use"); measured at most ~20 KiB (iiwa14_nc6 flat solve with `expose: all`).
 [[maybe_unused]] constexpr long kFrameBound = 64 * 1024;  // unused where the test is skipped
+// A batch entry point's (and its lanes' stages', inlined or called): a State and a Solution of one
+// vector of states, so up to its lanes / 2 times a baseline build's (8 floats at x86-64-v3, 16 at
+// v4): measured at most ~69 KiB (dual_panda_box f64 at v3 with its decompose; docs/generated-code.md).
+[[maybe_unused]] constexpr long kBatchFrameBound = 256 * 1024;
 
 struct Frame {
   std::string function;  // qualified name, without the parameter list
   long bytes = 0;
   std::string qualifier;
+  bool lanes = false;  // an instance for a Batch (S a vector type), not for the scalar
 };
 
 TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
@@ -676,25 +694,43 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
   // (a return type may name a template's member type: typename ns::{anonymous}::Arrays<S>::Drivers; a
   // batch entry's lambda, which its lanes' solve is inlined into, counts as the entry);
   // a name may hold "{anonymous}" (the template's helper in its unnamed namespace).
-  static const std::regex su_line(R"(^[^\t]*:\d+:\d+:(?:[^\t(]* )?([\w:{}]+)(?:\([^\t]*?\)(?:::<lambda\([^\t]*\)>)?)?(?: \[with [^\t]*\])?\t(\d+)\t(\S+)$)");
-  long worst_frame = 0, worst_chain = 0;
-  std::string worst_frame_name, worst_chain_name;
+  static const std::regex su_line(R"(^[^\t]*:\d+:\d+:(?:[^\t(]* )?([\w:{}]+)(?:\([^\t]*?\)(?:::<lambda\([^\t]*\)>)?)?(?: \[with (?:S = ([^;\]\t]*))?[^\t]*\])?\t(\d+)\t(\S+)$)");
+  // A cold path's or a part's lambda (SWEEPGEN_COLD, SWEEPGEN_PART), called from its function (a
+  // cold path in a part: from the part): "file:line:column:function<template arguments>(parameters)
+  // ::<lambda()>[::<lambda()>]<TAB>bytes<TAB>qualifier".
+  static const std::regex lambda_line(R"(^[^\t]*:\d+:\d+:([\w:{}]+)(?:<((?:__vector\(\d+\) )?\w+)[^\t]*)?\([^\t]*\)((?:::<lambda\(\)>)+)\t(\d+)\t(\S+)$)");
+  long worst_frame = 0, worst_chain = 0, worst_batch = 0;
+  std::string worst_frame_name, worst_chain_name, worst_batch_name;
   for (const auto& file : files) {
     std::ifstream in(file);
     ASSERT_TRUE(in) << file << " (built with -fstack-usage by the scene library targets)";
     std::map<std::string, Frame> frames;  // by qualified name
+    // By function and instance (scalar or lanes): its largest frame, and its largest lambda frame
+    // at each depth (those at one depth run one at a time).
+    std::map<std::pair<std::string, bool>, long> instances;
+    std::map<std::pair<std::string, bool>, std::map<std::size_t, long>> lambdas;
     for (std::string line; std::getline(in, line);) {
       std::smatch m;
-      ASSERT_TRUE(std::regex_search(line, m, su_line)) << file << ": " << line;
-      Frame f{m[1], std::stol(m[2]), m[3]};
+      const bool lambda = std::regex_search(line, m, lambda_line);
+      ASSERT_TRUE(lambda || std::regex_search(line, m, su_line)) << file << ": " << line;
+      const std::size_t depth = lambda ? m[3].length() / std::string("::<lambda()>").size() : 0;
+      Frame f{m[1], std::stol(m[lambda ? 4 : 3]), m[lambda ? 5 : 4], m[2].str().rfind("__vector", 0) == 0};
       // An ISA object (sweepgen_batch/) may realign its frame to its vectors' 32 or 64 bytes, beyond
       // the ABI's 16: GCC then says "dynamic,bounded", the size an upper bound known at compile
       // time. Plain "dynamic" (a VLA, alloca) is refused everywhere.
       const bool isa_object = file.find("/sweepgen_batch/") != std::string::npos;
       EXPECT_TRUE(f.qualifier == "static" || (isa_object && f.qualifier == "dynamic,bounded"))
           << file << ": " << f.function << " has a " << f.qualifier << " frame";
-      EXPECT_LT(f.bytes, kFrameBound) << file << ": " << f.function;
+      const bool batch = f.lanes || f.function.find("_batch") != std::string::npos;
+      EXPECT_LT(f.bytes, batch ? kBatchFrameBound : kFrameBound) << file << ": " << f.function;
       if (f.bytes > worst_frame) worst_frame = f.bytes, worst_frame_name = f.function;
+      if (lambda) {
+        long& largest = lambdas[{f.function, f.lanes}][depth];
+        largest = std::max(largest, f.bytes);
+        continue;
+      }
+      long& instance = instances[{f.function, f.lanes}];
+      instance = std::max(instance, f.bytes);
       // A function template's instances (a scalar's and a Batch's) share a name: the larger frame.
       if (frames[f.function].bytes <= f.bytes) frames[f.function] = f;
     }
@@ -705,29 +741,49 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
       // decompose_of and its solve_<policy>_of (one after the other, each inlined where the file is
       // fused), the structured API's functions call one each. libm's sin/cos add a few hundred
       // bytes beyond.
-      long chain = f.bytes;
-      const auto flat = name.rfind("_flat");
-      const bool flat_solve = flat != std::string::npos && flat + 5 == name.size() &&
-                              name.compare(name.rfind("::") + 2, 6, "solve_") == 0;
-      if (flat_solve) {
+      // An instance's frame (none where it is inlined) with its largest lambda's at each depth
+      // (called from it, so on the stack beside it).
+      const auto with_lambda = [&](const std::string& function, bool lanes) {
+        const auto i = instances.find({function, lanes});
+        long bytes = i == instances.end() ? 0 : i->second;
+        if (const auto l = lambdas.find({function, lanes}); l != lambdas.end())
+          for (const auto& [depth, largest] : l->second) bytes += largest;
+        return bytes;
+      };
+      long chain = with_lambda(name, f.lanes);
+      // A flat solve or a batch entry point (its lanes' flat solve inlined into it) of a solve or
+      // of the derivatives: the stages it calls, and their lambdas.
+      const std::string stage = name.substr(name.rfind("::") + 2);
+      const auto suffix = stage.rfind('_');
+      const bool entry = suffix != std::string::npos && (stage.substr(suffix) == "_flat" || stage.substr(suffix) == "_batch") &&
+                         (stage.rfind("solve_", 0) == 0 || stage.rfind("derivatives_", 0) == 0);
+      if (entry) {
         const std::string prefix = name.substr(0, name.rfind("::") + 2) + "{anonymous}::";
-        const std::string solve = prefix + name.substr(name.rfind("::") + 2, flat - name.rfind("::") - 2) + "_of";
+        // A batch entry point is in the ISA's namespace, its stages in the variant's.
+        const std::string stages = prefix.find("::x86_64_v") == std::string::npos
+                                       ? prefix
+                                       : prefix.substr(0, prefix.find("::x86_64_v") + 2) + "{anonymous}::";
+        const std::string own = stages + stage.substr(0, suffix) + "_of";
         long deepest = 0;
-        for (const std::string& callee : {prefix + "outward_of", prefix + "drivers_from_flat_of", prefix + "decompose_of", solve}) {
-          const auto c = frames.find(callee);
-          if (c != frames.end()) deepest = std::max(deepest, c->second.bytes);
-        }
+        const bool lanes = stage.substr(suffix) == "_batch";  // the stages' Batch instances
+        for (const std::string& callee : {stages + "outward_of", stages + "drivers_from_flat_of", stages + "decompose_of", own})
+          deepest = std::max(deepest, with_lambda(callee, lanes));
         chain += deepest;
-        EXPECT_LT(chain, kFrameBound) << name << " with its deepest callee";
+        EXPECT_LT(chain, lanes ? kBatchFrameBound : kFrameBound) << name << " with its deepest callee";
       }
       std::cout << "  " << f.bytes << " B " << name;
       if (chain != f.bytes) std::cout << " (" << chain << " B with its deepest callee)";
       std::cout << "\n";
-      if (chain > worst_chain) worst_chain = chain, worst_chain_name = name;
+      if (entry && stage.substr(suffix) == "_batch") {
+        if (chain > worst_batch) worst_batch = chain, worst_batch_name = name;
+      } else if (chain > worst_chain) {
+        worst_chain = chain, worst_chain_name = name;
+      }
     }
   }
   std::cout << "largest frame " << worst_frame << " B (" << worst_frame_name << "); deepest solve " << worst_chain
-            << " B (" << worst_chain_name << "); bound " << kFrameBound << " B\n";
+            << " B (" << worst_chain_name << "); bound " << kFrameBound << " B; deepest batch entry point " << worst_batch
+            << " B (" << worst_batch_name << "), bound " << kBatchFrameBound << " B\n";
 #endif
 }
 

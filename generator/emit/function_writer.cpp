@@ -1,6 +1,7 @@
 #include "emit/function_writer.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <functional>
 #include <map>
 #include <set>
@@ -27,6 +28,14 @@ constexpr int kAtom = 100, kUnary = 3, kProduct = 2, kSum = 1, kTernary = 0;
 // in vector lanes (templates/lanes.mustache). Literals keep the scalar's spelling.
 constexpr const char* kValueType = "S";
 
+// The computed values of a function above which it is written in parts (find_parts), and the most
+// in one part. Each cut hands values on through memory: quadruped_stance's outward() (9 363 values)
+// in parts of 4 000 ran 2.8 % more instructions per solve, in parts of 8 000 1.8 % more, and its
+// file compiles fast whole; a 36-joint humanoid's outward() and decompose() (9 705, 9 914) in parts
+// of 4 000 run 2.7 % fewer and compile in half the time (bench/README.md, "Compile time of big
+// robots"). Parts of 8 000 did not shorten the humanoid's batch object.
+constexpr std::size_t kSplitAbove = 9500, kPartNodes = 4000;
+
 class Writer {
  public:
   Writer(const symbolic::Trace& trace, const Plan& plan, const FunctionPlan& function, const model::Chain& chain,
@@ -42,7 +51,25 @@ class Writer {
     collect_stores();
     lanes_ = find_lane_groups(trace_, f_);
     find_angles();
-    for (std::size_t i = 0; i < f_.computed.size();) {
+    const std::vector<std::size_t> cuts = find_parts();
+    if (!cuts.empty() && !angles_.empty()) write_angles();  // before the parts: each reads them
+    std::size_t part_begin = 0;
+    for (std::size_t cut : cuts) {
+      write_part(part_begin, cut);
+      part_begin = cut;
+    }
+    write_nodes(part_begin, f_.computed.size());
+    store_rest();
+    OpCount worst = ops_;
+    worst += worst_extra_;
+    ops_ += taken_extra_;
+    return {text_.str(), ops_, worst, vector_expressions_};
+  }
+
+ private:
+  // computed[begin, end), each path block as its if/else.
+  void write_nodes(std::size_t begin, std::size_t end_of_range) {
+    for (std::size_t i = begin; i < end_of_range;) {
       std::size_t end = i + 1;
       if (f_.path_block[i] == 0) {
         write_node(f_.computed[i], ops_);
@@ -52,14 +79,181 @@ class Writer {
       }
       i = end;
     }
-    store_rest();
-    OpCount worst = ops_;
-    worst += worst_extra_;
-    ops_ += taken_extra_;
-    return {text_.str(), ops_, worst, vector_expressions_};
   }
 
- private:
+  // A function of more than kSplitAbove computed values is written in parts: each but the last a
+  // lambda that is not inlined (SWEEPGEN_PART), which the compiler optimises alone, called in
+  // order; the last part is the function's own code. The compiler's time on one function grows
+  // faster than its size (bench/README.md, "Compile time of big robots"). The parts end where
+  // the fewest values computed before are read after, near equal sizes, before the first path
+  // block of (C4) (whose `return false` belongs to the function). Returns the first index of
+  // each part after the first (empty: one part).
+  std::vector<std::size_t> find_parts() {
+    const std::size_t n = f_.computed.size();
+    if (n <= kSplitAbove) return {};
+    // Where each value is written: its own place if it is declared, its group's first member's
+    // for a lane, its one user's if it is written inside that user's expression.
+    std::map<NodeId, std::size_t> index_of, user_of;
+    for (std::size_t i = 0; i < n; ++i) index_of[f_.computed[i]] = i;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Node& node = graph_.node(f_.computed[i]);
+      for (int k = 0; k < symbolic::arity(node.op); ++k) user_of[node.args[k]] = i;
+    }
+    written_at_.assign(n, 0);
+    std::vector<std::size_t> group_first(lanes_.groups.size(), n);
+    for (std::size_t i = 0; i < n; ++i)
+      if (const auto lane = lanes_.lane_of.find(f_.computed[i]); lane != lanes_.lane_of.end())
+        group_first[lane->second.first] = std::min(group_first[lane->second.first], i);
+    for (std::size_t i = n; i-- > 0;) {
+      const NodeId id = f_.computed[i];
+      if (const auto lane = lanes_.lane_of.find(id); lane != lanes_.lane_of.end())
+        written_at_[i] = group_first[lane->second.first];
+      else if (angle_of_.count(id) || local_.count(id) || uses_[id] != 1 || hoisted_.count(id) || split_.count(id) ||
+               f_.path_block[i] != 0 || !user_of.count(id))
+        written_at_[i] = i;
+      else
+        written_at_[i] = written_at_[user_of.at(id)];
+    }
+    // The last place each value (computed here or a leaf) is read.
+    for (std::size_t i = 0; i < n; ++i) {
+      const Node& node = graph_.node(f_.computed[i]);
+      for (int k = 0; k < symbolic::arity(node.op); ++k) {
+        std::size_t& last = last_read_[node.args[k]];
+        last = std::max(last, written_at_[i]);
+      }
+    }
+    // Values stored at the end (store_rest: not computed here) are read there.
+    for (std::size_t i : f_.fields)
+      if (!index_of.count(trace_.fields[i].node)) last_read_[trace_.fields[i].node] = n;
+    for (NodeId id : f_.carried_out)
+      if (!index_of.count(id)) last_read_[id] = n;
+    // Values live across each place: written before it, read at or after it.
+    std::vector<long> live(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto last = last_read_.find(f_.computed[i]);
+      if (last == last_read_.end() || written_at_[i] != i || last->second <= i) continue;
+      ++live[i + 1];
+      --live[last->second + 1];
+    }
+    for (std::size_t i = 1; i <= n; ++i) live[i] += live[i - 1];
+    // The cuts that hand on the fewest values in all, each part at most kPartNodes long and at
+    // least a quarter of that, none inside a path block (dynamic programming over the places:
+    // fewest[c], the least values handed on with a cut at c).
+    const std::size_t most = kPartNodes, least = kPartNodes / 4, none = ~std::size_t(0);
+    const std::size_t last_cut = n - 1;
+    std::vector<std::size_t> fewest(last_cut + 1, none), previous(last_cut + 1, 0);
+    fewest[0] = 0;
+    for (std::size_t c = least; c <= last_cut; ++c) {
+      if (f_.path_block[c - 1] != 0 && f_.path_block[c - 1] == f_.path_block[c]) continue;
+      for (std::size_t p = c > most ? c - most : 0; p + least <= c; ++p)
+        if (fewest[p] != none && (fewest[c] == none || fewest[p] + live[c] < fewest[c])) {
+          fewest[c] = fewest[p] + live[c];
+          previous[c] = p;
+        }
+    }
+    std::size_t end = none;  // the last cut
+    for (std::size_t p = 1; p <= last_cut; ++p)
+      if (fewest[p] != none && n - p <= most && n - p >= least && (end == none || fewest[p] < fewest[end])) end = p;
+    std::vector<std::size_t> cuts;
+    for (std::size_t c = end; c != none && c != 0; c = previous[c]) cuts.insert(cuts.begin(), c);
+    return cuts;
+  }
+
+  // computed[begin, end) as a lambda that is not inlined (find_parts), called where it stands.
+  // It copies the function's values it reads and takes its reference parameters (and the angles'
+  // arrays) by reference; it returns, in a struct, the values that later code reads, which the
+  // function and the later parts read from that struct by reference (one store and one load per
+  // value handed on, as a State member would cost).
+  void write_part(std::size_t begin, std::size_t end) {
+    const std::set<NodeId> loaded_before = loaded_;
+    std::ostringstream outer;
+    outer.swap(text_);
+    indent_ = "    ";
+    declaring_.clear();
+    const std::string part = "part_" + std::to_string(next_part_++), type = "Part" + part.substr(part.find('_'));
+    // A part with a path block hands back where a Batch's lanes part: `ok` false.
+    const bool blocks = std::any_of(f_.path_block.begin() + begin, f_.path_block.begin() + end, [](int b) { return b != 0; });
+    if (blocks) lanes_part_ = "return " + type + "{}";  // ok: false
+    recording_ = true;
+    write_nodes(begin, end);
+    recording_ = false;
+    lanes_part_ = "return false";
+    indent_ = "  ";
+    outer.swap(text_);
+    const std::string body = outer.str();
+    // The variables declared in the part that later code reads (a lane group's vector, when one
+    // of its lanes is read).
+    std::vector<HandedOn> outputs;
+    std::set<std::string> seen;
+    for (const auto& [name, value_type, nodes] : declaring_) {
+      bool read_later = false;
+      for (NodeId id : nodes)
+        if (const auto last = last_read_.find(id); last != last_read_.end() && last->second >= end) read_later = true;
+      if (read_later && seen.insert(name).second) outputs.push_back({part, value_type, name});
+    }
+    // What the part reads of the earlier parts' values, by reference.
+    std::string aliases, earlier;
+    std::set<std::string> parts_read;
+    for (const HandedOn& value : handed_on_)
+      if (reads_name(body, value.name)) {
+        aliases += "    const " + value.type + "& " + value.name + " = " + value.part + "." + value.name + ";\n";
+        if (parts_read.insert(value.part).second) earlier += ", &" + value.part;
+      }
+    text_ << "\n  // ---- " << f_.name << ", " << part << ": a function of its own (SWEEPGEN_PART) ----\n";
+    const bool returns = blocks || !outputs.empty();
+    if (returns) {
+      text_ << "  struct " << type << " {" << (blocks ? " bool ok;" : "");
+      for (const HandedOn& value : outputs) text_ << " " << value.type << " " << value.name << ";";
+      text_ << " };\n";
+    }
+    text_ << "  " << (returns ? "const " + type + " " + part + " = " : "") << "[" << captures(body, true) << earlier
+          << "]() SWEEPGEN_PART {\n"
+          << aliases << body;
+    if (returns) {
+      text_ << "    return " << type << "{" << (blocks ? "true" : "");
+      for (std::size_t k = 0; k < outputs.size(); ++k) text_ << (k || blocks ? ", " : "") << outputs[k].name;
+      text_ << "};\n";
+    }
+    text_ << "  }();\n";
+    if (blocks) text_ << "  if (!" << part << ".ok) return false;  // (C4): the lanes part\n";
+    for (const HandedOn& value : outputs) {
+      text_ << "  [[maybe_unused]] const " << value.type << "& " << value.name << " = " << part << "." << value.name << ";\n";
+      handed_on_.push_back(value);
+    }
+    loaded_ = loaded_before;  // a later part loads again what it reads
+    block_body_ = -2;         // and starts with its banner
+    block_array_.clear();
+  }
+
+  // Whether `text` names the variable `name` (not as a part of a longer name or a member).
+  static bool reads_name(const std::string& text, const std::string& name) {
+    const auto identifier = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (std::size_t at = text.find(name); at != std::string::npos; at = text.find(name, at + 1)) {
+      const char before = at == 0 ? ' ' : text[at - 1], after = at + name.size() < text.size() ? text[at + name.size()] : ' ';
+      if (!identifier(before) && before != '.' && !identifier(after)) return true;
+    }
+    return false;
+  }
+
+  // The capture list of a lambda with `body`: values by copy, the function's reference
+  // parameters (and, for a part, the angles' arrays) by reference where the body uses them.
+  static std::string captures(const std::string& body, bool arrays) {
+    const auto uses = [&body](const std::string& name, char after) {
+      for (std::size_t at = body.find(name + after); at != std::string::npos; at = body.find(name + after, at + 1)) {
+        const char before = at == 0 ? ' ' : body[at - 1];
+        if (!std::isalnum(static_cast<unsigned char>(before)) && before != '_' && before != '.') return true;
+      }
+      return false;
+    };
+    std::string list = "=";
+    for (const char* reference : {"state", "drivers", "out"})
+      if (uses(reference, '.')) list += std::string(", &") + reference;
+    if (arrays)
+      for (const char* array : {"sin_angle", "cos_angle"})
+        if (uses(array, '[')) list += std::string(", &") + array;
+    return list;
+  }
+
   // The field that names node `id` here: one of this function's own, else a State field.
   void name_fields() {
     for (const Field& field : trace_.fields) {
@@ -251,6 +445,7 @@ class Writer {
       flush_loads();
       const std::string name = "lanes" + std::to_string(next_vector_++);
       text_ << indent_ << "const Lanes" << LaneGroups::kWidth << " " << name << " = " << value << ";\n";
+      if (recording_) declaring_.push_back({name, "Lanes" + std::to_string(LaneGroups::kWidth), std::vector<NodeId>(begin, end)});
       for (auto m = begin; m != end; ++m) {
         if (*m == kNoLane) continue;
         local_[*m] = name + "[" + std::to_string(m - begin) + "]";
@@ -278,23 +473,26 @@ class Writer {
     }
   }
 
+  void write_angles() {
+    angles_written_ = true;
+    std::string values;
+    for (NodeId x : angles_) values += (values.empty() ? "" : ", ") + leaf(x);
+    flush_loads();
+    const std::string n = std::to_string(angles_.size());
+    text_ << indent_ << "// sin and cos of the joint angles, all at once (F2; sincos_each)\n"
+          << indent_ << "const " << kValueType << " angle[" << n << "] = {" << values << "};\n"
+          << indent_ << kValueType << " sin_angle[" << n << "], cos_angle[" << n << "];\n"
+          << indent_ << "sincos_each(angle, sin_angle, cos_angle);\n";
+  }
+
   void write_angle(NodeId id, std::size_t k) {
     banner_for(id);
-    if (!angles_written_) {
-      angles_written_ = true;
-      std::string values;
-      for (NodeId x : angles_) values += (values.empty() ? "" : ", ") + leaf(x);
-      flush_loads();
-      const std::string n = std::to_string(angles_.size());
-      text_ << indent_ << "// sin and cos of the joint angles, all at once (F2; sincos_each)\n"
-            << indent_ << "const " << kValueType << " angle[" << n << "] = {" << values << "};\n"
-            << indent_ << kValueType << " sin_angle[" << n << "], cos_angle[" << n << "];\n"
-            << indent_ << "sincos_each(angle, sin_angle, cos_angle);\n";
-    }
+    if (!angles_written_) write_angles();
     const std::string element =
         std::string(graph_.node(id).op == Op::sin ? "sin_angle[" : "cos_angle[") + std::to_string(k) + "]";
     if (local_.count(id)) {
       text_ << indent_ << "const " << kValueType << " " << local_[id] << " = " << element << ";\n";
+      if (recording_) declaring_.push_back({local_[id], kValueType, {id}});
     } else {
       local_[id] = element;
     }
@@ -329,27 +527,33 @@ class Writer {
       banner_for(id);
       local_.try_emplace(id, "e" + std::to_string(next_expression_++));
       text_ << indent_ << kValueType << " " << local_[id] << ";\n";
+      if (recording_) declaring_.push_back({local_[id], kValueType, {id}});
     }
     for (int arm = 0; arm < 2; ++arm)
       for (NodeId id : branch[arm])
         if (hoisted_.count(id)) {
           local_.try_emplace(id, "e" + std::to_string(next_expression_++));
           text_ << indent_ << kValueType << " " << local_[id] << ";  // assigned on one path, read by a later block of it\n";
+          if (recording_) declaring_.push_back({local_[id], kValueType, {id}});
         }
     const std::string test = binary(condition.greater, kSum, " > ", condition.than, kSum);
     flush_loads();
     // In lanes (a Batch of states), a group whose lanes part returns false, and its states are
     // solved one by one (templates/solver.cpp.mustache, solve_in_lanes); a scalar never does.
-    const std::string path = "path_" + std::to_string(next_path_++);
+    const std::string path = "path_" + std::to_string(next_path_++), base = indent_;
     text_ << indent_ << "const auto " << path << " = " << test << ";  // (C4): the path the condition picks\n";
     text_ << indent_ << "if (Lanes<" << kValueType << ">::all(" << path << ")) {\n";
     OpCount cost[2];
     for (int arm = 0; arm < 2; ++arm) {
       if (arm == 1)
         text_ << indent_ << "} else {\n"
-              << indent_ << "  if (Lanes<" << kValueType << ">::any(" << path << ")) return false;  // (C4): the lanes part\n";
+              << indent_ << "  if (Lanes<" << kValueType << ">::any(" << path << ")) " << lanes_part_ << ";  // (C4): the lanes part\n";
       const std::set<NodeId> loaded_before = loaded_;
-      indent_ = "    ";
+      // The other path (the pivoted factorisation of (C4)) is written as a function of its own
+      // (cold_path): the usual path's optimisation does not see it.
+      std::ostringstream usual;
+      if (arm == 1) usual.swap(text_);
+      indent_ = base + (arm == 1 ? "    " : "  ");
       for (NodeId id : branch[arm]) write_node(id, cost[arm]);
       for (NodeId id : results) {
         const NodeId chosen = graph_.node(id).args[2 + arm];
@@ -359,10 +563,18 @@ class Writer {
               << (graph_.node(chosen).op == Op::constant ? "Lanes<" + std::string(kValueType) + ">::of(" + value + ")" : value)
               << ";\n";
       }
+      if (arm == 1) {
+        usual.swap(text_);
+        std::vector<NodeId> outputs = results;
+        for (NodeId id : branch[1])
+          if (hoisted_.count(id)) outputs.push_back(id);
+        indent_ = base + "  ";
+        cold_path(path, usual.str(), outputs);
+      }
       for (NodeId id : branch[arm])
         if (!hoisted_.count(id)) declared_.erase(id);
       loaded_ = loaded_before;
-      indent_ = "  ";
+      indent_ = base;
     }
     text_ << indent_ << "}\n";
     ++ops_.compare;  // the test; the assignments are moves
@@ -372,6 +584,36 @@ class Writer {
     }
     taken_extra_ += cost[0];
     worst_extra_ += cost[cost[1].total() > cost[0].total() ? 1 : 0];
+  }
+
+  // The body of a path block's other arm as a lambda that is not inlined (SWEEPGEN_COLD, templates/
+  // lanes.mustache: noinline and cold where the compiler has them), called where the arm was: the
+  // compiler optimises it apart from the function around it, whose cost grows faster than its
+  // size. It copies the values it reads (only when it runs), takes the function's reference
+  // parameters it uses by reference, and returns `outputs` (the block's results and the values it
+  // hands on to later blocks), which it declares itself.
+  void cold_path(const std::string& path, const std::string& body, const std::vector<NodeId>& outputs) {
+    const std::string type = "Pivoted" + path.substr(path.find('_'));
+    if (!outputs.empty()) {
+      text_ << indent_ << "struct " << type << " {";
+      for (NodeId id : outputs) text_ << " " << kValueType << " " << local_.at(id) << ";";
+      text_ << " };\n";
+    }
+    text_ << indent_ << (outputs.empty() ? "" : "const " + type + " pivoted = ") << "[" << captures(body, false)
+          << "]() SWEEPGEN_COLD {\n";
+    if (!outputs.empty()) {
+      text_ << indent_ << " ";
+      for (NodeId id : outputs) text_ << " " << kValueType << " " << local_.at(id) << ";";
+      text_ << "\n";
+    }
+    text_ << body;
+    if (!outputs.empty()) {
+      text_ << indent_ << "  return " << type << "{";
+      for (std::size_t k = 0; k < outputs.size(); ++k) text_ << (k ? ", " : "") << local_.at(outputs[k]);
+      text_ << "};\n";
+    }
+    text_ << indent_ << "}();\n";
+    for (NodeId id : outputs) text_ << indent_ << local_.at(id) << " = pivoted." << local_.at(id) << ";\n";
   }
 
   void store(NodeId id) {
@@ -388,6 +630,7 @@ class Writer {
     const std::string value = expression(id, kTernary);
     flush_loads();
     text_ << indent_ << (hoisted_.count(id) ? "" : std::string("const ") + kValueType + " ") << local_[id] << " = " << value << ";\n";
+    if (recording_) declaring_.push_back({local_[id], kValueType, {id}});
     declared_[id] = true;
     store(id);
   }
@@ -544,6 +787,22 @@ class Writer {
   std::map<std::size_t, std::vector<std::string>> group_locals_;
   int next_vector_ = 0;
   int next_path_ = 0;
+  int next_part_ = 1;
+  std::string lanes_part_ = "return false";  // where a Batch's lanes part at a (C4) condition
+  // find_parts and write_part: where each computed value is written, where each value is read
+  // last, and the variables a part declares (name, type, the values they hold) while recording_.
+  std::vector<std::size_t> written_at_;
+  std::map<NodeId, std::size_t> last_read_;
+  struct Declared {
+    std::string name, type;
+    std::vector<NodeId> nodes;
+  };
+  std::vector<Declared> declaring_;
+  struct HandedOn {
+    std::string part, type, name;
+  };
+  std::vector<HandedOn> handed_on_;  // the values each part hands on, in order
+  bool recording_ = false;
   std::vector<NodeId> angles_;               // find_angles: the values whose sin and cos are taken
   std::map<NodeId, std::size_t> angle_index_;  // value -> its index in angles_
   std::map<NodeId, std::size_t> angle_of_;     // sin or cos node -> the index of its value

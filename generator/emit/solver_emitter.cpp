@@ -244,6 +244,7 @@ data variant_values(const model::Chain& chain, const EmitRequest& request, const
   variant.set("flat_in_size", std::to_string(flat.in_size()));
   variant.set("flat_out_size", std::to_string(flat.out_size()));
   variant.set("unpack_drivers", unpack_drivers(request.trace));
+  variant.set("drivers_view_init", drivers_view_init(request.trace));
   variant.set("check_drivers", check_drivers(request.trace));
   variant.set("check_solution", check_solution(request.trace.outputs, nc, sets));
   variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"

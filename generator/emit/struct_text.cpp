@@ -113,6 +113,13 @@ std::string flat_drivers_init(const symbolic::TraceRequest& request) {
   return "{" + text + "}";
 }
 
+std::string drivers_view_init(const symbolic::TraceRequest& request) {
+  std::string text;
+  for (const auto& a : driver_arrays(request))
+    text += (text.empty() ? "" : ", ") + (a.rows ? "SixRows<Scalar>{drivers." + a.name + "[0]}" : "drivers." + a.name);
+  return "{" + text + "}";
+}
+
 std::string unpack_drivers(const symbolic::TraceRequest& request) {
   std::string text = "  [[maybe_unused]] const S* cursor = drivers_in;\n";
   for (const auto& a : driver_arrays(request)) text += "  " + a.loops + " drivers." + a.element + " = *cursor++;\n";

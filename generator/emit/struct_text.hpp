@@ -27,6 +27,8 @@ std::string array_members(const symbolic::Trace& trace, const std::vector<std::s
 
 // The Drivers struct's members, of value type `type`.
 std::string drivers_members(const symbolic::TraceRequest& request, const std::string& type);
+// The FlatDrivers<Scalar> view of a Drivers' members (templates/solver.cpp.mustache, drivers_view_of).
+std::string drivers_view_init(const symbolic::TraceRequest& request);
 // drivers_from_flat(): the drivers read from the flat input, in order.
 std::string unpack_drivers(const symbolic::TraceRequest& request);
 // The members of FlatDrivers<S> (templates/solver.cpp.mustache): the Drivers arrays as views of a

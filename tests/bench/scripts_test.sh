@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # bench/code_stats.sh and bench/instructions_by_quantity.sh on the smallest bundled scene: they run
-# from a clean clone and print figures that add up (bench/README.md).
+# from a clean clone and print figures that add up (bench/README.md); bench/compile_time.sh with the
+# generator built (the second argument).
 set -euo pipefail
 root=$1
+sweepgen=${2:-$root/build/generator/sweepgen}
 scene=planar_nc2
 fail() { echo "bench scripts test: $*" >&2; exit 1; }
 
@@ -28,4 +30,11 @@ awk '/total per call/ { total = $1; next } /whole program/ { program = $1; next 
      END { if (total < 500 || sum > total || sum < 0.99 * total || program < total || program > total + 40) {
              print "sum", sum, "total", total, "program", program; exit 1 } }' <<<"$out" ||
   fail "instructions_by_quantity: rows, total and the whole program's count disagree"
+# compile_time: a line per object (the baseline alone here), with a positive CPU time and a largest
+# function.
+out=$(SWEEPGEN=$sweepgen ISAS= bash "$root/bench/compile_time.sh" "$root/robots/planar/planar_nc2.yaml")
+echo "$out"
+awk '$1 == "baseline" { found = 1; if (!($2 > 0) || NF < 5) exit 1 } END { exit !found }' <<<"$out" ||
+  fail "compile_time: no baseline object line with a CPU time and a function"
+
 echo "bench scripts test: ok"
