@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
+#include <utility>
 
 #include "model/error.hpp"
 #include "model/urdf_loader.hpp"
@@ -28,6 +31,17 @@ std::string arm(const std::string& joint2_type = "revolute", const std::string& 
 </robot>)";
 }
 
+// A ChainSpec of `urdf` (a path) with a root, a tip and rotor inertias; every other field its default.
+model::ChainSpec spec_of(const std::string& urdf, const std::string& root = "", const std::string& tip = "",
+                         std::map<std::string, double> rotor = {}) {
+  model::ChainSpec spec;
+  spec.urdf = urdf;
+  spec.root_link = root;
+  spec.tip_link = tip;
+  spec.rotor_inertia = std::move(rotor);
+  return spec;
+}
+
 // Loads `urdf` and returns the error message, failing if there is none.
 // The message must name `source` (default: the URDF file).
 std::string load_error(const std::string& urdf, const std::string& root = "", const std::string& tip = "",
@@ -35,7 +49,7 @@ std::string load_error(const std::string& urdf, const std::string& root = "", co
   test::TempDir dir;
   const std::string path = dir.write("robot.urdf", urdf);
   try {
-    model::load_chain({path, root, tip, rotor, "--rotor-inertia", {}, {}, {}});
+    model::load_chain(spec_of(path, root, tip, rotor));
   } catch (const InputError& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find(source.empty() ? path : source), std::string::npos) << "message does not name the source: " << message;
@@ -51,7 +65,7 @@ void expect_contains(const std::string& text, const std::string& part) {
 
 TEST(ModelErrors, ValidArmLoads) {
   test::TempDir dir;
-  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm()), "", "", {}, "", {}, {}, {}});
+  const model::Chain chain = model::load_chain(spec_of(dir.write("robot.urdf", arm())));
   EXPECT_EQ(chain.dof(), 2u);
   EXPECT_EQ(chain.tip_link, "l2");
 }
@@ -64,7 +78,7 @@ TEST(ModelErrors, LoadedInertiasAreExactlySymmetric) {
       R"(<inertial><origin xyz="0.05 -0.02 0.11" rpy="0.3 0.7 1.1"/><mass value="1.7"/>)"
       R"(<inertia ixx="0.1" ixy="0.013" ixz="0.021" iyy="0.2" iyz="0.037" izz="0.25"/></inertial>)";
   test::TempDir dir;
-  const model::Chain chain = model::load_chain({dir.write("robot.urdf", arm("revolute", skew_inertial)), "", "", {}, "", {}, {}, {}});
+  const model::Chain chain = model::load_chain(spec_of(dir.write("robot.urdf", arm("revolute", skew_inertial))));
   for (std::size_t i = 1; i <= chain.dof(); ++i) {
     const auto& M = chain.bodies[i].inertia;
     EXPECT_TRUE(M.A == M.A.transpose()) << chain.bodies[i].link << ":\n" << M.A;
@@ -84,7 +98,7 @@ TEST(ModelErrors, MalformedXml) {
 
 TEST(ModelErrors, MissingFile) {
   try {
-    model::load_chain({"/nonexistent/robot.urdf", "", "", {}, "", {}, {}, {}});
+    model::load_chain(spec_of("/nonexistent/robot.urdf"));
     FAIL();
   } catch (const InputError& e) {
     expect_contains(e.what(), "/nonexistent/robot.urdf");
@@ -271,7 +285,7 @@ TEST(ModelErrors, MasslessLastBodyWithoutRotorInertia) {
                   "D_N = 0");
   // A rotor inertia makes the same chain valid.
   test::TempDir dir;
-  EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", arm("revolute", "")), "", "", {{"j2", 0.01}}, "", {}, {}, {}}));
+  EXPECT_NO_THROW(model::load_chain(spec_of(dir.write("robot.urdf", arm("revolute", "")), "", "", {{"j2", 0.01}})));
 }
 
 // Crossed position limits admit no position: random states draw from them and locked joints are
@@ -292,7 +306,7 @@ TEST(ModelErrors, CrossedJointLimits) {
   equal.replace(equal.find(R"(lower="-1" upper="1")"), std::string(R"(lower="-1" upper="1")").size(),
                 R"(lower="0.5" upper="0.5")");
   test::TempDir dir;
-  EXPECT_NO_THROW(model::load_chain({dir.write("robot.urdf", equal), "", "", {}, "", {}, {}, {}}));
+  EXPECT_NO_THROW(model::load_chain(spec_of(dir.write("robot.urdf", equal))));
 }
 
 TEST(ModelErrors, NonFiniteNumbers) {
