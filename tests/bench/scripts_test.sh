@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench/code_stats.sh and bench/instructions_by_quantity.sh on the smallest bundled scene: they run
-# from a clean clone and print figures that add up (bench/README.md); bench/compile_time.sh with the
-# generator built (the second argument).
+# from a clean clone and print figures that add up (bench/README.md); bench/compile_time.sh and
+# bench/batch_scene.sh with the generator built (the second argument).
 set -euo pipefail
 root=$1
 sweepgen=${2:-$root/build/generator/sweepgen}
@@ -36,5 +36,13 @@ out=$(SWEEPGEN=$sweepgen ISAS= bash "$root/bench/compile_time.sh" "$root/robots/
 echo "$out"
 awk '$1 == "baseline" { found = 1; if (!($2 > 0) || NF < 5) exit 1 } END { exit !found }' <<<"$out" ||
   fail "compile_time: no baseline object line with a CPU time and a function"
+
+# batch_scene: the flat loop and the batch entry point of a default build's objects, each with a
+# positive time per state.
+out=$(SWEEPGEN=$sweepgen bash "$root/bench/batch_scene.sh" "$root/robots/planar/planar_nc2.yaml")
+echo "$out"
+tail -1 <<<"$out" | grep -qE '^[a-z_]+: [0-9]+ states a vector, flat [0-9.]+ ns, batch [0-9.]+ ns a state, flat / batch [0-9.]+$' ||
+  fail "batch_scene: no line with the flat and the batch time"
+tail -1 <<<"$out" | awk '{ if (!($7 > 0) || !($10 > 0)) exit 1 }' || fail "batch_scene: a time is not positive"
 
 echo "bench scripts test: ok"
