@@ -704,6 +704,7 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
   for (const auto& file : files) {
     std::ifstream in(file);
     ASSERT_TRUE(in) << file << " (built with -fstack-usage by the scene library targets)";
+    const bool isa_object = file.find("/sweepgen_batch/") != std::string::npos;
     std::map<std::string, Frame> frames;  // by qualified name
     // By function and instance (scalar or lanes): its largest frame, and its largest lambda frame
     // at each depth (those at one depth run one at a time).
@@ -718,7 +719,6 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
       // An ISA object (sweepgen_batch/) may realign its frame to its vectors' 32 or 64 bytes, beyond
       // the ABI's 16: GCC then says "dynamic,bounded", the size an upper bound known at compile
       // time. Plain "dynamic" (a VLA, alloca) is refused everywhere.
-      const bool isa_object = file.find("/sweepgen_batch/") != std::string::npos;
       EXPECT_TRUE(f.qualifier == "static" || (isa_object && f.qualifier == "dynamic,bounded"))
           << file << ": " << f.function << " has a " << f.qualifier << " frame";
       const bool batch = f.lanes || f.function.find("_batch") != std::string::npos;

@@ -588,7 +588,7 @@ Chain load_chain(const ChainSpec& spec) {
     // as fuzz/regressions/urdf/reject_utf8_lead_byte_at_end.urdf). NUL bytes after the text keep
     // such a read inside the buffer; the parser stops at the first NUL either way.
     padded_text = text + std::string(8, '\0');
-    check_xml_syntax(padded_text, urdf_path);
+    check_xml_syntax(padded_text, urdf_path, outline);  // the outline read above: the padding adds no element
     model = urdf::parseURDF(padded_text);
     if (!model || !console.messages().empty())
       throw InputError(urdf_path, "<robot>",

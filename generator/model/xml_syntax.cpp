@@ -3,7 +3,6 @@
 #include <tinyxml.h>
 
 #include "model/error.hpp"
-#include "model/xml_nesting.hpp"
 
 namespace sweepgen::model {
 namespace {
@@ -37,7 +36,7 @@ std::string tag_element(std::string_view name) {
 
 }  // namespace
 
-void check_xml_syntax(const std::string& text, const std::string& file) {
+void check_xml_syntax(const std::string& text, const std::string& file, const XmlOutline& outline) {
   TiXmlDocument document;
   document.SetTabSize(1);  // columns count characters, a tab as one, as the scene's positions do
   document.Parse(text.c_str());
@@ -47,7 +46,6 @@ void check_xml_syntax(const std::string& text, const std::string& file) {
   }
   // A missing end tag is TinyXML's error only where another end tag, or the text's end, comes:
   // the element left open is said where it opened.
-  const XmlOutline outline = xml_outline(text);
   if (document.ErrorId() == TiXmlBase::TIXML_ERROR_READING_END_TAG && outline.unclosed_line != 0) {
     const std::string instead = outline.closed_instead_line == 0
                                     ? "the text ends first"
