@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Installs everything sweepgen needs from Debian 12 packages. Idempotent: when every package
 # is already installed it changes nothing and does not touch the network.
+#   install-dependencies.sh            the generator, its report, the tests and benchmarks (README, command 1)
+#   install-dependencies.sh consumers  and the derivatives' consumers the tests drive: Ipopt
+#                                      (examples/trajectory_optimisation) and PyTorch (README, "PyTorch");
+#                                      cmake/test-all.sh (README, command 2) asks for them
 set -euo pipefail
 
 packages=(
@@ -13,6 +17,11 @@ packages=(
   pybind11-dev python3-dev python3-numpy # the Python modules (README, "Python")
   clang libclang-rt-14-dev              # second compiler, sanitizers and fuzzing
 )
+case "${1:-}" in
+  "") ;;
+  consumers) packages+=(coinor-libipopt-dev python3-torch) ;;
+  *) echo "install-dependencies: unknown argument '$1' (none, or 'consumers')" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

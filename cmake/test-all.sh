@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs every test: the README's second command, and what .ci/run runs.
-#   1. cmake/install-dependencies.sh (Debian packages; nothing when all are present)
+#   1. cmake/install-dependencies.sh consumers (Debian packages, with the derivatives' consumers
+#      Ipopt and PyTorch; nothing when all are present)
 #   2. release workflow: build/, the whole suite
 #   3. sanitize-ci workflow: build-sanitize/, clang with AddressSanitizer + UndefinedBehaviorSanitizer:
 #      the instrumented generator on every bundled scene, every bundled scene's solver and test
@@ -11,7 +12,7 @@
 set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-stages=("setup:bash cmake/install-dependencies.sh"
+stages=("setup:bash cmake/install-dependencies.sh consumers"
         "release:cmake --workflow --preset release"
         "sanitize:cmake --workflow --preset sanitize-ci")
 times=()
