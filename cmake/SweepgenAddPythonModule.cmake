@@ -122,21 +122,23 @@ function(sweepgen_add_python_module name)
   list(GET solver_include 0 solver_include)
   set(header "${solver_include}/${solver}.hpp")
   set(scene_dir "${CMAKE_CURRENT_BINARY_DIR}/sweepgen_python/${name}")
+  # The binding and its PyTorch layer: installed next to this file (python/), or in the source tree.
+  get_filename_component(here "${CMAKE_CURRENT_FUNCTION_LIST_FILE}" DIRECTORY)
+  set(python_dir "${here}/python")
+  if(NOT EXISTS "${python_dir}/module.cpp")
+    set(python_dir "${here}/../python")
+  endif()
+  set(source "${python_dir}/module.cpp")
   add_custom_command(
     OUTPUT "${scene_dir}/sweepgen_module_scene.hpp"
     COMMAND ${CMAKE_COMMAND} "-DSWEEPGEN_SCENE_HEADER=${header}"
             "-DSWEEPGEN_MODULE_SCENE=${scene_dir}/sweepgen_module_scene.hpp"
+            "-DSWEEPGEN_TORCH_LAYER=${python_dir}/torch_layer.py"
             -P "${CMAKE_CURRENT_FUNCTION_LIST_FILE}"
-    DEPENDS "${header}" "${CMAKE_CURRENT_FUNCTION_LIST_FILE}"
+    DEPENDS "${header}" "${CMAKE_CURRENT_FUNCTION_LIST_FILE}" "${python_dir}/torch_layer.py"
     COMMENT "sweepgen: reading the scene of Python module ${name} from ${solver}.hpp"
     VERBATIM)
 
-  # The binding: installed next to this file (python/module.cpp), or in the source tree.
-  get_filename_component(here "${CMAKE_CURRENT_FUNCTION_LIST_FILE}" DIRECTORY)
-  set(source "${here}/python/module.cpp")
-  if(NOT EXISTS "${source}")
-    set(source "${here}/../python/module.cpp")
-  endif()
   # NO_EXTRAS: without pybind11's link-time optimisation (the generated library is compiled
   # without it; LTO took as long, 6.9 s against 6.5 s per module here, for no measured gain).
   pybind11_add_module(${name} MODULE NO_EXTRAS "${source}" "${scene_dir}/sweepgen_module_scene.hpp")
@@ -149,7 +151,8 @@ endfunction()
 # Script mode (the custom command above): reads the generated header SWEEPGEN_SCENE_HEADER and
 # writes SWEEPGEN_MODULE_SCENE, which python/module.cpp includes. The header's outer namespace is
 # the scene's, `namespace f64 {` / `namespace f32 {` the scalars it has, and the comment above
-# flat_in_size states the flat layout ("in = [...]", "out = [...]").
+# flat_in_size states the flat layout ("in = [...]", "out = [...]"). The text of SWEEPGEN_TORCH_LAYER
+# (python/torch_layer.py, the module's `torch` attribute) goes in as sweepgen_module_torch_layer.
 if(CMAKE_SCRIPT_MODE_FILE AND DEFINED SWEEPGEN_SCENE_HEADER)
   cmake_policy(VERSION 3.25)
   file(STRINGS "${SWEEPGEN_SCENE_HEADER}" namespaces REGEX "^namespace [A-Za-z_][A-Za-z0-9_:]* {$")
@@ -177,6 +180,11 @@ if(CMAKE_SCRIPT_MODE_FILE AND DEFINED SWEEPGEN_SCENE_HEADER)
       string(REGEX REPLACE "[\n/ ]+" " " flat_${part} "${CMAKE_MATCH_1}")
     endif()
   endforeach()
+  file(READ "${SWEEPGEN_TORCH_LAYER}" torch_layer)
+  string(FIND "${torch_layer}" ")torch_layer\"" clash)
+  if(NOT clash EQUAL -1)
+    message(FATAL_ERROR "${SWEEPGEN_TORCH_LAYER} contains the raw-string delimiter )torch_layer\"")
+  endif()
   file(CONFIGURE OUTPUT "${SWEEPGEN_MODULE_SCENE}" CONTENT [[
 // Written by cmake/SweepgenAddPythonModule.cmake from @SWEEPGEN_SCENE_HEADER@.
 #pragma once
@@ -187,5 +195,6 @@ if(CMAKE_SCRIPT_MODE_FILE AND DEFINED SWEEPGEN_SCENE_HEADER)
 #define SWEEPGEN_MODULE_HAS_DERIVATIVES @has_derivatives@
 #define SWEEPGEN_MODULE_FLAT_IN "@flat_in@"
 #define SWEEPGEN_MODULE_FLAT_OUT "@flat_out@"
+inline constexpr const char* sweepgen_module_torch_layer = R"torch_layer(@torch_layer@)torch_layer";
 ]] @ONLY)
 endif()

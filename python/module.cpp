@@ -6,6 +6,7 @@
 //   SWEEPGEN_MODULE_HAS_F64/32 whether the header has namespace f64 / f32 (the scene's `scalars:`)
 //   SWEEPGEN_MODULE_FLAT_IN/OUT the flat layout as the header's comment states it
 //   SWEEPGEN_MODULE_HAS_DERIVATIVES whether the header has the derivative functions (scene key derivatives)
+// `<module>.torch` is python/torch_layer.py (README, "PyTorch"), run the first time it is read.
 // Only the generated API common to every scene is bound (and, with derivatives, `derivatives`): dof, nq, constraints, checks_inputs, Status,
 // and per scalar outward, decompose (through drivers_from_flat), the solves and flat_solves
 // tables and the Solution members nu (when constraints > 0), qdd, tau_ctrl, tau_cmd,
@@ -16,6 +17,7 @@
 // Every array argument is 1-D (one state, or shared by every row) or 2-D (K, width) (one row per
 // state); a call with any 2-D argument is batched, loops in C++ with the GIL released, and returns
 // (K, ...) arrays.
+#include <pybind11/eval.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -688,4 +690,24 @@ PYBIND11_MODULE(SWEEPGEN_MODULE_NAME, m) {
 #endif
 #endif
   m.attr("scalars") = py::tuple(scalars);
+
+  // <module>.torch: the PyTorch layer (python/torch_layer.py), run on first use (a module-level
+  // __getattr__, PEP 562), so that importing the module never imports torch.
+  m.def("__getattr__", [name](const std::string& attribute) -> py::object {
+    if (attribute != "torch") throw py::attribute_error("module '" + name + "' has no attribute '" + attribute + "'");
+    py::module_ self = py::module_::import(name.c_str());
+    py::dict scope;
+    scope["__name__"] = name + ".torch";
+    scope["__builtins__"] = py::module_::import("builtins");
+    try {
+      py::exec(sweepgen_module_torch_layer, scope);
+    } catch (py::error_already_set& e) {
+      if (!e.matches(PyExc_ImportError)) throw;
+      const std::string python = py::str(py::module_::import("sys").attr("executable"));
+      throw py::import_error(name + ".torch needs PyTorch in " + python + " (Debian: python3-torch): " + e.what());
+    }
+    py::object layer = scope["bind"](self);
+    self.attr("torch") = layer;
+    return layer;
+  });
 }

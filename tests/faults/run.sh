@@ -4,7 +4,8 @@
 # expression) is applied, one at a time, to a copy of the committed tree; sweepgen_tests is
 # rebuilt and the fault's suites run; a fault is caught when at least one of their tests fails.
 # Prints one line per fault with the failing suites and exits 1 if any fault went uncaught or a
-# sed expression no longer matches its file (the fault list must follow the code).
+# sed expression no longer matches its file (the fault list must follow the code). A filter
+# "ctest:REGEX" builds the whole tree and runs the ctest tests matching REGEX instead.
 #   bash tests/faults/run.sh [NAME...]      # all faults, or the named ones; ~3-5 min per fault on 2 cores
 set -uo pipefail
 source_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -26,7 +27,17 @@ while IFS='|' read -r name file expression filter; do
   if cmp -s "$target" "$work/original"; then
     echo "FAULT $name: the expression no longer matches $file"; status=1; continue
   fi
-  if ! cmake --build "$work/build" --target sweepgen_tests > "$work/$name.build.log" 2>&1; then
+  if [[ "$filter" == ctest:* ]]; then
+    # A fault caught by a ctest test (a consumer of the derivatives, the Python layer): the whole
+    # build, then the tests whose names match the regular expression after "ctest:".
+    if ! cmake --build "$work/build" > "$work/$name.build.log" 2>&1; then
+      echo "FAULT $name: caught at build time ($work/$name.build.log)"
+    elif ctest --test-dir "$work/build" -R "${filter#ctest:}" --output-on-failure > "$work/$name.log" 2>&1; then
+      echo "FAULT $name: NOT CAUGHT by $filter ($work/$name.log)"; status=1
+    else
+      echo "FAULT $name: caught by $(grep -E '^[[:space:]]*[0-9]+ - ' "$work/$name.log" | sed -E 's/^ *[0-9]+ - //; s/ \(.*//' | tr '\n' ' ')"
+    fi
+  elif ! cmake --build "$work/build" --target sweepgen_tests > "$work/$name.build.log" 2>&1; then
     echo "FAULT $name: caught at build time ($work/$name.build.log)"
   else
     # A fault can make a test run away (a generator printing a graph as a tree): 15 minutes, then
