@@ -32,6 +32,7 @@ a second derivative (none is generated).
 import collections
 import re
 
+import numpy as np
 import torch
 
 Solution = collections.namedtuple("Solution", ["qdd", "nu", "tau_cmd", "status"])
@@ -111,7 +112,13 @@ def bind(module):
     def rows(value, batch, width):
         """(K, width) NumPy rows of value broadcast to batch: a view where value is contiguous and
         of the batch's shape, else one copy."""
+        if value.shape[:-1] == batch and value.is_contiguous():
+            return value.detach().numpy().reshape(-1, width)
         return value.detach().expand(batch + (width,)).reshape(-1, width).contiguous().numpy()
+
+    def tensor(values, batch):
+        """A tensor over NumPy values (K, width) (no copy), shaped batch + (width,)."""
+        return torch.from_numpy(values.reshape(batch + values.shape[1:]))
 
     class Solve(torch.autograd.Function):
         @staticmethod
@@ -119,12 +126,13 @@ def bind(module):
             dtype = q.dtype
             variant = variants[dtype]
             given = [q, qd, beta, *drivers]
-            batch = tuple(torch.broadcast_shapes(*(v.shape[:-1] for v in given if v is not None)))
+            shapes = [v.shape[:-1] for v in given if v is not None]
+            batch = (shapes[0] if all(shape == shapes[0] for shape in shapes)
+                     else torch.Size(torch.broadcast_shapes(*shapes)))
             q_rows, qd_rows = rows(q, batch, nq), rows(qd, batch, dof)
             b_rows = rows(beta, batch, nc) if beta is not None else None
             d_rows = [rows(d, batch, d.shape[-1]) for d in drivers]
-            d_rows = (None if not d_rows else d_rows[0] if len(d_rows) == 1
-                      else torch.cat([torch.from_numpy(d) for d in d_rows], 1).numpy())
+            d_rows = None if not d_rows else d_rows[0] if len(d_rows) == 1 else np.concatenate(d_rows, 1)
             ctx.set_materialize_grads(False)
             ctx.batch, ctx.dtype, ctx.holds = batch, dtype, holds
             ctx.shapes = [None if v is None else v.shape for v in given]
@@ -133,22 +141,22 @@ def bind(module):
                 ctx.why_not = why_not_differentiable(variant, policy)
             if any(ctx.needs_input_grad[3:]) and ctx.why_not is None:
                 result = variant.derivatives(q_rows, qd_rows, d_rows, b_rows, policy=policy, raise_on_status=mask)
-                values = [torch.from_numpy(result[y]) for y in _OUTPUTS]
-                status = torch.from_numpy(result["status"].astype("int64"))
+                values = [result[y] for y in _OUTPUTS]
+                status = result["status"].astype(np.int64)
                 ctx.jacobians = {y: [torch.from_numpy(result[f"d_{y}_{b}"]) for b in _BLOCKS]
                                  for y in variant.derivative_outputs}
                 if floating:
                     ctx.base_rotation = torch.from_numpy(q_rows[:, :9]).reshape(-1, 3, 3)
             else:
-                parts = [torch.from_numpy(p) for p in (q_rows, qd_rows, d_rows, b_rows) if p is not None]
-                flat = torch.cat(parts, 1).numpy()
-                out = torch.from_numpy(variant.solve_flat(flat, policy=policy, raise_on_status=mask))
+                flat = np.concatenate([p for p in (q_rows, qd_rows, d_rows, b_rows) if p is not None], 1)
+                out = variant.solve_flat(flat, policy=policy, raise_on_status=mask)
                 # flat_out_layout: qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip (6), status
                 values = [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]]
-                status = out[:, -1].to(torch.int64)
+                status = out[:, -1].astype(np.int64)
+            status = torch.from_numpy(status.reshape(batch))
             ctx.mark_non_differentiable(status)
             ctx.save_for_backward(*given)
-            return (*(v.reshape(batch + (v.shape[-1],)) for v in values), status.reshape(batch))
+            return (*(tensor(v, batch) for v in values), status)
 
         @staticmethod
         def backward(ctx, *grads):
