@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -233,12 +234,15 @@ int main(int argc, char** argv) {
     return 1;
   }
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
   const Ipopt::ApplicationReturnStatus returned = app->OptimizeTNLP(nlp);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   const int iterations = Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : -1;
-  std::printf("trajectory_optimisation: %s Jacobian, %d intervals: %s (%d) after %d iterations, %.3f s; effort %.6g\n",
+  std::printf("trajectory_optimisation: %s Jacobian, %d intervals: %s (%d) after %d iterations, %.3f s (CPU %.3f s); "
+              "effort %.6g\n",
               options.finite_difference ? "finite-difference" : "exact", problem.intervals,
-              status_name(nlp->status()), static_cast<int>(returned), iterations, seconds, nlp->effort());
+              status_name(nlp->status()), static_cast<int>(returned), iterations, seconds, cpu_seconds, nlp->effort());
   if (nlp->status() != Ipopt::SUCCESS) {
     std::fprintf(stderr, "trajectory_optimisation: Ipopt did not solve the problem: %s%s\n", status_name(nlp->status()),
                  options.end_lift != 0 ? " (the end pose is off the plane the hand is held on)" : "");
