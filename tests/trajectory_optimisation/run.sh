@@ -6,6 +6,8 @@
 #                                              table and the figure
 #   run.sh PROGRAM OUT_DIR unreachable_plane   a plane above the hand's reach: exit 2 and a message
 #   run.sh PROGRAM OUT_DIR end_off_plane       an end pose off the plane: Ipopt's status, exit 1
+#   run.sh PROGRAM OUT_DIR bench_script        bench/trajectory_optimisation.sh at 10 intervals, one
+#                                              pair: both Jacobians reach the same optimum
 set -uo pipefail
 program=$1 out=$2/$3 mode=$3
 rm -rf "$out" && mkdir -p "$out"
@@ -35,6 +37,15 @@ case "$mode" in
     rc=$?
     [ $rc -eq 1 ] || fail "exit $rc, not 1"
     grep -q "Ipopt did not solve the problem: .* (the end pose is off the plane" "$out/log" || fail "no status message"
+    ;;
+  bench_script)
+    RUNS=1 INTERVALS=10 bash "$(dirname "${BASH_SOURCE[0]}")/../../bench/trajectory_optimisation.sh" "$program" >"$out/log" 2>&1 ||
+      fail "the script failed"
+    exact=$(awk '/^exact \(generated\)/ { print $3, $NF }' "$out/log")
+    fd=$(awk '/^finite differences/ { print $3, $NF }' "$out/log")
+    # The same optimum: Ipopt's tol 1e-8 on both, the objective printed to 6 digits.
+    [ -n "$exact" ] && [ "${exact#* }" = "${fd#* }" ] || fail "no rows, or different optima: '$exact' and '$fd'"
+    grep -qE '^ratio \(FD / exact\) +[0-9.]+x +[0-9.]+x$' "$out/log" || fail "no ratio row"
     ;;
   *) echo "run.sh: unknown mode $mode" >&2; exit 2 ;;
 esac
