@@ -5,15 +5,19 @@
 //   trajectory_optimisation OUT_DIR [--intervals N] [--finite-difference] [--derivative-test]
 //                           [--plane-height Z] [--end-lift D] [--check]
 //
-// The plane: z = the start pose's hand height (or Z). The hand is kept on it by the constraint
-// direction alpha = [0; Rᵀ n] and the stabilising law beta (plane_dynamics.hpp), both functions of
-// (q, q̇) whose exact Jacobians the example adds to the generated ones. The NLP: shooting_nlp.hpp.
+// The plane: z = the start pose's hand height (or Z); both poses are moved onto it (the end pose
+// from kEnd, along the height's gradient). The hand is kept on it by the dynamics, not by the NLP:
+// the constraint direction alpha = [0; Rᵀ n] and the stabilising law beta (plane_dynamics.hpp),
+// both functions of (q, q̇) whose exact Jacobians the example adds to the generated ones; so the
+// discrete trajectory leaves the plane by the integrator's error, which --check bounds. The NLP:
+// shooting_nlp.hpp. Ipopt's options: hessian_approximation limited-memory, tol and
+// constr_viol_tol 1e-8, max_iter 500 (an ipopt.opt in the working directory adds to them).
 // --finite-difference: Ipopt's finite-difference Jacobian (jacobian_approximation
 // finite-difference-values) instead of the exact one, for bench/trajectory_optimisation.sh.
 // --derivative-test: Ipopt's derivative_test first-order at the starting point.
 // --end-lift D: the end pose D metres above the plane, a problem the constraint makes infeasible.
-// --check: asserts the result (converged, the dynamics met, the hand on the plane, the torque
-// limits); a failed check exits 1.
+// --check: asserts the result (the dynamics and the end pose met, the torque limits, the hand on
+// the plane), each against its bound (check() derives them); a failed check exits 1.
 // Writes OUT_DIR/trajectory.csv and OUT_DIR/trajectory.png (gnuplot: joint torques, the hand's
 // height over the plane, the plane's force ν). Exit codes: 0 solved, 1 not solved or a check
 // failed, 2 bad arguments or a pose that cannot reach the plane, 3 gnuplot failed.
