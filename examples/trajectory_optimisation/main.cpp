@@ -20,7 +20,8 @@
 // the plane), each against its bound (check() derives them); a failed check exits 1.
 // Writes OUT_DIR/trajectory.csv and OUT_DIR/trajectory.png (gnuplot: joint torques, the hand's
 // height over the plane, the plane's force ν). Exit codes: 0 solved, 1 not solved or a check
-// failed, 2 bad arguments or a pose that cannot reach the plane, 3 gnuplot failed.
+// failed, 2 bad arguments, an OUT_DIR that cannot be made or a pose that cannot reach the plane, 3 the
+// table or the figure not written.
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 
@@ -30,7 +31,7 @@
 #include <ctime>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
+#include <filesystem>
 #include <string>
 
 #include "shooting_nlp.hpp"
@@ -190,6 +191,13 @@ int main(int argc, char** argv) {
                  "usage: %s OUT_DIR [--intervals N>=2] [--finite-difference] [--derivative-test] [--plane-height Z] "
                  "[--end-lift D] [--check]\n",
                  argv[0]);
+    return 2;
+  }
+  std::error_code error;
+  std::filesystem::create_directories(options.out_dir, error);
+  if (error) {
+    std::fprintf(stderr, "trajectory_optimisation: cannot create %s: %s\n", options.out_dir.c_str(),
+                 error.message().c_str());
     return 2;
   }
   Problem problem{};
