@@ -17,7 +17,8 @@
 // --derivative-test: Ipopt's derivative_test first-order at the starting point.
 // --end-lift D: the end pose D metres above the plane, a problem the constraint makes infeasible.
 // --check: asserts the result (the dynamics and the end pose met, the torque limits, the hand on
-// the plane), each against its bound (check() derives them); a failed check exits 1.
+// the plane, a force the table can give), each against its bound (check() derives them); a failed
+// check exits 1.
 // Writes OUT_DIR/trajectory.csv and OUT_DIR/trajectory.png (gnuplot: joint torques, the hand's
 // height over the plane, the plane's force ν). Exit codes: 0 solved, 1 not solved or a check
 // failed, 2 bad arguments, an OUT_DIR that cannot be made or a pose that cannot reach the plane, 3 the
@@ -179,6 +180,11 @@ bool check(const Problem& problem, const std::vector<double>& x, const std::vect
   const double height_bound = 2 * kick_gain(problem) * kick;
   report("max |hand height over the plane| [m]", worst_height, height_bound);
   report("its bound 2 * kick_gain * max h^2/2 |qd' Hess(e) qd| [m]", height_bound, 1e-3);
+  // The plane holds the hand both ways; a table only pushes (ν > 0: the wrench +α ν along +z), so
+  // the motion is one a table allows where ν never goes negative.
+  double pull = -INFINITY;
+  for (const Node& n : nodes) pull = std::max(pull, -n.nu);
+  report("max -nu (the table pulls where > 0) [N]", pull, 0);
   return ok;
 }
 

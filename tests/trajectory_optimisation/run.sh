@@ -21,7 +21,7 @@ case "$mode" in
       fail "Ipopt's derivative checker flagged entries: $(grep -m1 'Derivative checker detected' "$out/log")"
     [ $rc -eq 0 ] || fail "exit $rc"
     grep -q "exact Jacobian, .*: Solve_Succeeded" "$out/log" || fail "no Solve_Succeeded"
-    [ "$(grep -c '^check: .* ok$' "$out/log")" -eq 4 ] || fail "not every check passed"
+    [ "$(grep -c '^check: .* ok$' "$out/log")" -eq 5 ] || fail "not every check passed"
     [ -s "$out/trajectory.csv" ] && [ -s "$out/trajectory.png" ] || fail "no trajectory.csv or trajectory.png"
     # A row per node (30 intervals: 31), header included.
     [ "$(wc -l <"$out/trajectory.csv")" -eq 32 ] || fail "trajectory.csv has not 31 rows"
