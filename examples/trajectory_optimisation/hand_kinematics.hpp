@@ -9,6 +9,7 @@
 // then the fixed joints panda_joint8 (0.107 m along z) and panda_hand_joint (Rz(-pi/4)), and
 //   ṗ = Σ z_i × (p − o_i) q̇_i,  ω = Σ z_i q̇_i   (z_i, o_i: joint i's axis and origin in the base frame).
 // A copy for another robot replaces kJoints and the hand's offset with its URDF's origins.
+// tests/test_trajectory_kinematics.cpp holds these to the project's reading of panda.urdf.
 #pragma once
 
 #include <array>
