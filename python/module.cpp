@@ -284,6 +284,20 @@ void solve_in_batch(void (*batch)(int, const Scalar*, Scalar*) noexcept, py::ssi
   }
 }
 
+// solve_in_batch's `in_row` for a state given as its parts: row s's q, qd, drivers and beta, in the
+// flat input's order.
+template <class Scalar>
+auto flat_input_of(const Rows<Scalar>& q, const Rows<Scalar>& qd, const Rows<Scalar>& drivers,
+                   const Rows<Scalar>& beta) {
+  return [&](std::size_t s, Scalar* to) {
+    const auto k = static_cast<py::ssize_t>(s);
+    to = std::copy_n(q.row(k), q.width, to);
+    to = std::copy_n(qd.row(k), qd.width, to);
+    to = std::copy_n(drivers.row(k), drivers.width, to);
+    std::copy_n(beta.row(k), beta.width, to);
+  };
+}
+
 // Index of `policy` in a generated table ({policy, function} entries); ValueError listing them.
 template <class Table>
 std::size_t policy_index(const Table& table, const std::string& policy) {
@@ -422,13 +436,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
           py::gil_scoped_release release;
           solve_in_batch<Scalar>(
               Derived::batch_solves[index].solve, batch.rows, Derived::flat_in_size, Derived::flat_out_size,
-              [&](std::size_t s, Scalar* to) {
-                const auto k = static_cast<py::ssize_t>(s);
-                to = std::copy_n(q_rows.row(k), nq, to);
-                to = std::copy_n(qd_rows.row(k), dof, to);
-                to = std::copy_n(d.row(k), n_drivers, to);
-                std::copy_n(b.row(k), constraints, to);
-              },
+              flat_input_of(q_rows, qd_rows, d, b),
               [&](std::size_t s, const Scalar* from) {
                 // The derivative flat output: qdd, nu, tau_cmd, then the Jacobians returned, status.
                 const Scalar* values[3] = {from, constraints > 0 ? from + dof : nullptr, from + dof + constraints};
@@ -623,6 +631,36 @@ void bind_variant(py::module_& module, const char* doc) {
       "The generated flat entry point: in (flat_in_size,) or (K, flat_in_size) -> out (flat_out_size,) or "
       "(K, flat_out_size), layouts in the module's flat_in_layout and flat_out_layout (status last). K rows go "
       "through the generated solve_<policy>_batch: several states per vector instruction.");
+
+  m.def(
+      "solve_batch",
+      [prefix](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
+               const std::string& policy, unsigned mask) {
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
+                           d = rows_of<Scalar>(drivers, "drivers", n_drivers),
+                           b = rows_of<Scalar>(beta, "beta", constraints);
+        const std::size_t index = policy_index(Api::flat_solves, policy);
+        const Batch batch{true, batch_of<Scalar>({&q_rows, &qd_rows, &d, &b}).rows};
+        py::array_t<Scalar> out = array_of<Scalar>(batch, Api::flat_out_size);
+        Scalar* out_data = out.mutable_data();
+        {
+          py::gil_scoped_release release;
+          solve_in_batch<Scalar>(
+              Api::batch_solves[index].solve, batch.rows, Api::flat_in_size, Api::flat_out_size,
+              flat_input_of(q_rows, qd_rows, d, b),
+              [&](std::size_t s, const Scalar* from) { std::copy_n(from, Api::flat_out_size, out_data + s * Api::flat_out_size); });
+        }
+        const auto status_of = [&](py::ssize_t k) {
+          return static_cast<unsigned>(out_data[k * Api::flat_out_size + Api::flat_out_size - 1]);
+        };
+        raise_on_status(mask, batch, status_of, prefix + "solve_batch", policy, out);
+        return out;
+      },
+      py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),
+      py::arg("policy") = default_policy, py::arg("raise_on_status") = 0u,
+      "The generated solve_<policy>_batch on K states given as solve()'s arguments, without forming their flat "
+      "input first: q, qd, drivers, beta as solve() takes them (at least one 2-D, or K = 1) -> out (K, "
+      "flat_out_size), solve_flat()'s layout. What the PyTorch layer's forward calls.");
 }
 
 #if SWEEPGEN_MODULE_HAS_F64

@@ -12,10 +12,10 @@ a `torch.autograd.Function` over the module's generated code:
     the module's flat_in_layout, e.g. {"tau_ff": ..., "push": ...}), so that each has a gradient
     of its own; leading batch shapes broadcast; float64 tensors go to the module's f64 variant,
     float32 to f32; CPU tensors (the module has no CUDA kernels);
-  - forward: the generated batch entry points (`solve_flat` on the rows; with a gradient asked
+  - forward: the generated batch entry points (`solve_batch` on the rows; with a gradient asked
     for, `derivatives`, which returns the values and their Jacobians in one pass); a contiguous
-    tensor of the batch's shape reaches the module without a copy (a NumPy view), others are
-    copied once;
+    tensor of the batch's shape reaches the module without a copy (a NumPy view, from which the
+    module gathers each state's values into the batch's lanes), others are copied once;
   - backward: vector-Jacobian products with the generated Jacobians (docs/derivation.md, D2, D3):
     the columns of q, qd, the torque drivers (each receives the tau_ff columns: the torque drivers
     are summed, D2) and beta. A floating base's q holds world_R_base (9, row-major): its gradient
@@ -148,8 +148,7 @@ def bind(module):
                 if floating:
                     ctx.base_rotation = torch.from_numpy(q_rows[:, :9]).reshape(-1, 3, 3)
             else:
-                flat = np.concatenate([p for p in (q_rows, qd_rows, d_rows, b_rows) if p is not None], 1)
-                out = variant.solve_flat(flat, policy=policy, raise_on_status=mask)
+                out = variant.solve_batch(q_rows, qd_rows, d_rows, b_rows, policy=policy, raise_on_status=mask)
                 # flat_out_layout: qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip (6), status
                 values = [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]]
                 status = out[:, -1].astype(np.int64)

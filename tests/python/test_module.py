@@ -13,7 +13,7 @@ Per module and scalar (f64, f32):
   - every policy's single solve() against the oracle on STATES random problems, every output
     (qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, status flags, saturated joints), within the
     bounds derived at FACTORS;
-  - batched solve(), solve_flat() single and batched, and a batched or broadcast
+  - batched solve(), solve_flat() single and batched, solve_batch(), and a batched or broadcast
     outward/decompose/solve_state equal the single solve() bit for bit (one compiled code path);
   - outward + decompose once, solve_state with a first beta, then with the problem's beta, equals
     a full solve with the latter bit for bit;
@@ -214,6 +214,7 @@ class ModuleTest:
             for policy in v.policies:
                 batched = v.solve(q, qd, drivers, beta, policy=policy)
                 flat_batched = v.solve_flat(flat, policy=policy)
+                self.assertTrue(np.array_equal(v.solve_batch(q, qd, drivers, beta, policy=policy), flat_batched))
                 self.assertEqual(batched["qdd"].shape, (STATES, d.dof))
                 self.assertEqual(batched["status"].shape, (STATES,))
                 self.assertEqual(flat_batched.shape, (STATES, v.flat_out_size))
