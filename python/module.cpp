@@ -681,8 +681,8 @@ SWEEPGEN_MODULE_DERIVATIVES(F32Derivatives, f32);
 PYBIND11_MODULE(SWEEPGEN_MODULE_NAME, m) {
   const std::string name = PYBIND11_TOSTRING(SWEEPGEN_MODULE_NAME);
   m.doc() = "The sweepgen-generated solver " PYBIND11_TOSTRING(SWEEPGEN_MODULE_SCENE)
-            " (README, \"Python\"): submodules f64 and/or f32 with outward, decompose, solve_state, solve and "
-            "solve_flat. Flat input: [" SWEEPGEN_MODULE_FLAT_IN "]; the drivers are the part after q and qd, "
+            " (README, \"Python\"): submodules f64 and/or f32 with outward, decompose, solve_state, solve, "
+            "solve_flat and solve_batch. Flat input: [" SWEEPGEN_MODULE_FLAT_IN "]; the drivers are the part after q and qd, "
             "without beta.";
   m.attr("dof") = dof;
   m.attr("nq") = nq;
