@@ -120,6 +120,25 @@ class DenseDynamics {
   // α_k^T c_link(k): the drift of each constraint direction.
   Vec constraint_drift(const Vec& q, const Vec& qd, const std::vector<std::string>& links, const Mat& alpha) const;
 
+  // A frame fixed to a link: its pose in the link's frame (a URDF origin's convention).
+  struct AttachedFrame {
+    std::string link;
+    M3 R = M3::Identity();
+    V3 p = V3::Zero();
+  };
+  // Frame A relative to frame B, in A's coordinates (docs/derivation.md, L1, L2): v_rel = J q̇,
+  // d/dt v_rel = J q̈ + drift, each from A's and B's own Jacobians, twists and drifts.
+  struct RelativeMotion {
+    Jacobian J;
+    Six velocity, drift;
+  };
+  RelativeMotion relative_motion(const Vec& q, const Vec& qd, const AttachedFrame& A, const AttachedFrame& B) const;
+  // How far A is from B (L3): [the rotation vector of R_B^T R_A, angle in [0, π]; R_A^T (p_A − p_B)].
+  Six pose_error(const Vec& q, const AttachedFrame& A, const AttachedFrame& B) const;
+
+  // Gauss' principle with any constraint rows Jc q̈ = rhs: M q̈ + b = τ + Jc^T ν. Full-pivot LU.
+  KktSolution solve_rows(const Vec& q, const Vec& qd, const Vec& tau, const Mat& Jc, const Vec& rhs) const;
+
   // Gauss' principle with the constraints α_k^T Ẍ_link(k) = β_k:
   //   [ M   −Jc^T ] [q̈]   [ τ + Σ J_i^T F_ext,i − b ]
   //   [ Jc    0   ] [ν] = [ β − (α_k^T c_link(k))_k ],   Jc = (α_k^T J_link(k))_k,
@@ -164,6 +183,8 @@ class DenseDynamics {
   };
 
   static Pose frame_pose(const Pose& body, const LinkData& l) { return {body.R * l.rotation, body.p + body.R * l.offset}; }
+  // The world pose of a frame fixed to a link.
+  Pose attached_pose(const Vec& q, const AttachedFrame& frame) const;
 
   // Joint i's position: q_i, or 0 for a floating base's coordinate.
   Scalar position(const Vec& q, std::size_t i) const { return joints_[i].held_at_zero ? Scalar(0) : q[i - 1]; }

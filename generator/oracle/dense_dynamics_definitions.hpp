@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 namespace sweepgen::oracle {
 
@@ -245,22 +246,80 @@ auto DenseDynamics<Scalar>::kkt(const Vec& q, const Vec& qd, const Vec& tau, con
 template <class Scalar>
 auto DenseDynamics<Scalar>::solve_kkt(const Vec& q, const Vec& qd, const Vec& tau, const std::vector<ExternalWrench>& ext,
                       const std::vector<std::string>& links, const Mat& alpha, const Vec& beta) const -> KktSolution {
-  const Eigen::Index nc = alpha.cols();
-  const Mat M = mass_matrix(q);
-  const Mat Jc = constraint_jacobian(q, links, alpha);
+  return solve_rows(q, qd, tau + external_torque(q, ext), constraint_jacobian(q, links, alpha),
+                    beta - constraint_drift(q, qd, links, alpha));
+}
+
+template <class Scalar>
+auto DenseDynamics<Scalar>::solve_rows(const Vec& q, const Vec& qd, const Vec& tau, const Mat& Jc, const Vec& rhs) const
+    -> KktSolution {
+  const Eigen::Index nc = Jc.rows();
   Mat K = Mat::Zero(n_ + nc, n_ + nc);
-  K.topLeftCorner(n_, n_) = M;
+  K.topLeftCorner(n_, n_) = mass_matrix(q);
   K.topRightCorner(n_, nc) = -Jc.transpose();
   K.bottomLeftCorner(nc, n_) = Jc;
-  Vec rhs(n_ + nc);
-  rhs.head(n_) = tau + external_torque(q, ext) - bias(q, qd);
-  rhs.tail(nc) = beta - constraint_drift(q, qd, links, alpha);
-  const Vec x = K.fullPivLu().solve(rhs);
+  Vec b(n_ + nc);
+  b.head(n_) = tau - bias(q, qd);
+  b.tail(nc) = rhs;
+  const Vec x = K.fullPivLu().solve(b);
   KktSolution s;
   s.qdd = x.head(n_);
   s.nu = x.tail(nc);
   s.cond = 1;
   return s;
+}
+
+// A motion vector [ω; v] of coordinates C in those of a frame at pose (R, p) in C (F1):
+// [R^T ω; R^T (v + ω × p)].
+template <class Scalar>
+Eigen::Matrix<Scalar, 6, 6> motion_into(const Eigen::Matrix<Scalar, 3, 3>& R, const Eigen::Matrix<Scalar, 3, 1>& p) {
+  Eigen::Matrix<Scalar, 3, 3> p_cross;
+  p_cross << Scalar(0), -p[2], p[1], p[2], Scalar(0), -p[0], -p[1], p[0], Scalar(0);
+  Eigen::Matrix<Scalar, 6, 6> X = Eigen::Matrix<Scalar, 6, 6>::Zero();
+  X.template topLeftCorner<3, 3>() = R.transpose();
+  X.template bottomRightCorner<3, 3>() = R.transpose();
+  X.template bottomLeftCorner<3, 3>() = -R.transpose() * p_cross;
+  return X;
+}
+
+template <class Scalar>
+auto DenseDynamics<Scalar>::attached_pose(const Vec& q, const AttachedFrame& frame) const -> Pose {
+  const Pose link = link_pose(q, frame.link);
+  return {link.R * frame.R, link.p + link.R * frame.p};
+}
+
+template <class Scalar>
+auto DenseDynamics<Scalar>::relative_motion(const Vec& q, const Vec& qd, const AttachedFrame& A,
+                                            const AttachedFrame& B) const -> RelativeMotion {
+  // Each frame's Jacobian, twist and drift from its link's, through the constant attachment.
+  const auto of = [&](const AttachedFrame& f) {
+    const Eigen::Matrix<Scalar, 6, 6> X = motion_into<Scalar>(f.R, f.p);
+    return std::tuple<Jacobian, Six, Six>{X * jacobian(q, f.link), X * twist(q, qd, f.link), X * drift(q, qd, f.link)};
+  };
+  const auto [J_A, v_A, c_A] = of(A);
+  const auto [J_B, v_B, c_B] = of(B);
+  // ^A X_B: B's coordinates into A's, A's pose in B's coordinates being (R_B^T R_A, R_B^T (p_A − p_B)).
+  const Pose world_A = attached_pose(q, A), world_B = attached_pose(q, B);
+  const Eigen::Matrix<Scalar, 6, 6> A_X_B =
+      motion_into<Scalar>(world_B.R.transpose() * world_A.R, world_B.R.transpose() * (world_A.p - world_B.p));
+  const Six w = A_X_B * v_B;  // B's twist in A's coordinates
+  Six product;                // v_A × ^A X_B v_B, the spatial cross product of motions (L1)
+  product << v_A.template head<3>().cross(w.template head<3>()),
+      v_A.template head<3>().cross(w.template tail<3>()) + v_A.template tail<3>().cross(w.template head<3>());
+  RelativeMotion r;
+  r.J = J_A - A_X_B * J_B;        // (L2)
+  r.velocity = v_A - w;           // (L1)
+  r.drift = c_A - A_X_B * c_B + product;  // (L2)
+  return r;
+}
+
+template <class Scalar>
+auto DenseDynamics<Scalar>::pose_error(const Vec& q, const AttachedFrame& A, const AttachedFrame& B) const -> Six {
+  const Pose world_A = attached_pose(q, A), world_B = attached_pose(q, B);
+  const Eigen::AngleAxis<Scalar> turn(M3(world_B.R.transpose() * world_A.R));
+  Six e;  // (L3)
+  e << turn.angle() * turn.axis(), world_A.R.transpose() * (world_A.p - world_B.p);
+  return e;
 }
 
 template <class Scalar>
