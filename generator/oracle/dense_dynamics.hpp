@@ -96,6 +96,10 @@ class DenseDynamics {
   // b(q, q̇) = ID(q, q̇, 0): Coriolis, centrifugal and gravity torques.
   Vec bias(const Vec& q, const Vec& qd) const { return inverse_dynamics(q, qd, Vec::Zero(n_)); }
 
+  // The potential energy of gravity, −g^T Σ_i (m_i p_i + R_i h_i) (h_i the first moment), of a
+  // fixed base: with ½ q̇^T M q̇ the energy a system without drivers and damping keeps.
+  Scalar potential_energy(const Vec& q) const;
+
   // Body Jacobian of a link frame: its twist [ω; v] in its own coordinates is J q̇.
   Jacobian jacobian(const Vec& q, const std::string& link) const;
 
@@ -135,6 +139,10 @@ class DenseDynamics {
   RelativeMotion relative_motion(const Vec& q, const Vec& qd, const AttachedFrame& A, const AttachedFrame& B) const;
   // How far A is from B (L3): [the rotation vector of R_B^T R_A, angle in [0, π]; R_A^T (p_A − p_B)].
   Six pose_error(const Vec& q, const AttachedFrame& A, const AttachedFrame& B) const;
+
+  // Each <mimic> joint the chain moves coupled to its source, also moved, q_m = k q_s + o (M1): the
+  // rows e_m^T − k e_s^T (rhs 0), whose force is the torque pair +1 on m, −k on s.
+  static Mat coupling_rows(const model::Chain& chain);
 
   // Gauss' principle with any constraint rows Jc q̈ = rhs: M q̈ + b = τ + Jc^T ν. Full-pivot LU.
   KktSolution solve_rows(const Vec& q, const Vec& qd, const Vec& tau, const Mat& Jc, const Vec& rhs) const;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <tuple>
+#include <utility>
 
 namespace sweepgen::oracle {
 
@@ -267,6 +268,38 @@ auto DenseDynamics<Scalar>::solve_rows(const Vec& q, const Vec& qd, const Vec& t
   s.nu = x.tail(nc);
   s.cond = 1;
   return s;
+}
+
+template <class Scalar>
+auto DenseDynamics<Scalar>::potential_energy(const Vec& q) const -> Scalar {
+  const std::vector<Pose> poses = body_poses(q);
+  Scalar potential = 0;
+  for (std::size_t i = 1; i < poses.size(); ++i)
+    potential -= gravity_.dot(bodies_[i].mass * poses[i].p + poses[i].R * bodies_[i].first_moment);
+  return potential;
+}
+
+template <class Scalar>
+auto DenseDynamics<Scalar>::coupling_rows(const model::Chain& chain) -> Mat {
+  const auto column = [&](const std::string& joint) {
+    for (std::size_t i = 1; i < chain.joints.size(); ++i)
+      if (chain.joints[i].name == joint) return static_cast<Eigen::Index>(i - 1);
+    return Eigen::Index(-1);  // locked or off the chain
+  };
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> pairs;
+  std::vector<Scalar> ratios;
+  for (const model::MimicJoint& mimic : chain.mimics) {
+    const Eigen::Index m = column(mimic.joint), s = column(mimic.source);
+    if (m < 0 || s < 0) continue;
+    pairs.emplace_back(m, s);
+    ratios.push_back(Scalar(mimic.multiplier));
+  }
+  Mat rows = Mat::Zero(static_cast<Eigen::Index>(pairs.size()), static_cast<Eigen::Index>(chain.dof()));
+  for (std::size_t r = 0; r < pairs.size(); ++r) {  // (M1)
+    rows(static_cast<Eigen::Index>(r), pairs[r].first) += Scalar(1);
+    rows(static_cast<Eigen::Index>(r), pairs[r].second) -= ratios[r];
+  }
+  return rows;
 }
 
 // A motion vector [ω; v] of coordinates C in those of a frame at pose (R, p) in C (F1):
