@@ -25,6 +25,7 @@
 
 #include "oracle/dense_dynamics.hpp"
 #include "support/bundled_robots.hpp"
+#include "support/rk4.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -125,20 +126,6 @@ TEST(LoopClosure, RelativeAccelerationIsTheDerivativeOfTheRelativeTwist) {
 
 using Oracle = oracle::DenseDynamics<double>;
 
-// RK4 on q̈ = accelerate(q, q̇) for `seconds` at `step`; observe(q, q̇) after each step.
-template <class Accelerate, class Observe>
-void rk4(Accelerate&& accelerate, Oracle::Vec q, Oracle::Vec qd, double step, double seconds, Observe&& observe) {
-  for (long k = 0; k < std::lround(seconds / step); ++k) {
-    const Oracle::Vec a1 = accelerate(q, qd);
-    const Oracle::Vec a2 = accelerate(q + step / 2 * qd, qd + step / 2 * a1);
-    const Oracle::Vec a3 = accelerate(q + step / 2 * (qd + step / 2 * a1), qd + step / 2 * a2);
-    const Oracle::Vec a4 = accelerate(q + step * (qd + step / 2 * a2), qd + step * a3);
-    q += step * qd + step * step / 6 * (a1 + a2 + a3);
-    qd += step / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
-    observe(q, qd);
-  }
-}
-
 // The largest violation of the constraint and relative change of the energy along `seconds` of
 // RK4 at `step` from (q, q̇), with `rows(q, q̇)` the constraint rows and their right-hand side.
 template <class Rows, class Violation>
@@ -148,17 +135,17 @@ std::pair<double, double> simulate(const Oracle& oracle, Rows&& rows, Violation&
     return 0.5 * pd.dot(oracle.mass_matrix(p) * pd) + oracle.potential_energy(p);
   };
   const double e0 = energy(q, qd);
+  const auto accelerate = [&](const Oracle::Vec& p, const Oracle::Vec& pd) {
+    const auto [Jc, rhs] = rows(p, pd);
+    return oracle.solve_rows(p, pd, Oracle::Vec::Zero(p.size()), Jc, rhs).qdd;
+  };
+  Oracle::Vec p = q, pd = qd;
   double worst = 0, drift = 0;
-  rk4(
-      [&](const Oracle::Vec& p, const Oracle::Vec& pd) {
-        const auto [Jc, rhs] = rows(p, pd);
-        return oracle.solve_rows(p, pd, Oracle::Vec::Zero(p.size()), Jc, rhs).qdd;
-      },
-      q, qd, step, seconds,
-      [&](const Oracle::Vec& p, const Oracle::Vec& pd) {
-        worst = std::max(worst, violation(p));
-        drift = std::max(drift, std::abs(energy(p, pd) - e0) / std::abs(e0));
-      });
+  for (long k = 0; k < std::lround(seconds / step); ++k) {
+    test::rk4_step(accelerate, p, pd, step);
+    worst = std::max(worst, violation(p));
+    drift = std::max(drift, std::abs(energy(p, pd) - e0) / std::abs(e0));
+  }
   return {worst, drift};
 }
 

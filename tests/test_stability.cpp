@@ -15,6 +15,7 @@
 #include "report/stability_errors.hpp"
 #include "solver/quad_scalar.hpp"
 #include "solver/reference_solver.hpp"
+#include "support/rk4.hpp"
 #include "support/rounding_bound.hpp"
 #include "support/stability_cases.hpp"
 #include "support/state_count.hpp"
@@ -367,15 +368,7 @@ Drift rk4_drift(EnergyProbe& probe, Eigen::VectorXd q, Eigen::VectorXd qd, doubl
   d.speed_max = qd.cwiseAbs().maxCoeff();
   const long every = std::lround(0.5 / h);
   for (long k = 0; k < steps; ++k) {
-    const Eigen::VectorXd a1 = probe.qdd(q, qd);
-    const Eigen::VectorXd q2 = q + 0.5 * h * qd, v2 = qd + 0.5 * h * a1;
-    const Eigen::VectorXd a2 = probe.qdd(q2, v2);
-    const Eigen::VectorXd q3 = q + 0.5 * h * v2, v3 = qd + 0.5 * h * a2;
-    const Eigen::VectorXd a3 = probe.qdd(q3, v3);
-    const Eigen::VectorXd q4 = q + h * v3, v4 = qd + h * a3;
-    const Eigen::VectorXd a4 = probe.qdd(q4, v4);
-    q += h / 6 * (qd + 2 * v2 + 2 * v3 + v4);
-    qd += h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+    test::rk4_step([&](const Eigen::VectorXd& p, const Eigen::VectorXd& v) { return probe.qdd(p, v); }, q, qd, h);
     const auto e = probe.energy(q, qd);
     max_abs = std::max(max_abs, std::abs(e.first + e.second - E0));
     d.kinetic_max = std::max(d.kinetic_max, e.first);
