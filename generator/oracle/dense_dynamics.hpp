@@ -96,8 +96,8 @@ class DenseDynamics {
   // b(q, q̇) = ID(q, q̇, 0): Coriolis, centrifugal and gravity torques.
   Vec bias(const Vec& q, const Vec& qd) const { return inverse_dynamics(q, qd, Vec::Zero(n_)); }
 
-  // The potential energy of gravity, −g^T Σ_i (m_i p_i + R_i h_i) (h_i the first moment), of a
-  // fixed base: with ½ q̇^T M q̇ the energy a system without drivers and damping keeps.
+  // The potential energy of gravity, −g^T Σ_i (m_i p_i + R_i h_i) (h_i the first moment, body_poses'
+  // p_i and R_i): with ½ q̇^T M q̇ the energy a fixed base without drivers and damping keeps.
   Scalar potential_energy(const Vec& q) const;
 
   // Body Jacobian of a link frame: its twist [ω; v] in its own coordinates is J q̇.
