@@ -284,6 +284,22 @@ void solve_in_batch(void (*batch)(int, const Scalar*, Scalar*) noexcept, py::ssi
   }
 }
 
+// `rows` states through a generated batch entry point into `out` (out_size values a row, the flat
+// output's layout), each state's flat input gathered by `in_row`; without the GIL.
+template <class Scalar, class InRow>
+void flat_rows_in_batch(void (*batch)(int, const Scalar*, Scalar*) noexcept, py::ssize_t rows, int in_size,
+                        int out_size, InRow&& in_row, Scalar* out) {
+  py::gil_scoped_release release;
+  solve_in_batch<Scalar>(batch, rows, in_size, out_size, in_row,
+                         [&](std::size_t s, const Scalar* from) { std::copy_n(from, out_size, out + s * out_size); });
+}
+
+// raise_on_status's status of row k of flat outputs (`width` values a row, the status last).
+template <class Scalar>
+auto flat_status_of(const Scalar* out, int width) {
+  return [out, width](py::ssize_t k) { return static_cast<unsigned>(out[k * width + width - 1]); };
+}
+
 // solve_in_batch's `in_row` for a state given as its parts: row s's q, qd, drivers and beta, in the
 // flat input's order.
 template <class Scalar>
@@ -612,19 +628,15 @@ void bind_variant(py::module_& module, const char* doc) {
         const Batch batch = batch_of<Scalar>({&in_rows});
         py::array_t<Scalar> out = array_of<Scalar>(batch, Api::flat_out_size);
         Scalar* out_data = out.mutable_data();
-        if (batch.batched) {  // the batch entry point, without the GIL
-          py::gil_scoped_release release;
-          solve_in_batch<Scalar>(
+        if (batch.batched) {  // the batch entry point
+          flat_rows_in_batch<Scalar>(
               Api::batch_solves[index].solve, batch.rows, Api::flat_in_size, Api::flat_out_size,
               [&](std::size_t s, Scalar* to) { std::copy_n(in_rows.row(static_cast<py::ssize_t>(s)), Api::flat_in_size, to); },
-              [&](std::size_t s, const Scalar* from) { std::copy_n(from, Api::flat_out_size, out_data + s * Api::flat_out_size); });
+              out_data);
         } else {
           Api::flat_solves[index].solve(in_rows.row(0), out_data);
         }
-        const auto status_of = [&](py::ssize_t k) {
-          return static_cast<unsigned>(out_data[k * Api::flat_out_size + Api::flat_out_size - 1]);
-        };
-        raise_on_status(mask, batch, status_of, prefix + "solve_flat", policy, out);
+        raise_on_status(mask, batch, flat_status_of(out_data, Api::flat_out_size), prefix + "solve_flat", policy, out);
         return out;
       },
       py::arg("in"), py::kw_only(), py::arg("policy") = default_policy, py::arg("raise_on_status") = 0u,
@@ -643,17 +655,9 @@ void bind_variant(py::module_& module, const char* doc) {
         const Batch batch{true, batch_of<Scalar>({&q_rows, &qd_rows, &d, &b}).rows};
         py::array_t<Scalar> out = array_of<Scalar>(batch, Api::flat_out_size);
         Scalar* out_data = out.mutable_data();
-        {
-          py::gil_scoped_release release;
-          solve_in_batch<Scalar>(
-              Api::batch_solves[index].solve, batch.rows, Api::flat_in_size, Api::flat_out_size,
-              flat_input_of(q_rows, qd_rows, d, b),
-              [&](std::size_t s, const Scalar* from) { std::copy_n(from, Api::flat_out_size, out_data + s * Api::flat_out_size); });
-        }
-        const auto status_of = [&](py::ssize_t k) {
-          return static_cast<unsigned>(out_data[k * Api::flat_out_size + Api::flat_out_size - 1]);
-        };
-        raise_on_status(mask, batch, status_of, prefix + "solve_batch", policy, out);
+        flat_rows_in_batch<Scalar>(Api::batch_solves[index].solve, batch.rows, Api::flat_in_size, Api::flat_out_size,
+                                   flat_input_of(q_rows, qd_rows, d, b), out_data);
+        raise_on_status(mask, batch, flat_status_of(out_data, Api::flat_out_size), prefix + "solve_batch", policy, out);
         return out;
       },
       py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),

@@ -136,9 +136,8 @@ def bind(module):
             ctx.set_materialize_grads(False)
             ctx.batch, ctx.dtype, ctx.holds = batch, dtype, holds
             ctx.shapes = [None if v is None else v.shape for v in given]
-            ctx.jacobians, ctx.why_not = None, None
-            if any(ctx.needs_input_grad[3:]):
-                ctx.why_not = why_not_differentiable(variant, policy)
+            ctx.jacobians = None
+            ctx.why_not = why_not_differentiable(variant, policy) if any(ctx.needs_input_grad[3:]) else None
             if any(ctx.needs_input_grad[3:]) and ctx.why_not is None:
                 result = variant.derivatives(q_rows, qd_rows, d_rows, b_rows, policy=policy, raise_on_status=mask)
                 values = [result[y] for y in _OUTPUTS]
@@ -254,4 +253,5 @@ def bind(module):
     namespace = type(module)(f"{name}.torch", __doc__)
     namespace.solve = solve
     namespace.Solution = Solution
+    namespace.drivers = tuple(layout)  # (name, width, is_torque): the keys of solve()'s drivers dict
     return namespace

@@ -9,13 +9,13 @@ Run by ctest (tests/python/CMakeLists.txt, python_torch) with PYTHONPATH the dir
   - a floating base's rotation: its gradient against a central difference along R exp(e [w]x);
   - f32 derivatives: the backward's products equal those of the module's own Jacobians;
   - panda_nc6 (no derivatives; f64 and f32): the forward equals solve_flat; the backward says why not;
+    its drivers as read from flat_in_layout;
   - what cannot be differentiated raises, naming why; bad shapes, dtypes, devices and drivers raise;
     a non-contiguous or broadcast argument gives the contiguous one's results; a NaN state is
     flagged in status and raised with raise_on_status.
 """
 
 import importlib
-import math
 import subprocess
 import sys
 import unittest
@@ -54,21 +54,10 @@ def rotation(w):
     return torch.matrix_exp(skew(w))
 
 
-def driver_names(module):
-    """The drivers' names and widths, in flat_in_layout's order (between qd and beta)."""
-    sizes = {"dof": module.dof, "nq": module.nq, "constraints": module.constraints}
-    parts = []
-    for part in module.flat_in_layout.split(", ")[2:]:
-        name, width = part[:-1].split(" (")
-        if name == "beta":
-            continue
-        parts.append((name, math.prod(int(f) if f.isdigit() else sizes[f] for f in width.split(" x "))))
-    return parts
-
-
 def split_drivers(module, drivers):
+    """Flat drivers as the dict by name that torch.solve takes (module.torch.drivers' order)."""
     parts, offset = {}, 0
-    for name, width in driver_names(module):
+    for name, width, _ in module.torch.drivers:
         parts[name] = drivers[..., offset:offset + width]
         offset += width
     return parts
@@ -95,7 +84,7 @@ class DerivativeSceneTest:
     def function(self, drivers_template, q_fixed=None):
         """solve's differentiable outputs as a function of (q or q's joints, qd, beta, torque drivers...)."""
         m = self.m
-        names = [n for n, w in driver_names(m) if w == m.dof]
+        names = [n for n, _, torque in m.torch.drivers if torque]
         rotation_part = None if q_fixed is None else q_fixed[..., :9]
 
         def f(q, qd, beta, *torques):
@@ -110,7 +99,7 @@ class DerivativeSceneTest:
     def inputs(self, batch=(STATES,)):
         q, qd, drivers, beta = random_state(self.m, self.generator, batch)
         template = split_drivers(self.m, drivers)
-        names = [n for n, w in driver_names(self.m) if w == self.m.dof]
+        names = [n for n, _, torque in self.m.torch.drivers if torque]
         torques = [template[n].clone().requires_grad_() for n in names]
         floating = self.m.nq != self.m.dof
         q_arg = (q[..., 9:] if floating else q).clone().requires_grad_()
@@ -160,7 +149,7 @@ class DerivativeSceneTest:
             s = m.torch.solve(q, qd.clone().requires_grad_(), drivers, beta_arg, policy=policy)
             with self.assertRaisesRegex(RuntimeError, rf"no gradient: policy '{policy}' is not differentiable"):
                 s.qdd.sum().backward()
-        others = [n for n, w in driver_names(m) if w != m.dof]
+        others = [n for n, _, torque in m.torch.drivers if not torque]
         if others:
             s = m.torch.solve(q, qd, drivers.clone().requires_grad_(), beta_arg)
             with self.assertRaisesRegex(RuntimeError, rf"no gradient for the drivers {', '.join(others)}"):
@@ -238,6 +227,12 @@ class WithoutDerivatives(unittest.TestCase):
                 self.assertTrue(np.array_equal(value.numpy(), expected), variant)
             by_name = m.torch.solve(q, qd, split_drivers(m, drivers), beta, policy="saturate")
             self.assertTrue(torch.equal(by_name.qdd, got.qdd))
+
+    def test_drivers_read_from_the_flat_layout(self):
+        """module.torch.drivers, read from flat_in_layout: panda_nc6's torque, two wrenches and six
+        run-time directions (robots/panda/panda_nc6.yaml)."""
+        self.assertEqual(self.m.torch.drivers, (("tau_ff", 7, True), ("contact", 6, False), ("push", 6, False),
+                                                ("alpha", 36, False)))
 
     def test_broadcast_and_non_contiguous_arguments(self):
         """A 1-D argument is shared by every row; a non-contiguous one is copied: the results of
