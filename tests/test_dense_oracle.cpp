@@ -370,7 +370,7 @@ solver::DriverLayout random_sets_layout(const test::OracleCase& c, test::RandomP
     for (int k = 0; k < count; ++k) {
       const std::string& link = moving[static_cast<std::size_t>(random.uniform(0, 1) * moving.size()) % moving.size()];
       const bool taken = std::any_of(sets.begin(), sets.end(), [&](const auto& set) { return set.link == link; });
-      if (!taken) sets.push_back({link, 1 + static_cast<std::size_t>(random.uniform(0, 6)) % 6, {}});
+      if (!taken) sets.push_back(solver::ConstraintSet::on(link, 1 + static_cast<std::size_t>(random.uniform(0, 6)) % 6));
     }
     if (!solver::structurally_overdetermined(sets, c.chain).empty()) continue;
     layout.sets = sets;

@@ -179,7 +179,7 @@ TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
       if (fixed) {  // unit directions along the axes of panda_hand: folded, no lanes
         std::vector<spatial::Force<double>> axes(nc);
         for (std::size_t k = 0; k < nc; ++k) (k < 3 ? axes[k].moment : axes[k].force)[k % 3] = 1;
-        r.layout.sets = {solver::ConstraintSet{"", nc, axes}};
+        r.layout.sets = {solver::ConstraintSet::on("", nc, axes)};
       }
       const emit::EmitRequest emit_request{"scene", {"double"}, false, r, "test"};
       const auto choices = emit::emit_solver(chain, emit_request).choices;
@@ -368,7 +368,7 @@ std::vector<EmitterCase> make_emitter_cases() {
     solver::DriverLayout layout = drivers({"tau_ff"}, {{"f_mid", "link2"}, {"f_tip", "tool"}}, 1);
     layout.tracks = {solver::Track{"bias", true, {0}, {}}, solver::Track{"f_mid", false, {}, {0, 1}}};
     scene::Scene s = case_scene("planar_nc1_fixed", chain, std::move(layout), kAllPolicies);
-    s.layout.sets = {solver::ConstraintSet{"", 1, {spatial::Force<double>{{0, 0, 0.6}, {0.8, 0, 0}}}}};
+    s.layout.sets = {solver::ConstraintSet::on("", 1, {spatial::Force<double>{{0, 0, 0.6}, {0.8, 0, 0}}})};
     cases.push_back({"planar_nc1_fixed", chain, std::move(s)});
   }
   // Nc = 3 at run time, two torque instances and a load on a middle link, composed, expose: all.
@@ -393,9 +393,9 @@ std::vector<EmitterCase> make_emitter_cases() {
   {
     const model::Chain chain = panda();
     solver::DriverLayout layout = drivers({"tau_ff"}, {{"f_mid", "panda_link4"}}, 4);
-    layout.sets = {{"panda_link4", 2, {}},
-                   {"panda_hand", 1, {spatial::Force<double>{{0, 0, 0}, {0, 0, 1}}}},
-                   {"panda_link6", 1, {}}};
+    layout.sets = {solver::ConstraintSet::on("panda_link4", 2),
+                   solver::ConstraintSet::on("panda_hand", 1, {spatial::Force<double>{{0, 0, 0}, {0, 0, 1}}}),
+                   solver::ConstraintSet::on("panda_link6", 1)};
     layout.decompose_all();
     cases.push_back({"panda_sets", chain,
                      case_scene("panda_sets", chain, std::move(layout),
@@ -407,7 +407,7 @@ std::vector<EmitterCase> make_emitter_cases() {
     const model::Chain chain = test::RandomChainGenerator(71).tree(9);
     if (chain.is_chain() || chain.branch_tips.empty()) throw std::logic_error("random_tree: seed 71 drew no branches");
     solver::DriverLayout layout = drivers({"tau_ff"}, {{"f_first", chain.bodies[1].link}}, 3);
-    layout.sets = {{chain.tip_link, 2, {}}, {chain.branch_tips.front(), 1, {}}};
+    layout.sets = {solver::ConstraintSet::on(chain.tip_link, 2), solver::ConstraintSet::on(chain.branch_tips.front(), 1)};
     if (!solver::structurally_overdetermined(layout.sets, chain).empty()) throw std::logic_error("random_tree: sets");
     layout.decompose_all();
     cases.push_back({"random_tree", chain,
@@ -418,7 +418,7 @@ std::vector<EmitterCase> make_emitter_cases() {
   {
     const model::Chain chain = test::RandomChainGenerator(83).floating_tree(5);
     solver::DriverLayout layout = drivers({"tau_ff"}, {{"f_root", chain.bodies[6].link}}, 3);
-    layout.sets = {{chain.tip_link, 3, {}}};
+    layout.sets = {solver::ConstraintSet::on(chain.tip_link, 3)};
     layout.compose_all();
     cases.push_back({"random_floating_tree", chain,
                      case_scene("random_floating_tree", chain, std::move(layout),
@@ -431,7 +431,7 @@ std::vector<EmitterCase> make_emitter_cases() {
     layout.tracks = {solver::Track{"f_tip", false, {}, {0}}, solver::Track{"bias", true, {0}, {}}};
     scene::Scene s =
         case_scene("random_nc6_fixed", chain, std::move(layout), {Policy::original, Policy::saturate_exact});
-    s.layout.sets = {solver::ConstraintSet{"", 6, {}}};
+    s.layout.sets = {solver::ConstraintSet::on("", 6)};
     for (int k = 0; k < 6; ++k) {
       spatial::Force<double> axis;
       (k < 3 ? axis.moment : axis.force)[k % 3] = 1;
@@ -594,7 +594,7 @@ TEST(Emitter, ASingularConstraintTakesThePivotedPath) {
   const model::Chain chain = panda();
   solver::DriverLayout layout = drivers({"tau_ff"}, {}, 2);
   const spatial::Force<double> up{{0, 0, 0}, {0, 0, 1}};
-  layout.sets = {solver::ConstraintSet{"panda_hand", 2, {up, up}}};
+  layout.sets = {solver::ConstraintSet::on("panda_hand", 2, {up, up})};
   layout.compose_all();
   const scene::Scene s = case_scene("panda_twice_up", chain, std::move(layout), {solver::Policy::original});
   test::TempDir dir;

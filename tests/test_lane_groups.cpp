@@ -46,7 +46,7 @@ solver::DriverLayout directions_at_tip(std::size_t nc) {
 // Two sets of run-time directions on two links (a tree's two tips where it has them).
 solver::DriverLayout two_sets(const std::string& a, const std::string& b, std::size_t count) {
   solver::DriverLayout layout;
-  layout.sets = {solver::ConstraintSet{a, count, {}}, solver::ConstraintSet{b, count, {}}};
+  layout.sets = {solver::ConstraintSet::on(a, count), solver::ConstraintSet::on(b, count)};
   layout.constraints = 2 * count;
   return layout;
 }
@@ -151,9 +151,9 @@ TEST(LaneGroups, EveryLaneComputesItsMembersExpression) {
 TEST(LaneGroups, FixedDirectionsAndOutwardRowsHaveNoLanes) {
   const model::Chain panda = test::load_bundled(test::bundled_robots().front());
   solver::DriverLayout fixed = directions_at_tip(3);
-  fixed.sets = {solver::ConstraintSet{"", 3, {spatial::Force<double>{{0, 0, 0}, {1, 0, 0}},
-                                              spatial::Force<double>{{0, 0, 0}, {0, 1, 0}},
-                                              spatial::Force<double>{{0, 0, 0}, {0, 0, 1}}}}};
+  fixed.sets = {solver::ConstraintSet::on("", 3, {spatial::Force<double>{{0, 0, 0}, {1, 0, 0}},
+                                                 spatial::Force<double>{{0, 0, 0}, {0, 1, 0}},
+                                                 spatial::Force<double>{{0, 0, 0}, {0, 0, 1}}})};
   EXPECT_EQ(check_scene(panda, lanes_request(fixed, solver::ConstraintRows::inward_columns)).groups, 0u);
   EXPECT_EQ(check_scene(panda, lanes_request(directions_at_tip(6), solver::ConstraintRows::outward_rows)).groups, 0u);
   EXPECT_EQ(check_scene(panda, lanes_request(directions_at_tip(1), solver::ConstraintRows::inward_columns)).groups, 0u);

@@ -78,7 +78,7 @@ Matrix<Quad> forward_mode(const Case& c, const solver::SolveInputs<Quad>& in) {
   held.nu = solved.nu.template cast<D>();
   solver::accelerations_of_motion(model, kin, held);
   const solver::ConstraintVector<D> r =
-      solver::constraint_residuals(model, drivers, solver::ConstraintVector<D>(in.beta.template cast<D>()), held);
+      solver::constraint_residuals(model, kin, drivers, solver::ConstraintVector<D>(in.beta.template cast<D>()), held);
   solver::inverse_dynamics_torque_tip_to_base(model, kin, drivers, held);
   const solver::JointVector<D> needed = held.tau_cmd;
   solver::constraint_torque_tip_to_base(model, kin, drivers, held);

@@ -104,6 +104,38 @@ TEST(SolveScene, NamedInputsEqualTheFlatInput) {
     EXPECT_TRUE(a[0].contains(key)) << key << " in " << a[0].dump();
 }
 
+// A set between two links in a JSON line (`at`, `relative_to`, `relative_at`) is the scene's set: the
+// four-bar's loop given both ways (the scene at the flags' gravity, along −z) gives one answer, to
+// the rounding of the scene's decomposed tracks against the line's single one (1e-12 of values
+// below 1e3); a misspelt key of the offset is named.
+TEST(SolveScene, ALoopSetInAJsonLineIsTheScenesSet) {
+  test::TempDir dir;
+  const std::string urdf = kSource + "/robots/four_bar/four_bar.urdf";
+  std::string scene = test::read_text(kSource + "/robots/four_bar/four_bar_loop.yaml");
+  scene.replace(scene.find("urdf: four_bar.urdf"), 19, "urdf: " + urdf);
+  scene.erase(scene.find("gravity: [0, -9.81, 0]\n"), 23);
+  const std::string path = dir.write("loop.yaml", scene);
+  const std::string state = R"("q": [0.4, 1.9, 1.2], "qd": [1.5, -0.7, 0.3])";
+  const CommandResult by_scene = solve({"--scene", path}, "{" + state + R"(, "motor": [2, 0, 0], "beta": [0.3, -0.2]})" + "\n");
+  ASSERT_EQ(by_scene.exit_code, 0) << describe(by_scene);
+  const std::string set =
+      R"({"link": "coupler", "at": {"xyz": [1, 0, 0]}, "relative_to": "rocker", "relative_at": {"xyz": [0.8, 0, 0]}, )"
+      R"("alpha": [[0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0]], "beta": [0.3, -0.2]})";
+  const std::vector<std::string> flags = {"--urdf", urdf, "--root", "ground", "--tip", "coupler", "--branch-tip", "rocker"};
+  const CommandResult by_line = solve(flags, "{" + state + R"(, "tau_ff": [2, 0, 0], "constraints": [)" + set + "]}\n");
+  ASSERT_EQ(by_line.exit_code, 0) << describe(by_line);
+  const json a = answers(by_scene).at(0), b = answers(by_line).at(0);
+  for (const char* key : {"qdd", "nu"})
+    for (std::size_t i = 0; i < a[key].size(); ++i)
+      EXPECT_NEAR(a[key][i].get<double>(), b[key][i].get<double>(), 1e-12) << key << " " << i;
+  EXPECT_GT(std::abs(a["nu"][0].get<double>()), 0.1) << "the loop carries a force";
+  std::string misspelt = set;
+  misspelt.replace(misspelt.find("\"xyz\": [1"), 5, "\"xzy\"");
+  const CommandResult bad = solve(flags, "{" + state + R"(, "constraints": [)" + misspelt + "]}\n");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("constraints[0].at.xzy"), std::string::npos) << describe(bad);
+}
+
 TEST(SolveScene, RefusesWhatTheSceneDoesNotHave) {
   const std::string state = R"("q": [0.3, 0.2, -0.4], "qd": [0.1, -0.2, 0.3])";
   const struct {

@@ -192,9 +192,11 @@ TEST(Trace, ABranchWithoutConstraintsCarriesNoConstraintTerms) {
         ++terms;
     return terms;
   };
-  EXPECT_EQ(computed_terms({{"left_panda_hand", 6, {}}}, true), 0) << "the right arm computes constraint terms";
-  EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}}, false), 0);
-  EXPECT_GT(computed_terms({{"left_panda_hand", 6, {}}, {"right_panda_hand", 6, {}}}, true), 0);
+  EXPECT_EQ(computed_terms({solver::ConstraintSet::on("left_panda_hand", 6)}, true), 0) << "the right arm computes constraint terms";
+  EXPECT_GT(computed_terms({solver::ConstraintSet::on("left_panda_hand", 6)}, false), 0);
+  EXPECT_GT(computed_terms({solver::ConstraintSet::on("left_panda_hand", 6), solver::ConstraintSet::on("right_panda_hand", 6)},
+                           true),
+            0);
 }
 
 // Finer: each direction only along its own path. On the quadruped (four feet, fixed directions) and

@@ -97,8 +97,9 @@ TEST(TreeKdl, ConstraintWrenchesAndAccelerationsReproduceTheTorquesOnTheWholeTre
   // Both hands, and the left elbow alone (constraint sets on two branches and inside one).
   const std::vector<std::vector<solver::ConstraintSet>> scenes = {
       {},
-      {{"left_panda_hand", 6, {}}, {"right_panda_hand", 6, {}}},
-      {{"left_panda_link4", 2, {}}, {"right_panda_hand", 3, {}}, {"left_panda_hand", 3, {}}},
+      {solver::ConstraintSet::on("left_panda_hand", 6), solver::ConstraintSet::on("right_panda_hand", 6)},
+      {solver::ConstraintSet::on("left_panda_link4", 2), solver::ConstraintSet::on("right_panda_hand", 3),
+       solver::ConstraintSet::on("left_panda_hand", 3)},
   };
   test::RandomProblem random(61);
   test::SkipCount skips("tree round trip through KDL's TreeIdSolver_RNE", kMaxSkippedShare);
@@ -143,8 +144,10 @@ TEST(TreeKdl, ATreeOfUnconnectedBranchesIsTheChainSolverOnEachBranch) {
   const model::Chain tree = load("torso", {"left_panda_hand", "right_panda_hand"});
   const model::Chain left = load("torso", {"left_panda_hand"}), right = load("torso", {"right_panda_hand"});
   ASSERT_EQ(tree.dof(), 14u);
-  const solver::DriverLayout tree_layout = layout("left_panda_link2", {{"left_panda_hand", 4, {}}, {"left_panda_link4", 1, {}}});
-  const solver::DriverLayout left_layout = layout("left_panda_link2", {{"left_panda_hand", 4, {}}, {"left_panda_link4", 1, {}}});
+  const std::vector<solver::ConstraintSet> left_sets = {solver::ConstraintSet::on("left_panda_hand", 4),
+                                                        solver::ConstraintSet::on("left_panda_link4", 1)};
+  const solver::DriverLayout tree_layout = layout("left_panda_link2", left_sets);
+  const solver::DriverLayout left_layout = layout("left_panda_link2", left_sets);
   solver::DriverLayout right_layout;
   right_layout.torques = {"tau_ff"};
   right_layout.decompose_all();
@@ -184,11 +187,12 @@ TEST(TreeKdl, FloatingBasesReproduceTheTorquesThroughKdl) {
   const std::vector<Case> cases = {
       {"robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}, {}},
       {"robots/quadruped/quadruped.urdf", "trunk", {"FL_foot", "FR_foot", "RL_foot", "RR_foot"},
-       {{"FL_foot", 3, {}}, {"FR_foot", 3, {}}, {"RL_foot", 3, {}}, {"RR_foot", 3, {}}}},
-      {"robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}, {{"panda_hand", 6, {}}}},
+       {solver::ConstraintSet::on("FL_foot", 3), solver::ConstraintSet::on("FR_foot", 3), solver::ConstraintSet::on("RL_foot", 3),
+        solver::ConstraintSet::on("RR_foot", 3)}},
+      {"robots/mobile_panda/mobile_panda.urdf", "mobile_base", {"panda_hand"}, {solver::ConstraintSet::on("panda_hand", 6)}},
       // Franka's fingers, panda_finger_joint2 a <mimic> of panda_finger_joint1: a joint of its own.
       {"robots/mobile_panda_gripper/mobile_panda_gripper.urdf", "mobile_base", {"panda_leftfinger", "panda_rightfinger"},
-       {{"panda_leftfinger", 3, {}}, {"panda_rightfinger", 3, {}}}},
+       {solver::ConstraintSet::on("panda_leftfinger", 3), solver::ConstraintSet::on("panda_rightfinger", 3)}},
   };
   test::RandomProblem random(63);
   test::SkipCount skips("floating-base round trip through KDL's TreeIdSolver_RNE", kMaxSkippedShare);
@@ -224,8 +228,10 @@ TEST(TreeKdl, MimicFingersAreJointsOfTheirOwn) {
     std::map<std::string, double> locks;
   };
   const std::vector<Case> cases = {
-      {{"panda_leftfinger", "panda_rightfinger"}, {{"panda_leftfinger", 3, {}}, {"panda_rightfinger", 3, {}}}, {}},
-      {{"panda_leftfinger"}, {{"panda_leftfinger", 3, {}}}, {{"panda_finger_joint2", 0.02}}},
+      {{"panda_leftfinger", "panda_rightfinger"},
+       {solver::ConstraintSet::on("panda_leftfinger", 3), solver::ConstraintSet::on("panda_rightfinger", 3)},
+       {}},
+      {{"panda_leftfinger"}, {solver::ConstraintSet::on("panda_leftfinger", 3)}, {{"panda_finger_joint2", 0.02}}},
   };
   test::RandomProblem random(64);
   test::SkipCount skips("mimic fingers' round trip through KDL's TreeIdSolver_RNE", kMaxSkippedShare);

@@ -17,6 +17,17 @@ spatial::Force<double> wrench(const json& value, const std::string& key) {
   return {v.head<3>(), v.tail<3>()};
 }
 
+// {"xyz": [3], "rpy": [3]} (either may be left out), a URDF origin, as the motion transform link -> frame.
+model::Transform origin(const json& value, const std::string& key) {
+  if (!value.is_object()) throw KeyError(key, "expected {\"xyz\": [x, y, z], \"rpy\": [roll, pitch, yaw]}");
+  model::Vec3 xyz = model::Vec3::Zero(), rpy = model::Vec3::Zero();
+  for (const auto& [name, part] : value.items()) {
+    if (name != "xyz" && name != "rpy") throw KeyError(key + "." + name, "unknown key (xyz or rpy)");
+    (name == "xyz" ? xyz : rpy) = numbers(part, key + "." + name, 3);
+  }
+  return model::origin_transform(xyz, rpy);
+}
+
 nlohmann::ordered_json array(const Eigen::VectorXd& v) { return nlohmann::ordered_json(std::vector<double>(v.data(), v.data() + v.size())); }
 
 }  // namespace
@@ -167,13 +178,33 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
     for (std::size_t c = 0; c < sets.size(); ++c) {
       const std::string key = "constraints[" + std::to_string(c) + "]";
       const json& set = sets[c];
-      if (!set.is_object() || !set.contains("link") || !set["link"].is_string() || !set.contains("alpha") ||
-          !set.contains("beta") || set.size() != 3)
-        throw KeyError(key, "expected {\"link\": L, \"alpha\": [...], \"beta\": [...]}");
-      const std::string link = set["link"].get<std::string>();
-      check_link(key + ".link", link, "a constraint on it holds nothing");
+      static const std::vector<std::string> set_keys = {"link", "alpha", "beta", "at", "relative_to", "relative_at"};
+      if (!set.is_object() || !set.contains("link") || !set["link"].is_string() || !set.contains("alpha") || !set.contains("beta"))
+        throw KeyError(key, "expected {\"link\": L, \"alpha\": [...], \"beta\": [...]} (optional: at, relative_to, relative_at)");
+      for (const auto& [name, value] : set.items())
+        if (std::find(set_keys.begin(), set_keys.end(), name) == set_keys.end())
+          throw KeyError(key + "." + name, "unknown key" + nearest_name_hint(name, set_keys));
+      solver::ConstraintSet placed;
+      placed.link = set["link"].get<std::string>();
+      const std::string& link = placed.link;
+      if (set.contains("relative_to")) {
+        if (!set["relative_to"].is_string()) throw KeyError(key + ".relative_to", "expected a link name");
+        placed.relative_to = set["relative_to"].get<std::string>();
+      }
+      check_link(key + ".link", link,
+                 placed.relative() ? "give the moving link as link and this one as relative_to" : "a constraint on it holds nothing");
+      if (const std::string problem = solver::relative_to_problem(placed, chain); !problem.empty())
+        throw KeyError(key + ".relative_to", problem);
+      if (set.contains("at")) placed.at = origin(set["at"], key + ".at");
+      if (set.contains("relative_at")) {
+        if (!placed.relative())
+          throw KeyError(key + ".relative_at", "places frame B on the link relative_to names; give relative_to");
+        placed.relative_at = origin(set["relative_at"], key + ".relative_at");
+      }
       for (const auto& earlier : p.sets)
-        if (earlier.link == link) throw KeyError(key + ".link", "a second set on " + quote_name(link));
+        if (earlier.link == link && earlier.relative_to == placed.relative_to)
+          throw KeyError(key + ".link", "a second set on " + quote_name(link) +
+                                            (placed.relative() ? " relative to " + quote_name(placed.relative_to) : ""));
       const json& alpha = set["alpha"];
       if (!alpha.is_array() || alpha.empty() || alpha.size() > solver::kMaxSetDirections)
         throw KeyError(key + ".alpha", "expected an array of 1 to 6 directions, each [mx,my,mz,fx,fy,fz]");
@@ -183,7 +214,8 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
         p.alpha.push_back(wrench(alpha[k], key + ".alpha[" + std::to_string(k) + "]"));
       const Eigen::VectorXd b = numbers(set["beta"], key + ".beta", alpha.size());
       beta.insert(beta.end(), b.data(), b.data() + b.size());
-      p.sets.push_back({link, alpha.size(), {}});
+      placed.count = alpha.size();
+      p.sets.push_back(placed);
     }
     if (const std::string problem = solver::structurally_overdetermined(p.sets, chain); !problem.empty())
       throw KeyError("constraints", problem);

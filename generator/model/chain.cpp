@@ -1,5 +1,6 @@
 #include "model/chain.hpp"
 
+#include <Eigen/Geometry>
 #include <sstream>
 #include <stdexcept>
 
@@ -24,6 +25,16 @@ bool Chain::is_chain() const {
   for (std::size_t i = 1; i < parent.size(); ++i)
     if (parent[i] != i - 1) return false;
   return true;
+}
+
+Transform origin_transform(const Vec3& xyz, const Vec3& rpy) {
+  const Mat3 R = (Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+                  Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()))
+                     .toRotationMatrix();
+  Transform X;
+  X.E = R.transpose();
+  X.r = xyz;
+  return X;
 }
 
 bool supports(const std::vector<std::size_t>& parent, std::size_t ancestor, std::size_t body) {

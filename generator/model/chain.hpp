@@ -106,6 +106,10 @@ struct Frame {
   Transform X;
 };
 
+// A frame's pose as a URDF <origin> gives it, xyz and rpy (roll, pitch, yaw about the fixed x, y, z
+// axes: R = Rz(yaw) Ry(pitch) Rx(roll)), as the motion transform from the parent frame to it (F1).
+Transform origin_transform(const Vec3& xyz, const Vec3& rpy);
+
 // Whether body `ancestor` is `body` or lies on its path to the base, `parent` a tree's λ (λ(i) < i).
 bool supports(const std::vector<std::size_t>& parent, std::size_t ancestor, std::size_t body);
 

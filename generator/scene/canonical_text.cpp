@@ -67,6 +67,8 @@ void add_scene(CanonicalText& out, const Scene& s) {
   out.line("constraints", layout.constraints);
   for (const solver::ConstraintSet& set : layout.sets) {
     out.line("set", set.link, set.count);
+    if (set.at.E != model::Mat3::Identity() || set.at.r != model::Vec3::Zero()) out.line(" at", set.at.E, set.at.r);
+    if (set.relative()) out.line(" relative_to", set.relative_to, set.relative_at.E, set.relative_at.r);
     for (const spatial::Force<double>& direction : set.fixed) out.line(" direction", direction.moment, direction.force);
   }
   for (const solver::Track& t : layout.tracks) out.line("track", t.name, t.bias, t.torques, t.external_forces);

@@ -239,6 +239,19 @@ std::vector<spatial::Force<double>> read_directions(const Reader& reader, const 
   return fixed;
 }
 
+// A frame's pose on its link, {xyz: [x, y, z], rpy: [roll, pitch, yaw]} as a URDF <origin> (either
+// key may be left out: zeros), as the motion transform link -> frame.
+model::Transform read_origin(const Reader& reader, const Item& origin) {
+  model::Vec3 xyz = model::Vec3::Zero(), rpy = model::Vec3::Zero();
+  for (const auto& [k, v] : reader.entries(origin, {"xyz", "rpy"})) {
+    const auto components = reader.sequence(v);
+    if (components.size() != 3) reader.fail(v, "expected 3 numbers, got " + std::to_string(components.size()));
+    model::Vec3& into = k.node.Scalar() == "xyz" ? xyz : rpy;
+    for (int i = 0; i < 3; ++i) into[i] = reader.number(components[static_cast<std::size_t>(i)]);
+  }
+  return model::origin_transform(xyz, rpy);
+}
+
 // drivers.constraints: a count (run-time directions on the tip), {directions} (fixed, on the
 // tip), or a list of sets {link, count} / {link, directions}. Links are checked against the
 // chain later (load_scene_chain), at the locations recorded here.
@@ -252,28 +265,45 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
     const auto fields = reader.entries(value, keys_under("drivers.constraints"));
     if (fields.empty()) reader.fail(value, "missing key 'directions'");
     auto fixed = read_directions(reader, fields[0].second, scene);
-    add({"", fixed.size(), fixed});
+    add(solver::ConstraintSet::on("", fixed.size(), fixed));
   } else if (value.node.IsSequence()) {
     const auto sets = reader.sequence(value);
     if (sets.empty()) reader.fail(value, "an empty list of constraint sets; leave 'constraints' out for none");
     if (sets.size() > solver::kMaxConstraints)
       reader.fail(value, "at most " + std::to_string(solver::kMaxConstraints) + " constraint directions in all, got " +
                              std::to_string(sets.size()) + " sets");
-    std::map<std::string, Item> seen;
+    std::map<std::pair<std::string, std::string>, Item> seen;  // (link, relative_to)
     for (std::size_t c = 0; c < sets.size(); ++c) {
-      std::optional<Item> link_item, count_item, directions_item;
-      for (const auto& [k, v] : reader.entries(sets[c], keys_under("drivers.constraints[]")))
-        (k.node.Scalar() == "link" ? link_item : k.node.Scalar() == "count" ? count_item : directions_item) = v;
+      std::map<std::string, Item> field;
+      for (const auto& [k, v] : reader.entries(sets[c], keys_under("drivers.constraints[]"))) field.emplace(k.node.Scalar(), v);
+      const auto get = [&](const char* key) -> std::optional<Item> {
+        const auto found = field.find(key);
+        return found == field.end() ? std::nullopt : std::optional<Item>(found->second);
+      };
+      const std::optional<Item> link_item = get("link"), count_item = get("count"), directions_item = get("directions");
       if (!link_item) reader.fail(sets[c], "missing key 'link' (the link the set acts on)");
       if (count_item.has_value() == directions_item.has_value())
         reader.fail(sets[c], "give exactly one of 'count' (run-time directions) and 'directions' (fixed ones)");
       solver::ConstraintSet set;
       set.link = reader.string(*link_item);
       if (set.link.empty()) reader.fail(*link_item, "link name is empty");
-      if (const auto previous = seen.find(set.link); previous != seen.end())
-        reader.fail(*link_item, "a second constraint set on link " + quote_name(set.link) + " (first at " +
+      if (const auto at = get("at")) set.at = read_origin(reader, *at);
+      if (const auto relative_to = get("relative_to")) {
+        set.relative_to = reader.string(*relative_to);
+        if (set.relative_to.empty()) reader.fail(*relative_to, "link name is empty");
+        scene.locations["drivers.constraints[" + std::to_string(c) + "].relative_to"] = reader.where(*relative_to);
+      }
+      if (const auto relative_at = get("relative_at")) {
+        if (!set.relative())
+          reader.fail(*relative_at, "relative_at places frame B on the link 'relative_to' names; give relative_to");
+        set.relative_at = read_origin(reader, *relative_at);
+      }
+      const std::pair<std::string, std::string> key{set.link, set.relative_to};
+      if (const auto previous = seen.find(key); previous != seen.end())
+        reader.fail(*link_item, "a second constraint set on link " + quote_name(set.link) +
+                                    (set.relative() ? " relative to " + quote_name(set.relative_to) : "") + " (first at " +
                                     reader.where(previous->second) + "); give one set with all its directions");
-      seen.emplace(set.link, *link_item);
+      seen.emplace(key, *link_item);
       if (count_item) {
         const long long count = reader.integer(*count_item);
         if (count < 1 || count > static_cast<long long>(solver::kMaxSetDirections))
@@ -294,7 +324,7 @@ void read_constraints(const Reader& reader, const Item& value, Scene& scene) {
     const long long count = reader.integer(value);
     if (count < 0 || count > static_cast<long long>(solver::kMaxSetDirections))
       reader.fail(value, "constraint count must be in 0..6, got " + std::to_string(count));
-    if (count > 0) add({"", static_cast<std::size_t>(count), {}});
+    if (count > 0) add(solver::ConstraintSet::on("", static_cast<std::size_t>(count)));
   }
   scene.locations["drivers.constraints"] = reader.where(value);
 }
@@ -411,7 +441,8 @@ const std::vector<std::string>& scene_keys() {
       "snap_quarter_turns", "locked_joints", "drivers", "drivers.torques", "drivers.external_forces",
       "drivers.external_forces[].name", "drivers.external_forces[].link", "drivers.constraints",
       "drivers.constraints.directions", "drivers.constraints[].link", "drivers.constraints[].count",
-      "drivers.constraints[].directions", "decomposition", "policies", "scalars", "expose",
+      "drivers.constraints[].directions", "drivers.constraints[].at", "drivers.constraints[].relative_to",
+      "drivers.constraints[].relative_at", "decomposition", "policies", "scalars", "expose",
       "constraint_factorisation", "pivot_tolerance", "refinement", "constraint_rows", "outputs", "check_inputs", "derivatives"};
   return keys;
 }
@@ -674,6 +705,10 @@ Scene load_scene(const std::string& path) {
     } else {
       scene.derivatives = reader.choice(*item, {"true", "false"}, "derivatives value") == "true";
     }
+    if (scene.derivatives && std::any_of(scene.layout.sets.begin(), scene.layout.sets.end(),
+                                         [](const solver::ConstraintSet& set) { return set.relative(); }))
+      reader.fail(*item, "derivatives of a set between two links (relative_to) are not generated: the residual Jacobians "
+                         "(D8) cover sets on one link only");
     if (scene.derivatives && scene.layout.torques.empty())
       reader.fail(*item, "derivatives need a torque driver (drivers: torques), the columns of d/d tau_ff");
     if (scene.derivatives && std::none_of(scene.policies.begin(), scene.policies.end(), solver::differentiable))
@@ -815,10 +850,17 @@ model::Chain load_scene_chain(const Scene& scene) {
     check_link("drivers.external_forces[" + std::to_string(i) + "].link", ext.link, "external force " + quote_name(ext.name),
                "a force on it moves nothing");
   }
-  for (std::size_t c = 0; c < scene.layout.sets.size(); ++c)
-    if (!scene.layout.sets[c].link.empty())  // empty: the tip
-      check_link("drivers.constraints[" + std::to_string(c) + "].link", scene.layout.sets[c].link, "a constraint set",
-                 "a constraint on it holds nothing");
+  for (std::size_t c = 0; c < scene.layout.sets.size(); ++c) {
+    const solver::ConstraintSet& set = scene.layout.sets[c];
+    const std::string element = "drivers.constraints[" + std::to_string(c) + "]";
+    if (!set.link.empty())  // empty: the tip
+      check_link(element + ".link", set.link, "a constraint set",
+                 set.relative() ? "give the moving link as 'link' and this one as 'relative_to'"
+                                : "a constraint on it holds nothing");
+    // The second link of a set between two links may ride on the base (a loop closed to the ground).
+    if (const std::string problem = solver::relative_to_problem(set, chain); !problem.empty())
+      throw InputError(scene.location(element + ".relative_to"), element + ".relative_to", problem);
+  }
   if (const std::string problem = solver::structurally_overdetermined(scene.layout.constraint_sets(), chain); !problem.empty())
     throw InputError(scene.location("drivers.constraints"), "drivers.constraints", problem);
   solver::validate(scene.layout, chain, scene.path.empty() ? "command line" : scene.path);
@@ -870,7 +912,7 @@ Scene default_scene(const std::string& urdf, const std::string& root, const std:
   // Six run-time directions on the tip, or as many as the joints that move it can meet.
   const std::size_t tip_directions = std::min(solver::kMaxSetDirections, chain.tip().body);
   scene.layout.constraints = tip_directions;
-  if (tip_directions > 0) scene.layout.sets = {solver::ConstraintSet{"", tip_directions, {}}};
+  if (tip_directions > 0) scene.layout.sets = {solver::ConstraintSet::on("", tip_directions)};
   scene.layout.decompose_all();
   scene.policies = {solver::Policy::original, solver::Policy::prioritize_external, solver::Policy::saturate,
                     solver::Policy::saturate_exact};

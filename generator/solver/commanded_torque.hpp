@@ -2,7 +2,8 @@
 // and "The traps"). Two inward passes of rigid force propagation, f_λ(i) += X_i^T f_i,
 // τ_i = S_i^T f_i:
 //   τcmd = τff + Σ_k J_k^T (α_k ν_k)          for the policies that keep the constraint;  (T1)
-//          (J_k the Jacobian of direction k's link: its unit force enters at its body)
+//          (J_k the Jacobian of direction k's link: its unit force enters at its body; for a set
+//          between two links J_A − ^AX_B J_B, its pair of wrenches entering at both bodies, L4)
 //   τcmd = RNEA(q, q̇, q̈; F_ext) + d q̈         for any q̈ (used by Eq. 1 saturation).     (T2)
 #pragma once
 
@@ -29,9 +30,8 @@ void constraint_torque_tip_to_base(const SolverModel<Scalar>& model, const Kinem
   for (auto& f : sol.transmitted_force) f = spatial::Force<Scalar>{};
   for (std::size_t i = n; i >= 1; --i) {
     spatial::Force<Scalar>& f = sol.transmitted_force[i];
-    for (const ConstraintSetModel<Scalar>& set : model.constraint_sets)
-      for (std::size_t k = set.first; set.body == i && k < set.first + set.count; ++k)
-        f += constraint_own_force(model, inputs, k, i) * sol.nu[k];
+    for (std::size_t k = 0; k < model.constraints(); ++k)
+      if (constraint_enters_at(model, k, i)) f += constraint_own_force(model, kin, inputs, k, i) * sol.nu[k];
     sol.tau_cmd[i - 1] = feedforward_torque(inputs, i) + spatial::dot(f, model.joints[i].S);
     if (model.parent[i] > 0)
       sol.transmitted_force[model.parent[i]] = sol.transmitted_force[model.parent[i]] + kin.body[i].X.apply_transpose(f);

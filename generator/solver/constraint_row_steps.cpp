@@ -11,9 +11,12 @@ ConstraintRowSteps constraint_row_steps(const model::Chain& chain, const DriverL
   std::vector<bool> reaches(n + 1, false);  // body i or one beyond it carries a set
   ConstraintRowSteps steps;
   for (const ConstraintSet& set : layout.constraint_sets()) {
-    const std::size_t body = chain.frames.at(set.link_in(chain)).body;
-    steps.inward_columns += set.count * depth[body];
-    reaches[body] = true;
+    for (const std::string* link : {&set.link_in(chain), set.relative() ? &set.relative_to : nullptr}) {
+      if (link == nullptr) continue;  // (L4): a set between two links enters at both bodies
+      const std::size_t body = chain.frames.at(*link).body;
+      steps.inward_columns += set.count * depth[body];
+      reaches[body] = true;
+    }
   }
   for (std::size_t j = n; j >= 1; --j)
     if (reaches[j]) reaches[chain.parent[j]] = true;

@@ -4,6 +4,7 @@
 // (I2), column k at body i is (P_{i+1}^T X_{i+1}^T) ... (P_b^T X_b^T) X_link^T α_k for the set on
 // body b, so with w_i = S_i, w_j = P_j X_j w_λ(j) on the path from i out to b:
 //   r_i,k = α_k^T X_link w_b                                              (I6)
+// (for a set between two links, also − α_k^T ^AX_b' w_b' at its other body b', L4)
 // and with z_0 = Ẍ_0, z_j = P_j X_j z_λ(j) + Ẍb_j:
 //   F^A_cstr,0^T Ẍ_0 + Σ_{i>=1} F^A_cstr,i^T Ẍb_i = α_k^T X_link z_b        (I6)
 // Here P_j w = w − S_j D_j^-1 U_j^T w is (I0)'s projection acting on motions (its transpose acts on
@@ -28,21 +29,33 @@ spatial::Motion<Scalar> project_outward(const JointModel<Scalar>& joint, const B
 template <class Scalar>
 std::vector<bool> bodies_reaching_a_set(const SolverModel<Scalar>& model) {
   std::vector<bool> reaches(model.dof() + 1, false);
-  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) reaches[set.body] = true;
+  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) {
+    reaches[set.body] = true;
+    if (set.relative) reaches[set.other_body] = true;
+  }
   for (std::size_t j = model.dof(); j >= 1; --j)
     if (reaches[j]) reaches[model.parent[j]] = true;
   return reaches;
 }
 
-// Adds α_k^T X_link v to out[k] for every direction k of the sets on body b.
+// Adds α_k^T X_link v to out[k] for every direction k of the sets on body b, and −α_k^T ^AX_b v for
+// the sets between two links whose other link rides on b (L4).
 template <class Scalar>
-void add_set_projections(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs, std::size_t b,
-                         const spatial::Motion<Scalar>& v, ConstraintVector<Scalar>& out) {
-  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) {
-    if (set.body != b) continue;
-    const spatial::Motion<Scalar> at_link = set.frame.apply(v);
-    for (std::size_t k = set.first; k < set.first + set.count; ++k)
-      out[k] += spatial::dot(inputs.constraint_directions[k], at_link);
+void add_set_projections(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                         const DriverInputs<Scalar>& inputs, std::size_t b, const spatial::Motion<Scalar>& v,
+                         ConstraintVector<Scalar>& out) {
+  for (std::size_t s = 0; s < model.constraint_sets.size(); ++s) {
+    const ConstraintSetModel<Scalar>& set = model.constraint_sets[s];
+    if (set.body == b) {
+      const spatial::Motion<Scalar> at_link = set.frame.apply(v);
+      for (std::size_t k = set.first; k < set.first + set.count; ++k)
+        out[k] += spatial::dot(inputs.constraint_directions[k], at_link);
+    }
+    if (set.relative && set.other_body == b) {
+      const spatial::Motion<Scalar> at_A = kin.loop[s].X_other.apply(v);
+      for (std::size_t k = set.first; k < set.first + set.count; ++k)
+        out[k] -= spatial::dot(inputs.constraint_directions[k], at_A);
+    }
   }
 }
 
@@ -57,12 +70,12 @@ ConstraintVector<Scalar> constraint_row_outward(const SolverModel<Scalar>& model
   std::vector<bool> beyond_i(n + 1, false);
   w[i] = model.joints[i].S;
   beyond_i[i] = true;
-  add_set_projections(model, inputs, i, w[i], row);
+  add_set_projections(model, kin, inputs, i, w[i], row);
   for (std::size_t j = i + 1; j <= n; ++j) {
     beyond_i[j] = beyond_i[model.parent[j]];
     if (!beyond_i[j] || !reaches[j]) continue;
     w[j] = project_outward(model.joints[j], kin.body[j], art.body[j], w[model.parent[j]]);
-    add_set_projections(model, inputs, j, w[j], row);
+    add_set_projections(model, kin, inputs, j, w[j], row);
   }
   return row;
 }
@@ -76,11 +89,11 @@ ConstraintVector<Scalar> bias_energy_outward(const SolverModel<Scalar>& model, c
   ConstraintVector<Scalar> energy = ConstraintVector<Scalar>::Zero(model.constraints());
   std::vector<spatial::Motion<Scalar>> z(n + 1);
   z[0] = kin.base_acceleration;
-  add_set_projections(model, inputs, 0, z[0], energy);
+  add_set_projections(model, kin, inputs, 0, z[0], energy);
   for (std::size_t j = 1; j <= n; ++j) {
     if (!reaches[j]) continue;
     z[j] = project_outward(model.joints[j], kin.body[j], art.body[j], z[model.parent[j]]) + kin.body[j].bias_acceleration;
-    add_set_projections(model, inputs, j, z[j], energy);
+    add_set_projections(model, kin, inputs, j, z[j], energy);
   }
   return energy;
 }

@@ -13,8 +13,10 @@
 //   F^A_t,p += X_i^T (Fc + U_i D_i^-1 u)                     (from own_t,p)                (I4)
 //   E^A_t,p += E^A_t,i + F^A_cstr,i^T ((Ẍb_i if bias) + S_i D_i^-1 u)  (from 0)            (I5)
 // where own_t,i = (Fb_i if bias) − Σ_{external forces of t on body i} F_ext, and column k of
-// own_cstr,i is X_link^T α_k when direction k's set acts on a link that body i carries, else 0
-// (a set's columns start at its body: outboard of it they are exactly zero).
+// own_cstr,i is X_link^T α_k when direction k's set acts on a link that body i carries, and for a set
+// between two links −(^AX_b)^T α_k where its other link rides (L4), else 0 (a set's columns start at
+// its bodies: outboard of them they are exactly zero); a loop's velocity-product term joins the bias
+// track's E^A_t,0 (L5).
 // The bias track reproduces F^A_b/E^A_b, a torque track F^A/E^A, an external-force track
 // −F^A_ext/E^A_ext, and the single track of Alg. 1 the composed F^A_b/E^A_conf.
 // Where (C5) applies, each constraint set's block of the (I3) matrix handed on by the last body that
@@ -58,12 +60,38 @@ spatial::Force<Scalar> track_own_force(const SolverModel<Scalar>& model, const T
   return own;
 }
 
-// Column k of own_cstr,i: direction k's unit force where its set's link rides on body i.
+// Column k of own_cstr,i: direction k's unit force where its set's frame A rides on body i, and for a
+// set between two links its opposite where the other link rides, −(^AX_b)^T α_k (L4).
 template <class Scalar>
-spatial::Force<Scalar> constraint_own_force(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
-                                            std::size_t k, std::size_t i) {
+spatial::Force<Scalar> constraint_own_force(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                            const DriverInputs<Scalar>& inputs, std::size_t k, std::size_t i) {
   const ConstraintSetModel<Scalar>& set = model.set_of(k);
-  return set.body == i ? set.frame.apply_transpose(inputs.constraint_directions[k]) : spatial::Force<Scalar>{};
+  spatial::Force<Scalar> own;
+  if (set.body == i) own = set.frame.apply_transpose(inputs.constraint_directions[k]);
+  if (set.relative && set.other_body == i)
+    own -= kin.loop[model.constraint_set_of[k]].X_other.apply_transpose(inputs.constraint_directions[k]);
+  return own;
+}
+
+// Whether direction k's unit force enters at body i (L4).
+template <class Scalar>
+bool constraint_enters_at(const SolverModel<Scalar>& model, std::size_t k, std::size_t i) {
+  const ConstraintSetModel<Scalar>& set = model.set_of(k);
+  return set.body == i || (set.relative && set.other_body == i);
+}
+
+// α_k^T (v_A × ^AX_b Ẋ_b) of the sets between two links, 0 for the others: the velocity-product
+// term of (L1), which the bias track's E^A_t,0 carries (L5).
+template <class Scalar>
+ConstraintVector<Scalar> loop_velocity_product_energy(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                                      const DriverInputs<Scalar>& inputs) {
+  ConstraintVector<Scalar> energy = ConstraintVector<Scalar>::Zero(model.constraints());
+  for (std::size_t s = 0; s < model.constraint_sets.size(); ++s) {
+    const ConstraintSetModel<Scalar>& set = model.constraint_sets[s];
+    for (std::size_t k = set.first; set.relative && k < set.first + set.count; ++k)
+      energy[k] = spatial::dot(inputs.constraint_directions[k], kin.loop[s].velocity_product);
+  }
+  return energy;
 }
 
 // One step of a track's force recursion at body i: returns X_i^T (Fc + U_i D_i^-1 u), the
@@ -97,7 +125,7 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
       if (i > 0) art.track[t][i].articulated_force = track_own_force(model, tracks[t], kin, inputs, i);
       art.track[t][i].acceleration_energy.setZero(nc);
     }
-    for (std::size_t k = 0; k < nc; ++k) art.body[i].constraint_force[k] = constraint_own_force(model, inputs, k, i);
+    for (std::size_t k = 0; k < nc; ++k) art.body[i].constraint_force[k] = constraint_own_force(model, kin, inputs, k, i);
     art.body[i].constraint_energy.setZero(nc, nc);
   }
 
@@ -169,6 +197,10 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
     }
   }
 
+  // The velocity-product term of the sets between two links joins the bias track (L5).
+  if (model.has_relative_sets())
+    for (std::size_t t = 0; t < tracks.size(); ++t)
+      if (tracks[t].bias) art.track[t][0].acceleration_energy += loop_velocity_product_energy(model, kin, inputs);
   // F^A_cstr,0^T Ẍ_0 for (S2); with outward rows, summed with the bias terms into the bias track.
   if (!outward_rows) {
     for (std::size_t k = 0; k < nc; ++k)

@@ -25,7 +25,7 @@ void DriverLayout::decompose_all() {
 
 std::vector<ConstraintSet> DriverLayout::constraint_sets() const {
   if (!sets.empty() || constraints == 0) return sets;
-  return {ConstraintSet{"", constraints, {}}};
+  return {ConstraintSet::on("", constraints)};
 }
 
 std::size_t DriverLayout::run_time_directions() const {
@@ -65,8 +65,11 @@ std::vector<std::string> constraint_set_summary(const DriverLayout& layout) {
   std::size_t first = 0, run_time = 0;
   for (std::size_t c = 0; c < layout.listed_sets(); ++c) {
     const ConstraintSet& set = layout.sets[c];
-    std::string line = "set " + std::to_string(c) + " on link " + inert_text(set.link) + ": direction" + (set.count == 1 ? " " : "s ") +
-                       range(first, set.count) + " (nu, beta), link acceleration set_acceleration[" +
+    const bool offset = set.at.E != model::Mat3::Identity() || set.at.r != model::Vec3::Zero();
+    std::string line = "set " + std::to_string(c) + " on link " + inert_text(set.link) + (offset ? " (at an offset)" : "") +
+                       (set.relative() ? " relative to link " + inert_text(set.relative_to) : "") + ": direction" +
+                       (set.count == 1 ? " " : "s ") + range(first, set.count) + " (nu, beta), " +
+                       (set.relative() ? "relative acceleration d/dt v_rel" : "link acceleration") + " set_acceleration[" +
                        range(6 * c, 6) + "]; ";
     if (set.directions_fixed()) {
       line += "fixed alpha";
@@ -98,10 +101,16 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
   static_assert(kMaxConstraints <= 32, "a set per bit of a mask");  // a set has a direction at least
   if (count > kMaxConstraints)
     return std::to_string(count) + " constraint sets, more than the " + std::to_string(kMaxConstraints) + " directions allowed";
+  // A set between two links moves with the joints between them only: those on one link's path
+  // to the base and not on the other's (the joints they share move both alike, (L1)).
   std::vector<std::uint32_t> moves(chain.dof() + 1, 0);
-  for (std::size_t c = 0; c < count; ++c)
+  for (std::size_t c = 0; c < count; ++c) {
     for (std::size_t j = chain.frames.at(sets[c].link_in(chain)).body; j > 0; j = chain.parent[j])
-      moves[j] |= std::uint32_t{1} << c;
+      moves[j] ^= std::uint32_t{1} << c;
+    if (sets[c].relative())
+      for (std::size_t j = chain.frames.at(sets[c].relative_to).body; j > 0; j = chain.parent[j])
+        moves[j] ^= std::uint32_t{1} << c;
+  }
   std::map<std::uint32_t, std::size_t> joints_by_mask;
   for (std::size_t j = 1; j <= chain.dof(); ++j)
     if (moves[j] != 0) ++joints_by_mask[moves[j]];
@@ -116,7 +125,8 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
     if (directions <= joints) return "";
     std::string links;
     for (std::size_t c : group)
-      links += (links.empty() ? "" : ", ") + quote_name(sets[c].link_in(chain));
+      links += (links.empty() ? "" : ", ") + quote_name(sets[c].link_in(chain)) +
+               (sets[c].relative() ? " relative to " + quote_name(sets[c].relative_to) : "");
     return std::to_string(directions) + " constraint direction" + (directions == 1 ? "" : "s") + " on link" +
            (group.size() == 1 ? " " : "s ") + links + " but only " + std::to_string(joints) + " joint" +
            (joints == 1 ? "" : "s") + " move" + (joints == 1 ? "s" : "") +
@@ -141,6 +151,22 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
   return "";
 }
 
+std::string relative_to_problem(const ConstraintSet& set, const model::Chain& chain) {
+  if (!set.relative()) return "";
+  const auto other = chain.frames.find(set.relative_to);
+  if (other == chain.frames.end()) {
+    std::vector<std::string> links;
+    for (const auto& [name, frame] : chain.frames) links.push_back(name);
+    return "link " + quote_name(set.relative_to) + " is not on " + chain.extent() + nearest_name_hint(set.relative_to, links);
+  }
+  const auto own = chain.frames.find(set.link_in(chain));
+  if (own == chain.frames.end() || own->second.body != other->second.body) return "";
+  return "link " + quote_name(set.relative_to) + " rides on the same body as " + quote_name(set.link_in(chain)) +
+         " (body " + quote_name(chain.bodies[own->second.body].link) +
+         ", no moving joint between them on this chain; a link listed in 'tips' keeps the joints to it): "
+         "the two never move apart";
+}
+
 void validate(const DriverLayout& layout, const model::Chain& chain, const std::string& source) {
   std::vector<std::string> links;
   for (const auto& [name, frame] : chain.frames) links.push_back(name);
@@ -161,9 +187,13 @@ void validate(const DriverLayout& layout, const model::Chain& chain, const std::
                                             std::to_string(set.count));
     if (set.link.empty() && layout.sets.size() > 1)
       throw InputError(source, element, "the tip set of the short form cannot be combined with listed sets");
-    if (std::find(set_links.begin(), set_links.end(), link) != set_links.end())
-      throw InputError(source, element, "a second set on the same link; give one set with all its directions");
-    set_links.push_back(link);
+    if (const std::string problem = relative_to_problem(set, chain); !problem.empty())
+      throw InputError(source, element, "relative_to: " + problem);
+    const std::string key = link + '\n' + set.relative_to;
+    if (std::find(set_links.begin(), set_links.end(), key) != set_links.end())
+      throw InputError(source, element, "a second set on the same link" + std::string(set.relative() ? "s" : "") +
+                                            "; give one set with all its directions");
+    set_links.push_back(key);
     directions += set.count;
   }
   if (directions != layout.constraints || directions > kMaxConstraints)

@@ -32,12 +32,29 @@ struct ExternalForceDriver {
 // it: then it is the only set, and its link acceleration is the solution's Ẍ_tip. A set that
 // names its link (the scene's list form, any link of the chain) is *listed*: the solution
 // reports its link's acceleration (set_acceleration).
+//
+// The directions act in frame A, fixed to the link at the pose `at` (scene key `at`, a URDF
+// origin; identity: the link's own frame). A set between two links (a loop closure,
+// docs/derivation.md (L1)) names the second, `relative_to`, and its frame B at `relative_at`: it
+// asks α^T d/dt v_rel = β with v_rel = v_A − ^AX_B v_B, its wrench +α ν on A and the opposite on B.
 struct ConstraintSet {
   std::string link;
   std::size_t count = 0;
   std::vector<spatial::Force<double>> fixed;
+  model::Transform at;           // motion transform link -> A
+  std::string relative_to;       // empty: the set holds A against the world
+  model::Transform relative_at;  // motion transform relative_to -> B
 
+  // A set on one link (empty: the tip) at its own frame, against the world.
+  static ConstraintSet on(std::string link, std::size_t count, std::vector<spatial::Force<double>> fixed = {}) {
+    ConstraintSet set;
+    set.link = std::move(link);
+    set.count = count;
+    set.fixed = std::move(fixed);
+    return set;
+  }
   bool directions_fixed() const { return !fixed.empty(); }
+  bool relative() const { return !relative_to.empty(); }
   // The link the set acts on: its own, or the chain's tip for the short forms.
   const std::string& link_in(const model::Chain& chain) const { return link.empty() ? chain.tip_link : link; }
 };
@@ -81,6 +98,11 @@ struct DriverLayout {
 // not add up to Nc, or a driver instance sits on no track or on two. (An over-determining set is
 // the scene's error, structurally_overdetermined; the solver itself copes: pivots drop.)
 void validate(const DriverLayout& layout, const model::Chain& chain, const std::string& source);
+
+// Why a set between two links cannot be taken, "" where it can: its `relative_to` is not on the
+// chain, or rides on the same body as its link (lumped together: they never move apart). The link
+// itself is checked as every set's.
+std::string relative_to_problem(const ConstraintSet& set, const model::Chain& chain);
 
 // α of every direction, sets in order: the fixed ones as given, `run_time()` for the others
 // (called once per run-time direction, in order).

@@ -53,7 +53,7 @@ template <class Scalar>
 ReferenceSolver<Scalar>::ReferenceSolver(const model::Chain& chain, const DriverLayout& layout,
                                          const SolverOptions& options)
     : model_(chain, layout, options, static_cast<double>(std::numeric_limits<Scalar>::epsilon())),
-      kinematics_(KinematicsState<Scalar>::sized(model_.dof())),
+      kinematics_(KinematicsState<Scalar>::sized(model_.dof(), model_.constraint_sets.size())),
       articulated_(ArticulatedState<Scalar>::sized(model_.dof(), model_.constraints(), layout.tracks.size())),
       inputs_(DriverInputs<Scalar>::sized(layout, model_.dof())),
       solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints(), layout.listed_sets())) {}

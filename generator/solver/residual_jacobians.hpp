@@ -117,7 +117,7 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
     F[i] = Y[i] * a[i] + cross_force(v[i], H[i]);
     Force<Scalar> applied;  // in body i's frame
     for (std::size_t e = 0; e < model.external_force_body.size(); ++e) applied += external_own_force(model, inputs, e, i);
-    for (std::size_t k = 0; k < nc; ++k) applied += constraint_own_force(model, inputs, k, i) * held.nu[k];
+    for (std::size_t k = 0; k < nc; ++k) applied += constraint_own_force(model, kin, inputs, k, i) * held.nu[k];
     F[i] -= X[i].apply_transpose(applied);
   }
   // Tip to base: the subtrees' composites.

@@ -98,12 +98,17 @@ struct JointModel {
 };
 
 // Where a constraint set acts: the body its link rides on and the motion transform from that
-// body's frame to the link's; its directions are first .. first + count - 1.
+// body's frame to the set's frame A; its directions are first .. first + count - 1. A set between
+// two links (L1) also names the body its second link rides on, and the transform from that body to
+// frame B (B's pose enters the pose error only: ^AX_B Ẍ_B is ^AX_b Ẍ_b whatever B).
 template <class Scalar>
 struct ConstraintSetModel {
   std::size_t body = 0;
   Transform<Scalar> frame;
   std::size_t first = 0, count = 0;
+  bool relative = false;
+  std::size_t other_body = 0;
+  Transform<Scalar> other_frame;
 };
 
 template <class Scalar>
@@ -132,6 +137,11 @@ struct SolverModel {
   std::size_t dof() const { return joints.size() - 1; }
   std::size_t base_coordinates() const { return floating_base ? 6 : 0; }
   std::size_t constraints() const { return layout.constraints; }
+  bool has_relative_sets() const {
+    for (const ConstraintSetModel<Scalar>& set : constraint_sets)
+      if (set.relative) return true;
+    return false;
+  }
   const ConstraintSetModel<Scalar>& set_of(std::size_t direction) const {
     return constraint_sets[constraint_set_of[direction]];
   }
@@ -168,10 +178,20 @@ struct SolverModel {
       external_force_frame.push_back(frame.X.cast<Scalar>());
     }
     for (const auto& set : layout.constraint_sets()) {
-      const std::string& link = set.link_in(chain);
-      const model::Frame& frame = chain.frames.at(link);
+      const model::Frame& frame = chain.frames.at(set.link_in(chain));
       for (std::size_t k = 0; k < set.count; ++k) constraint_set_of.push_back(constraint_sets.size());
-      constraint_sets.push_back({frame.body, frame.X.cast<Scalar>(), constraint_set_of.size() - set.count, set.count});
+      ConstraintSetModel<Scalar> placed;
+      placed.body = frame.body;
+      placed.frame = (set.at * frame.X).cast<Scalar>();
+      placed.first = constraint_set_of.size() - set.count;
+      placed.count = set.count;
+      if (set.relative()) {
+        const model::Frame& other = chain.frames.at(set.relative_to);
+        placed.relative = true;
+        placed.other_body = other.body;
+        placed.other_frame = (set.relative_at * other.X).cast<Scalar>();
+      }
+      constraint_sets.push_back(placed);
     }
     floating_base = chain.floating_base;
     gravity = options.gravity.cast<Scalar>();
@@ -202,6 +222,10 @@ struct SolverModel {
   std::vector<std::size_t> private_blocks_tops(const model::Chain& chain) const {
     std::vector<std::size_t> tops;
     if (constraint_sets.size() < 2) return tops;
+    // A set between two links is carried up two paths; its block would be complete only where
+    // they meet. Not taken: (C4)'s own test decides (the same answer, docs/derivation.md (C5)).
+    for (const ConstraintSetModel<Scalar>& set : constraint_sets)
+      if (set.relative) return tops;
     for (std::size_t c = 0; c < constraint_sets.size(); ++c) {
       std::size_t top = 0, own_joints = 0;
       for (std::size_t b = constraint_sets[c].body; b != 0; b = chain.parent[b]) {

@@ -63,11 +63,15 @@ void control_torques(const SolverModel<Scalar>& model, const ArticulatedState<Sc
   }
 }
 
-// Ẍ of constraint set c's link, in its frame, from the accelerations Ẍ_i in `sol`.
+// Ẍ of constraint set c's frame A, in its coordinates, from the accelerations Ẍ_i in `sol`; for a
+// set between two links d/dt v_rel = Ẍ_A − ^AX_b Ẍ_b + v_A × ^AX_b Ẋ_b (L1).
 template <class Scalar>
-spatial::Motion<Scalar> set_acceleration(const SolverModel<Scalar>& model, const Solution<Scalar>& sol, std::size_t c) {
+spatial::Motion<Scalar> set_acceleration(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                         const Solution<Scalar>& sol, std::size_t c) {
   const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
-  return set.frame.apply(sol.acceleration[set.body]);
+  const spatial::Motion<Scalar> at_A = set.frame.apply(sol.acceleration[set.body]);
+  if (!set.relative) return at_A;
+  return at_A - kin.loop[c].X_other.apply(sol.acceleration[set.other_body]) + kin.loop[c].velocity_product;
 }
 
 // a_i = X_i Ẍ_λ(i) + Ẍb_i, body i's acceleration before its own joint's (S4), from Ẍ_λ(i) in `sol`.
@@ -79,9 +83,9 @@ spatial::Motion<Scalar> carried_acceleration(const SolverModel<Scalar>& model, c
 
 // Ẍ_tip and each listed set's Ẍ_link, from the Ẍ_i in `sol` (S5).
 template <class Scalar>
-void link_accelerations(const SolverModel<Scalar>& model, Solution<Scalar>& sol) {
+void link_accelerations(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin, Solution<Scalar>& sol) {
   sol.tip_acceleration = model.tip.apply(sol.acceleration[model.dof()]);
-  for (std::size_t c = 0; c < sol.set_acceleration.size(); ++c) sol.set_acceleration[c] = set_acceleration(model, sol, c);
+  for (std::size_t c = 0; c < sol.set_acceleration.size(); ++c) sol.set_acceleration[c] = set_acceleration(model, kin, sol, c);
 }
 
 // (S5) for the q̈ in `sol`: Ẍ_i = a_i + S_i q̈_i, base to tip.
@@ -90,7 +94,7 @@ void accelerations_of_motion(const SolverModel<Scalar>& model, const KinematicsS
   sol.acceleration[0] = kin.base_acceleration;
   for (std::size_t i = 1; i <= model.dof(); ++i)
     sol.acceleration[i] = carried_acceleration(model, kin, sol, i) + model.joints[i].S * sol.qdd[i - 1];
-  link_accelerations(model, sol);
+  link_accelerations(model, kin, sol);
 }
 
 // (q̈): accelerations from τff + τctrl; `extra_force` (F^A_Δ) is added when given.
@@ -111,7 +115,7 @@ void accelerations_base_to_tip(const SolverModel<Scalar>& model, const Kinematic
         a.inverse_D * (feedforward_torque(inputs, i) + sol.tau_ctrl[i - 1] - spatial::dot(F, joint.S));
     sol.acceleration[i] = a_i + joint.S * sol.qdd[i - 1];
   }
-  link_accelerations(model, sol);
+  link_accelerations(model, kin, sol);
 }
 
 // Exact saturation, after an original solve filled sol.tau_cmd: clamp it, hand the extra
@@ -158,11 +162,12 @@ bool refines(const SolverModel<Scalar>& model, Policy constraint_policy) {
 // first order (docs/stability.md, "Refinement"). A dropped direction's r changes nothing: its
 // column of L and its pivot are 0.
 template <class Scalar>
-ConstraintVector<Scalar> constraint_residuals(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
+ConstraintVector<Scalar> constraint_residuals(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                              const DriverInputs<Scalar>& inputs,
                                               const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
   ConstraintVector<Scalar> r(model.constraints());
   for (std::size_t c = 0; c < model.constraint_sets.size(); ++c) {
-    const spatial::Motion<Scalar> achieved = set_acceleration(model, sol, c);
+    const spatial::Motion<Scalar> achieved = set_acceleration(model, kin, sol, c);
     const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
     for (std::size_t k = set.first; k < set.first + set.count; ++k)
       r[k] = setpoints[k] - spatial::dot(inputs.constraint_directions[k], achieved);
@@ -170,9 +175,10 @@ ConstraintVector<Scalar> constraint_residuals(const SolverModel<Scalar>& model, 
   return r;
 }
 template <class Scalar>
-ConstraintVector<Scalar> refined_setpoints(const SolverModel<Scalar>& model, const DriverInputs<Scalar>& inputs,
+ConstraintVector<Scalar> refined_setpoints(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
+                                           const DriverInputs<Scalar>& inputs,
                                            const ConstraintVector<Scalar>& setpoints, const Solution<Scalar>& sol) {
-  const ConstraintVector<Scalar> r = constraint_residuals(model, inputs, setpoints, sol);
+  const ConstraintVector<Scalar> r = constraint_residuals(model, kin, inputs, setpoints, sol);
   ConstraintVector<Scalar> refined(model.constraints());
   for (std::size_t k = 0; k < model.constraints(); ++k) refined[k] = setpoints[k] + r[k];
   return refined;
@@ -195,7 +201,7 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
   motion();
   if (refines(model, constraint_policy)) {
     const ConstraintVector<Scalar> first_pass = sol.nu;
-    constraint_multipliers(model, art, refined_setpoints(model, inputs, setpoints, sol), constraint_policy, sol);
+    constraint_multipliers(model, art, refined_setpoints(model, kin, inputs, setpoints, sol), constraint_policy, sol);
     for (std::size_t k = 0; k < model.constraints(); ++k) sol.nu[k] = refined_value(sol.nu[k], first_pass[k]);  // (D4)
     motion();
   }

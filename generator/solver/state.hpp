@@ -44,12 +44,28 @@ struct BodyKinematics {
   spatial::Force<Scalar> bias_force;      // Fb_i = Ẋ_i ×* (M_i Ẋ_i)
 };
 
+// A set between two links (docs/derivation.md, (L1)), A on body a, B on body b: what the outward
+// sweep gives its rows.
+template <class Scalar>
+struct LoopKinematics {
+  bool between_links = false;                   // false: a set on one link, the rest unused
+  spatial::Transform<Scalar> X_other;          // ^AX_b: body b's coordinates -> A's
+  spatial::Motion<Scalar> relative_velocity;   // v_rel = v_A − ^AX_b Ẋ_b
+  spatial::Motion<Scalar> velocity_product;    // v_A × ^AX_b Ẋ_b
+};
+
 template <class Scalar>
 struct KinematicsState {
   std::vector<BodyKinematics<Scalar>> body;  // 0..N
   spatial::Motion<Scalar> base_acceleration;  // Ẍ_0 = −[0; g], or −[0; Rᵀ g] for a floating base (O4)
+  std::vector<LoopKinematics<Scalar>> loop;   // per constraint set; read for the sets between two links
 
-  static KinematicsState sized(std::size_t n) { return {std::vector<BodyKinematics<Scalar>>(n + 1), {}}; }
+  static KinematicsState sized(std::size_t n, std::size_t constraint_sets = 0) {
+    KinematicsState kin;
+    kin.body.resize(n + 1);
+    kin.loop.resize(constraint_sets);
+    return kin;
+  }
 };
 
 template <class Scalar>

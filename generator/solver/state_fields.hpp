@@ -17,9 +17,9 @@ namespace sweepgen::solver {
 constexpr int kBodyless = -1;
 
 template <class Scalar, class Visit>
-void visit_motion(Visit& visit, const std::string& array, int body, const spatial::Motion<Scalar>& m) {
-  for (int c = 0; c < 3; ++c) visit(array, body, c, m.angular[c]);
-  for (int c = 0; c < 3; ++c) visit(array, body, 3 + c, m.linear[c]);
+void visit_motion(Visit& visit, const std::string& array, int body, const spatial::Motion<Scalar>& m, int offset = 0) {
+  for (int c = 0; c < 3; ++c) visit(array, body, offset + c, m.angular[c]);
+  for (int c = 0; c < 3; ++c) visit(array, body, offset + 3 + c, m.linear[c]);
 }
 
 template <class Scalar, class Visit>
@@ -34,7 +34,8 @@ void visit_matrix(Visit& visit, const std::string& array, int body, const Matrix
     for (Eigen::Index c = 0; c < m.cols(); ++c) visit(array, body, offset + static_cast<int>(r * m.cols() + c), m(r, c));
 }
 
-// Outward sweep: X_E, X_r, velocity, bias_acceleration, bias_force (bodies 1..N).
+// Outward sweep: X_E, X_r, velocity, bias_acceleration, bias_force (bodies 1..N), then per set
+// between two links ^AX_b, v_rel and the velocity-product term (L1).
 template <class Scalar, class Visit>
 void visit_fields(const KinematicsState<Scalar>& kin, Visit&& visit) {
   for (int i = 1; i < static_cast<int>(kin.body.size()); ++i) {
@@ -44,6 +45,15 @@ void visit_fields(const KinematicsState<Scalar>& kin, Visit&& visit) {
     visit_motion(visit, "velocity", i, b.velocity);
     visit_motion(visit, "bias_acceleration", i, b.bias_acceleration);
     visit_force(visit, "bias_force", i, b.bias_force);
+  }
+  for (std::size_t s = 0; s < kin.loop.size(); ++s) {  // sets between two links, set s at [s * 12] or [s * 6]
+    const auto& l = kin.loop[s];
+    if (!l.between_links) continue;
+    const int at = static_cast<int>(s);
+    visit_matrix(visit, "loop_X_E", kBodyless, l.X_other.E, 9 * at);
+    visit_matrix(visit, "loop_X_r", kBodyless, l.X_other.r, 3 * at);
+    visit_motion(visit, "relative_velocity", kBodyless, l.relative_velocity, 6 * at);
+    visit_motion(visit, "velocity_product", kBodyless, l.velocity_product, 6 * at);
   }
 }
 

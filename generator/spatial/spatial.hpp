@@ -138,6 +138,15 @@ struct Transform {
   Force<Scalar> apply_force(const Force<Scalar>& f) const { return force_to_b(E, r, f); }
 };
 
+// ^AX_B from ^BX_A: E^T, and the origin of A in B's coordinates, −E r.
+template <class Scalar>
+Transform<Scalar> inverse(const Transform<Scalar>& b_x_a) {
+  Transform<Scalar> a_x_b;
+  a_x_b.E = b_x_a.E.transpose();
+  a_x_b.r = -(b_x_a.E * b_x_a.r);
+  return a_x_b;
+}
+
 // Composition  C_X_A = C_X_B * B_X_A (docs/derivation.md, (F1)).
 template <class Scalar>
 Transform<Scalar> operator*(const Transform<Scalar>& c_x_b, const Transform<Scalar>& b_x_a) {
