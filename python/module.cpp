@@ -10,7 +10,8 @@
 // Only the generated API common to every scene is bound (and, with derivatives, `derivatives`): dof, nq, constraints, checks_inputs, Status,
 // and per scalar outward, decompose (through drivers_from_flat), the solves and flat_solves
 // tables and the Solution members nu (when constraints > 0), qdd, tau_ctrl, tau_cmd,
-// tip_acceleration, set_acceleration (when the scene lists constraint sets), saturated,
+// tip_acceleration, set_acceleration (when the scene lists constraint sets), closure_error (when it has sets
+// between two links), saturated,
 // dropped_pivots, locked_joints and status. What `expose: all` adds to State and Solution is not
 // bound.
 //
@@ -51,6 +52,12 @@ struct SetAccelerationSize : std::integral_constant<int, 0> {};
 template <class Solution>
 struct SetAccelerationSize<Solution, std::void_t<decltype(&Solution::set_acceleration)>>
     : std::integral_constant<int, static_cast<int>(std::extent_v<decltype(Solution::set_acceleration)>)> {};
+// Entries of Solution::closure_error (12 per set between two links), 0 when it has none.
+template <class Solution, class = void>
+struct ClosureErrorSize : std::integral_constant<int, 0> {};
+template <class Solution>
+struct ClosureErrorSize<Solution, std::void_t<decltype(&Solution::closure_error)>>
+    : std::integral_constant<int, static_cast<int>(std::extent_v<decltype(Solution::closure_error)>)> {};
 
 // The Status flags by name (the generated header's enum Status), for Python and for messages.
 struct Flag {
@@ -158,7 +165,7 @@ py::array_t<T> array_of(const Batch& batch, py::ssize_t width) {
 
 // The results of the structured solves: arrays allocated before the loop (with the GIL), filled
 // row by row through raw pointers (without it).
-template <class Scalar, int set_width>
+template <class Scalar, int set_width, int closure_width>
 class Results {
  public:
   explicit Results(const Batch& batch)
@@ -169,13 +176,14 @@ class Results {
         nu_(array_of<Scalar>(batch, constraints)),
         tip_acceleration_(array_of<Scalar>(batch, 6)),
         set_acceleration_(array_of<Scalar>(batch, set_width)),
+        closure_error_(array_of<Scalar>(batch, closure_width)),
         saturated_(array_of<bool>(batch, dof)),
         dropped_pivots_(batch.rows),
         locked_joints_(batch.rows),
         status_(batch.rows),
         to_{qdd_.mutable_data(),      tau_cmd_.mutable_data(),        tau_ctrl_.mutable_data(),
             nu_.mutable_data(),       tip_acceleration_.mutable_data(), set_acceleration_.mutable_data(),
-            saturated_.mutable_data(), dropped_pivots_.mutable_data(), locked_joints_.mutable_data(),
+            closure_error_.mutable_data(), saturated_.mutable_data(), dropped_pivots_.mutable_data(), locked_joints_.mutable_data(),
             status_.mutable_data()} {}
 
   template <class Solution>
@@ -186,6 +194,7 @@ class Results {
     if constexpr (constraints > 0) std::copy_n(s.nu, constraints, to_.nu + k * constraints);
     std::copy_n(s.tip_acceleration, 6, to_.tip_acceleration + k * 6);
     if constexpr (set_width > 0) std::copy_n(s.set_acceleration, set_width, to_.set_acceleration + k * set_width);
+    if constexpr (closure_width > 0) std::copy_n(s.closure_error, closure_width, to_.closure_error + k * closure_width);
     std::copy_n(s.saturated, dof, to_.saturated + k * dof);
     to_.dropped_pivots[k] = s.dropped_pivots;
     to_.locked_joints[k] = s.locked_joints;
@@ -194,7 +203,7 @@ class Results {
 
   unsigned status(py::ssize_t k) const { return to_.status[k]; }
 
-  // {qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, (set_acceleration,) saturated, dropped_pivots,
+  // {qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, (set_acceleration,) (closure_error,) saturated, dropped_pivots,
   // locked_joints, status}: (K, ...) arrays when batched, else 1-D arrays and Python ints.
   py::dict dict() const {
     const auto per_row = [&](const auto& values) -> py::object {
@@ -208,6 +217,7 @@ class Results {
     d["nu"] = nu_;
     d["tip_acceleration"] = tip_acceleration_;
     if (set_width > 0) d["set_acceleration"] = set_acceleration_;
+    if (closure_width > 0) d["closure_error"] = closure_error_;
     d["saturated"] = saturated_;
     d["dropped_pivots"] = per_row(dropped_pivots_);
     d["locked_joints"] = per_row(locked_joints_);
@@ -217,13 +227,13 @@ class Results {
 
  private:
   struct Pointers {
-    Scalar *qdd, *tau_cmd, *tau_ctrl, *nu, *tip_acceleration, *set_acceleration;
+    Scalar *qdd, *tau_cmd, *tau_ctrl, *nu, *tip_acceleration, *set_acceleration, *closure_error;
     bool* saturated;
     std::int32_t *dropped_pivots, *locked_joints;
     std::uint32_t* status;
   };
   Batch batch_;
-  py::array_t<Scalar> qdd_, tau_cmd_, tau_ctrl_, nu_, tip_acceleration_, set_acceleration_;
+  py::array_t<Scalar> qdd_, tau_cmd_, tau_ctrl_, nu_, tip_acceleration_, set_acceleration_, closure_error_;
   py::array_t<bool> saturated_;
   py::array_t<std::int32_t> dropped_pivots_, locked_joints_;
   py::array_t<std::uint32_t> status_;
@@ -572,7 +582,8 @@ void bind_variant(py::module_& module, const char* doc) {
         if (!state.decomposed) throw py::value_error("state: decompose() has not run on it");
         const auto solve = Api::solves[policy_index(Api::solves, policy)].solve;
         const Batch batch = batch_of<Scalar>({&b}, state.batched ? state.batch() : Batch{});
-        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value> results(batch);
+        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value, ClosureErrorSize<typename Api::Solution>::value>
+            results(batch);
         for_each_row(batch, [&](py::ssize_t k) {
           typename Api::Solution solution;
           solve(state.at(k), b.row(k), solution);
@@ -598,7 +609,8 @@ void bind_variant(py::module_& module, const char* doc) {
                            b = rows_of<Scalar>(beta, "beta", constraints);
         const auto solve = Api::solves[policy_index(Api::solves, policy)].solve;
         const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows, &d, &b});
-        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value> results(batch);
+        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value, ClosureErrorSize<typename Api::Solution>::value>
+            results(batch);
         for_each_row(batch, [&](py::ssize_t k) {
           typename Api::State state;
           typename Api::Solution solution;

@@ -2,9 +2,11 @@
 //   - against the dense oracle's Gauss principle with the relative Jacobian J_A − ᴬX_B J_B and the
 //     bias of (L2) (DenseDynamics::relative_motion), at random (open) states: the planar four-bar
 //     (robots/four_bar), the dual Panda with a 6-D set between its hands at turned offsets beside a
-//     world set, and the quadruped on its floating base with a set between two feet beside two world
-//     sets; with the inward columns (I2) and the outward rows (I6); q̈, ν, τcmd (T1) and the solver's
-//     own d/dt v_rel (set_acceleration) meeting β;
+//     world set, the quadruped on its floating base with a set between two feet beside two world
+//     sets, and the linkage biped (robots/linkage_biped: feet on the ground, knees' loops closed);
+//     with the inward columns (I2) and the outward rows (I6); q̈, ν, τcmd (T1), the solver's own
+//     d/dt v_rel (set_acceleration) meeting β, and the closure error (L3, L1) against the oracle's;
+//   - the closure error's rotation vector against Eigen's angle-axis, near 0 and near π;
 //   - `at` as a frame fixed to the link: a set at an offset equals the set on a fixed link there;
 //   - the scene's keys and the messages for a set that cannot work;
 //   - the bundled four-bar and delta closed and simulated 10 s by RK4 with β from a stabilising law
@@ -12,10 +14,12 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "scene/scene.hpp"
+#include "solver/closure_error.hpp"
 #include "solver/outward_sweep.hpp"
 #include "solver/shared_body_sets.hpp"
 #include "support/oracle_problem.hpp"
@@ -111,6 +115,11 @@ std::vector<LoopCase> loop_cases() {
     cases.push_back({"four_bar", scene::load_scene_chain(s), layout_with(s.layout.sets), s.gravity, true});
     cases.back().layout.sets[0].fixed.clear();  // directions drawn below, in the plane
   }
+  {  // floating, world sets on the feet beside the knees' loops (robots/linkage_biped)
+    const scene::Scene s = scene::load_scene(test::source_path("robots/linkage_biped/linkage_biped_stance.yaml"));
+    cases.push_back({"linkage_biped", scene::load_scene_chain(s), layout_with(s.layout.sets), s.gravity});
+    for (solver::ConstraintSet& set : cases.back().layout.sets) set.fixed.clear();  // drawn below
+  }
   const model::Transform turned = model::origin_transform({0.05, -0.02, 0.1}, {0.3, -0.7, 1.1});
   const model::Transform other = model::origin_transform({-0.03, 0.04, 0.02}, {-1.2, 0.4, 0.25});
   cases.push_back({"dual_panda",
@@ -188,11 +197,42 @@ TEST(LoopSets, ReferenceSolverAgreesWithTheDenseRelativeRows) {
               << where << " direction " << k;
         }
         worst = std::max({worst, e_qdd / tolerance(cond), e_nu / tolerance(cond), e_tau / tolerance(cond)});
+        // The closure error (L3, L1) against the oracle's, from its own poses and Jacobians: the
+        // solver composes a few transforms (rounding ~10 eps of quantities below 10).
+        std::size_t loop = 0;
+        for (const solver::ConstraintSet& set : c.layout.constraint_sets()) {
+          if (!set.relative()) continue;
+          const auto A = attached(set.link, set.at), B = attached(set.relative_to, set.relative_at);
+          const auto& [pose, velocity] = sol.closure_error.at(loop++);
+          EXPECT_LE(test::relative_error(test::to_six(pose), o.pose_error(q, A, B)), 1e-13) << where;
+          EXPECT_LE(test::relative_error(test::to_six(velocity), o.relative_motion(q, qd, A, B).velocity), 1e-13) << where;
+        }
+        EXPECT_EQ(loop, sol.closure_error.size());
       }
       std::printf("[loop sets] %s %s: largest error / tolerance %.3g\n", c.name.c_str(),
                   rows == solver::ConstraintRows::outward_rows ? "(I6)" : "(I2)", worst);
     }
   }
+}
+
+// The rotation vector of the closure error (solver/closure_error.hpp) against Eigen's angle-axis
+// of the same matrix, at random rotations, small ones (the w form's limit 1/2 w) and ones near π
+// (the symmetric part's form; its sign from w). Both round: 1e-14 of a vector below π, except where
+// the angle is within 1e-6 of π, where the axis Eigen reads from the symmetric part and the one
+// here may differ by the rounding of sin θ relative to itself (θ − π of 1e-6: 2e-16 / 1e-6).
+TEST(LoopSets, TheRotationVectorOfAClosureError) {
+  std::mt19937_64 random(31);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  for (int n = 0; n < 3000; ++n) {
+    const Eigen::Vector3d axis = Eigen::Vector3d(uniform(random), uniform(random), uniform(random)).normalized();
+    const double angle = n < 1000 ? 3.14159 * std::abs(uniform(random))
+                         : n < 2000 ? std::pow(10.0, -12 * std::abs(uniform(random)))
+                                    : M_PI - std::pow(10.0, -1 - 5 * std::abs(uniform(random)));
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+    const Eigen::Vector3d v = solver::rotation_vector<double>(R);
+    EXPECT_LE((v - angle * axis).cwiseAbs().maxCoeff(), 1e-14 + 2e-16 / (M_PI - angle)) << "angle " << angle;
+  }
+  EXPECT_EQ(solver::rotation_vector<double>(Eigen::Matrix3d::Identity()), Eigen::Vector3d::Zero());
 }
 
 // A set `at` an offset on its link is the set on a link fixed there: the four-bar's coupler_end

@@ -260,14 +260,29 @@ nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsig
   Eigen::VectorXd tip(6);
   tip << s.tip_acceleration.angular, s.tip_acceleration.linear;
   out["xdd_tip"] = array(tip);
-  if (!sets.empty()) {  // each listed set's link acceleration, [angular; linear] in its frame
+  // A set by its link, a set between two links as "LINK relative_to OTHER".
+  const auto set_name = [](const solver::ConstraintSet& set) {
+    return set.relative() ? set.link + " relative_to " + set.relative_to : set.link;
+  };
+  const auto six = [](const spatial::Motion<double>& m) {
+    Eigen::VectorXd a(6);
+    a << m.angular, m.linear;
+    return array(a);
+  };
+  if (!sets.empty()) {  // each listed set's acceleration, [angular; linear] in its frame (L1 for a loop)
     nlohmann::ordered_json links;
-    for (std::size_t c = 0; c < sets.size(); ++c) {
-      Eigen::VectorXd a(6);
-      a << s.set_acceleration[c].angular, s.set_acceleration[c].linear;
-      links[sets[c].link] = array(a);
-    }
+    for (std::size_t c = 0; c < sets.size(); ++c) links[set_name(sets[c])] = six(s.set_acceleration[c]);
     out["xdd_links"] = links;
+  }
+  if (!s.closure_error.empty()) {  // each set between two links: pose error (L3), v_rel (L1)
+    nlohmann::ordered_json loops;
+    std::size_t c = 0;
+    for (const solver::ConstraintSet& set : sets) {
+      if (!set.relative()) continue;
+      loops[set_name(set)] = {{"pose_error", six(s.closure_error[c][0])}, {"relative_velocity", six(s.closure_error[c][1])}};
+      ++c;
+    }
+    out["closure_error"] = loops;
   }
   std::vector<std::string> flags;
   if (status & solver::status_constraint_rank_deficient) flags.push_back("constraint_rank_deficient");

@@ -10,7 +10,7 @@ using nlohmann::json;
 // What solution_to_json calls each result the scene's `outputs` key lists.
 const std::vector<std::pair<const char*, const char*>> kOutputKeys = {
     {"qdd", "qdd"}, {"tau_cmd", "tau_cmd"}, {"tau_ctrl", "tau_ctrl"}, {"nu", "nu"},
-    {"tip_acceleration", "xdd_tip"}, {"set_acceleration", "xdd_links"}};
+    {"tip_acceleration", "xdd_tip"}, {"set_acceleration", "xdd_links"}, {"closure_error", "closure_error"}};
 
 // The keys a line may hold for this scene: its drivers by name, or "flat" alone with "policy".
 std::vector<std::string> keys_of(const solver::DriverLayout& drivers) {

@@ -36,6 +36,7 @@ const Equation& equation_of(const std::string& array) {
       {"acceleration", {"solver", "body acceleration Xdd_i", "S5"}},
       {"tip_acceleration", {"solver", "tip acceleration Xdd_tip", "S5"}},
       {"set_acceleration", {"solver", "acceleration of each constraint set's link, in its frame [set c: 6c..6c+5]", "S5"}},
+      {"closure_error", {"solver", "closure error of each set between two links: pose error, v_rel [set c: 12c..12c+11]", "L1, L3"}},
       {"tau_cmd", {"solver", "commanded torque tau_cmd", "T1, T2, X1"}},
       {"saturated", {"solver", "whether the policy clamped joint i's torque", "S3, X1"}},
       {"correction_force", {"solver", "articulated force of the clamped extra torque", "X1"}},

@@ -724,6 +724,8 @@ class Writer {
       case Op::sin: return "sin_of(" + operand(a, kTernary) + ")";
       case Op::cos: return "cos_of(" + operand(a, kTernary) + ")";
       case Op::abs: return "abs_of(" + operand(a, kTernary) + ")";
+      case Op::sqrt: return "sqrt_of(" + operand(a, kTernary) + ")";
+      case Op::atan2: return "atan2_of(" + binary(a, kTernary, ", ", b, kTernary) + ")";
       case Op::equilibration_scale: return "equilibration_scale(" + operand(a, kTernary) + ")";
       case Op::min: return "min_of(" + binary(a, kTernary, ", ", b, kTernary) + ")";
       case Op::max: return "max_of(" + binary(a, kTernary, ", ", b, kTernary) + ")";

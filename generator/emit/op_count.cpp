@@ -8,10 +8,12 @@ void OpCount::count(symbolic::Op op) {
     case Op::add:
     case Op::sub: ++add; break;
     case Op::mul: ++mul; break;
-    case Op::div: ++div; break;
+    case Op::div:
+    case Op::sqrt: ++div; break;
     case Op::neg: ++neg; break;
     case Op::sin:
-    case Op::cos: ++trig; break;
+    case Op::cos:
+    case Op::atan2: ++trig; break;
     case Op::abs:
     case Op::equilibration_scale:
     case Op::min:

@@ -11,9 +11,9 @@ namespace sweepgen::emit {
 struct OpCount {
   std::size_t add = 0;      // + and -
   std::size_t mul = 0;
-  std::size_t div = 0;
+  std::size_t div = 0;      // and sqrt
   std::size_t neg = 0;      // sign flips
-  std::size_t trig = 0;     // sin, cos
+  std::size_t trig = 0;     // sin, cos, atan2
   std::size_t compare = 0;  // abs, min, max, select, equilibration_scale
 
   void count(symbolic::Op op);

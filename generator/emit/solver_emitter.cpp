@@ -138,7 +138,8 @@ void count_function(const std::string& scalar, const std::string& name, const Op
 data solve_values(const std::vector<std::pair<const FunctionPlan*, FunctionText>>& written,
                   const EmitRequest& request, const std::string& scalar, data& variant, EmittedSolver& result,
                   FileTally& tally) {
-  const std::size_t nc = request.trace.layout.constraints, sets = request.trace.layout.listed_sets();
+  const std::size_t nc = request.trace.layout.constraints, sets = request.trace.layout.listed_sets(),
+                    loops = request.trace.layout.loop_sets();
   OpCount shared, shared_worst;
   std::vector<std::string> worst_lines;
   data solves{data::type::list};
@@ -165,7 +166,7 @@ data solve_values(const std::vector<std::pair<const FunctionPlan*, FunctionText>
     // Only the saturating policies set a flag of `saturated` (the others write false).
     solve.set("saturates", f->group == solver::name(solver::Policy::saturate) ||
                                f->group == solver::name(solver::Policy::saturate_exact));
-    solve.set("pack_solution", pack_solution(request.trace.outputs, nc, sets));
+    solve.set("pack_solution", pack_solution(request.trace.outputs, nc, sets, loops));
     solves.push_back(solve);
   }
   for (const std::string& line : worst_lines) tally.op_lines.push_back(data("line", line));
@@ -202,7 +203,8 @@ data derivative_values(const model::Chain& chain, const EmitRequest& request, co
 // state and for a Batch, its stages, solves and derivative functions, its flat layout.
 data variant_values(const model::Chain& chain, const EmitRequest& request, const std::string& scalar,
                     EmittedSolver& result, FileTally& tally) {
-  const std::size_t n = chain.dof(), nc = request.trace.layout.constraints, sets = request.trace.layout.listed_sets();
+  const std::size_t n = chain.dof(), nc = request.trace.layout.constraints, sets = request.trace.layout.listed_sets(),
+                    loops = request.trace.layout.loop_sets();
   symbolic::TraceRequest trace_request = request.trace;
   trace_request.epsilon = epsilon_of(scalar);
   const ChosenRows chosen = choose_constraint_rows(chain, request, trace_request);
@@ -239,14 +241,14 @@ data variant_values(const model::Chain& chain, const EmitRequest& request, const
   variant.set("lane_types", vector_expressions > 0 ? lane_type() : "");
   if (tally.lanes_line.empty() && vector_expressions > 0) tally.lanes_line = lanes_note(vector_expressions);
   variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
-  variant.set("flat_out", flat_out(request.trace.outputs, sets));
+  variant.set("flat_out", flat_out(request.trace.outputs, sets, loops));
   const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base, request.trace.outputs);
   variant.set("flat_in_size", std::to_string(flat.in_size()));
   variant.set("flat_out_size", std::to_string(flat.out_size()));
   variant.set("unpack_drivers", unpack_drivers(request.trace));
   variant.set("drivers_view_init", drivers_view_init(request.trace));
   variant.set("check_drivers", check_drivers(request.trace));
-  variant.set("check_solution", check_solution(request.trace.outputs, nc, sets));
+  variant.set("check_solution", check_solution(request.trace.outputs, nc, sets, loops));
   variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
                                                : " (expose: outputs; carried values only)");
   return variant;

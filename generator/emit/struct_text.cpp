@@ -52,7 +52,7 @@ std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
 struct SolutionArray {
   std::string name, extent, element, loop;
 };
-std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, std::size_t sets) {
+std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops) {
   std::vector<SolutionArray> arrays;
   const std::string joints = "for (int i = 0; i < dof; ++i)";
   for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"})
@@ -62,6 +62,10 @@ std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, 
   if (sets > 0 && outputs.set_acceleration) {
     const std::string n = std::to_string(6 * sets);
     arrays.push_back({"set_acceleration", "6 per constraint set", "set_acceleration[i]", "for (int i = 0; i < " + n + "; ++i)"});
+  }
+  if (loops > 0 && outputs.closure_error) {
+    const std::string n = std::to_string(12 * loops);
+    arrays.push_back({"closure_error", "12 per set between two links", "closure_error[i]", "for (int i = 0; i < " + n + "; ++i)"});
   }
   return arrays;
 }
@@ -144,24 +148,24 @@ std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool 
 }
 
 // The order of solver::FlatLayout's `out`.
-std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets) {
+std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops) {
   std::string text;
-  for (const SolutionArray& a : solution_arrays(outputs, sets)) text += a.name + " (" + a.extent + "), ";
+  for (const SolutionArray& a : solution_arrays(outputs, sets, loops)) text += a.name + " (" + a.extent + "), ";
   return text + "status";
 }
 
-std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets) {
+std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops) {
   std::string text = "  S* cursor_out = out;\n";
-  for (const SolutionArray& a : solution_arrays(outputs, sets))
+  for (const SolutionArray& a : solution_arrays(outputs, sets, loops))
     if (nc > 0 || a.name != "nu") text += "  " + a.loop + " *cursor_out++ = solution." + a.element + ";\n";
   text += "  *cursor_out = Lanes<S>::value(solution.status);";
   return text;
 }
 
-std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets) {
+std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops) {
   std::string text = "  S residue{};  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
   if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
-  for (const SolutionArray& a : solution_arrays(outputs, sets))
+  for (const SolutionArray& a : solution_arrays(outputs, sets, loops))
     if (nc > 0 || a.name != "nu") text += "  " + a.loop + " residue += out." + a.element + " - out." + a.element + ";\n";
   text.pop_back();  // the template ends the line
   return text;

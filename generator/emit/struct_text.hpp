@@ -40,10 +40,10 @@ std::string check_drivers(const symbolic::TraceRequest& request);
 // The order of solver::FlatLayout's `in`, as the header documents it.
 std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool floating_base);
 // The order of solver::FlatLayout's `out` (scene key outputs).
-std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets);
+std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops);
 // The flat solve's output written from a Solution.
-std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets);
+std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops);
 // solve_<policy>(): NaN/Inf among the setpoints and the results (scene: check_inputs).
-std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets);
+std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops);
 
 }  // namespace sweepgen::emit

@@ -78,7 +78,7 @@ void add_scene(CanonicalText& out, const Scene& s) {
   out.line("constraint_rows", s.constraint_rows.has_value(),
            s.constraint_rows == solver::ConstraintRows::outward_rows);
   const solver::SolveOutputs& o = s.outputs;
-  out.line("outputs", o.qdd, o.tau_cmd, o.tau_ctrl, o.nu, o.tip_acceleration, o.set_acceleration);
+  out.line("outputs", o.qdd, o.tau_cmd, o.tau_ctrl, o.nu, o.tip_acceleration, o.set_acceleration, o.closure_error);
   const solver::DerivativeOutputs& d = s.derivative_outputs;
   out.line("derivatives", s.derivatives, d.qdd, d.nu, d.tau_cmd);
 }

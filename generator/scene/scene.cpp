@@ -670,20 +670,25 @@ Scene load_scene(const std::string& path) {
     const auto entries = reader.sequence(*item);
     if (entries.empty()) reader.fail(*item, "at least one output is needed (leave the key out for all of them)");
     if (scene.expose_all) reader.fail(*item, "'expose: all' returns every intermediate; 'outputs' lists what 'expose: outputs' returns");
-    scene.outputs = {false, false, false, false, false, false};
+    scene.outputs = {false, false, false, false, false, false, false};
     std::map<std::string, Item> seen;
     for (const Item& entry : entries) {
       const std::string name =
-          reader.choice(entry, {"qdd", "tau_cmd", "tau_ctrl", "nu", "tip_acceleration", "set_acceleration"}, "output");
+          reader.choice(entry, {"qdd", "tau_cmd", "tau_ctrl", "nu", "tip_acceleration", "set_acceleration", "closure_error"},
+                        "output");
       if (const auto previous = seen.find(name); previous != seen.end())
         reader.fail(entry, "duplicate output " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
       if (name == "nu" && scene.layout.constraints == 0)
         reader.fail(entry, "nu has no entries: the scene has no constraint directions");
       if (name == "set_acceleration" && scene.layout.listed_sets() == 0)
         reader.fail(entry, "set_acceleration has no entries: the scene lists no constraint sets");
+      if (name == "closure_error" && scene.layout.loop_sets() == 0)
+        reader.fail(entry, "closure_error has no entries: the scene has no set between two links (relative_to)");
       seen.emplace(name, entry);
       *scene.outputs.flag(name) = true;
     }
+    // No set between two links: no closure error to leave out (the list still returns everything).
+    if (scene.layout.loop_sets() == 0) scene.outputs.closure_error = true;
   }
   if (const auto item = get("derivatives")) {
     if (item->node.IsSequence()) {  // the outputs whose Jacobians are returned

@@ -41,6 +41,12 @@ std::size_t DriverLayout::listed_sets() const {
   return count;
 }
 
+std::size_t DriverLayout::loop_sets() const {
+  std::size_t count = 0;
+  for (const auto& set : sets) count += set.relative() ? 1 : 0;
+  return count;
+}
+
 bool DriverLayout::external_forces_separable() const {
   for (const auto& track : tracks)
     if (!track.external_forces.empty() && !track.only_external_forces()) return false;

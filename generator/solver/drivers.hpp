@@ -84,6 +84,8 @@ struct DriverLayout {
   std::size_t run_time_directions() const;
   // Sets that name their link (0 for the tip set of the short forms).
   std::size_t listed_sets() const;
+  // Sets between two links (relative_to), each with a closure error.
+  std::size_t loop_sets() const;
 
   // One track with everything (Alg. 1).
   void compose_all();

@@ -88,6 +88,19 @@ class Dual {
     const T s = sin(a.value_);
     return {cos(a.value_), map(a, [&](const T& x) { return -(s * x); })};
   }
+  // d sqrt a = da / (2 sqrt a), d atan2(y, x) = (x dy − y dx) / (x² + y²)
+  friend Dual sqrt(const Dual& a) {
+    using std::sqrt;
+    const T root = sqrt(a.value_);
+    return {root, map(a, [&](const T& x) { return x / (root + root); })};
+  }
+  friend Dual atan2(const Dual& y, const Dual& x) {
+    using std::atan2;
+    const T& v = y.value_;
+    const T& u = x.value_;
+    const T r2 = u * u + v * v;
+    return {atan2(v, u), combine(y, x, [&](const T& dy, const T& dx) { return (u * dy - v * dx) / r2; })};
+  }
 
   // The branch-free operations of scalar_ops.hpp: the branch the values choose, with its tangent.
   friend Dual select_greater(const Dual& a, const Dual& b, const Dual& x, const Dual& y) {

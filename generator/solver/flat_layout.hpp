@@ -6,8 +6,9 @@
 //          (6 each, [moment; force]), α (6 per constraint direction whose set the scene does not
 //          fix, [moment; force], in its set's link frame), β = E_cstr (Nc)]
 //   out = [q̈ (n), τcmd (n), τctrl (n), ν (Nc), Ẍ_tip (6, [angular; linear]),
-//          Ẍ of each constraint set's link (6 each, only when the scene lists sets), status (1)],
-//          each of the first six only where the scene's `outputs` lists it (SolveOutputs)
+//          Ẍ of each constraint set's link (6 each, only when the scene lists sets), the closure
+//          error of each set between two links (12 each: pose error (L3), v_rel (L1)), status (1)],
+//          each of the first seven only where the scene's `outputs` lists it (SolveOutputs)
 #pragma once
 
 #include <cstddef>
@@ -28,13 +29,14 @@ struct SolveOutputs {
   static auto* flag_of(Self& self, const std::string& array) {
     for (auto [name, value] : {std::pair{"qdd", &self.qdd}, {"tau_cmd", &self.tau_cmd}, {"tau_ctrl", &self.tau_ctrl},
                                {"nu", &self.nu}, {"tip_acceleration", &self.tip_acceleration},
-                               {"set_acceleration", &self.set_acceleration}})
+                               {"set_acceleration", &self.set_acceleration}, {"closure_error", &self.closure_error}})
       if (array == name) return value;
     return static_cast<decltype(&self.qdd)>(nullptr);
   }
 
  public:
-  bool qdd = true, tau_cmd = true, tau_ctrl = true, nu = true, tip_acceleration = true, set_acceleration = true;
+  bool qdd = true, tau_cmd = true, tau_ctrl = true, nu = true, tip_acceleration = true, set_acceleration = true,
+       closure_error = true;
 
   // The flag of the Solution array `array` (state_fields.hpp), nullptr for one that is not listable.
   bool* flag(const std::string& array) { return flag_of(*this, array); }
@@ -42,7 +44,7 @@ struct SolveOutputs {
     const bool* value = flag_of(*this, array);
     return value != nullptr && *value;
   }
-  bool all() const { return qdd && tau_cmd && tau_ctrl && nu && tip_acceleration && set_acceleration; }
+  bool all() const { return qdd && tau_cmd && tau_ctrl && nu && tip_acceleration && set_acceleration && closure_error; }
 };
 
 struct FlatLayout {
@@ -53,11 +55,12 @@ struct FlatLayout {
   std::size_t sets = 0;  // constraint sets listed by the scene (each reports its link's Ẍ)
   std::vector<std::size_t> direction_set;  // per constraint direction, its set (when `sets` > 0)
   SolveOutputs outputs;  // which of them `out` holds
+  std::size_t loops = 0;  // constraint sets between two links (each reports its closure error)
 
   static FlatLayout of(const DriverLayout& layout, std::size_t dof, bool floating_base,
                        const SolveOutputs& outputs = {}) {
     FlatLayout flat{dof, layout.constraints, floating_base, layout.torques.size(), layout.external_forces.size(), {},
-                    layout.listed_sets(), {}, outputs};
+                    layout.listed_sets(), {}, outputs, layout.loop_sets()};
     std::size_t k = 0;
     const auto sets = layout.constraint_sets();
     for (std::size_t c = 0; c < sets.size(); ++c)
@@ -89,7 +92,8 @@ struct FlatLayout {
   std::size_t link_acceleration(std::size_t k) const {
     return sets == 0 ? tip_acceleration() : set_acceleration(direction_set.at(k));
   }
-  std::size_t status() const { return set_acceleration(outputs.set_acceleration ? sets : 0); }
+  std::size_t closure_error(std::size_t c) const { return set_acceleration(outputs.set_acceleration ? sets : 0) + 12 * c; }
+  std::size_t status() const { return closure_error(outputs.closure_error ? loops : 0); }
   std::size_t out_size() const { return status() + 1; }
 };
 
@@ -127,6 +131,12 @@ void flat_output(const Solution<Scalar>& solution, unsigned status, const FlatLa
       out[layout.set_acceleration(c) + i] = solution.set_acceleration[c].angular[i];
       out[layout.set_acceleration(c) + 3 + i] = solution.set_acceleration[c].linear[i];
     }
+  for (std::size_t c = 0; listed.closure_error && c < layout.loops; ++c)
+    for (std::size_t half = 0; half < 2; ++half)
+      for (int i = 0; i < 3; ++i) {
+        out[layout.closure_error(c) + 6 * half + i] = solution.closure_error[c][half].angular[i];
+        out[layout.closure_error(c) + 6 * half + 3 + i] = solution.closure_error[c][half].linear[i];
+      }
   out[layout.status()] = static_cast<Scalar>(status);
 }
 

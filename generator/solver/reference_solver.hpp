@@ -56,7 +56,7 @@ ReferenceSolver<Scalar>::ReferenceSolver(const model::Chain& chain, const Driver
       kinematics_(KinematicsState<Scalar>::sized(model_.dof(), model_.constraint_sets.size())),
       articulated_(ArticulatedState<Scalar>::sized(model_.dof(), model_.constraints(), layout.tracks.size())),
       inputs_(DriverInputs<Scalar>::sized(layout, model_.dof())),
-      solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints(), layout.listed_sets())) {}
+      solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints(), layout.listed_sets(), layout.loop_sets())) {}
 
 template <class Scalar>
 void ReferenceSolver<Scalar>::outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd,
@@ -112,6 +112,8 @@ unsigned ReferenceSolver<Scalar>::status() const {
                       all_finite(r.tip_acceleration.angular) && all_finite(r.tip_acceleration.linear);
   bool sets_finite = true;
   for (const auto& a : r.set_acceleration) sets_finite = sets_finite && all_finite(a.angular) && all_finite(a.linear);
+  for (const auto& e : r.closure_error)
+    for (const auto& m : e) sets_finite = sets_finite && all_finite(m.angular) && all_finite(m.linear);
   if (!sets_finite) s |= status_not_finite;
   if (!finite) s |= status_not_finite;
   return s;

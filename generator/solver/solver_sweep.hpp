@@ -14,6 +14,7 @@
 // Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity (X1).
 #pragma once
 
+#include "solver/closure_error.hpp"
 #include "solver/commanded_torque.hpp"
 #include "solver/constraint_multipliers.hpp"
 #include "solver/decomposition_sweep.hpp"
@@ -210,6 +211,7 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
   else
     constraint_torque_tip_to_base(model, kin, inputs, sol);
   if (policy == Policy::saturate_exact) saturate_commanded_torque(model, kin, art, inputs, sol);
+  if (model.has_relative_sets()) closure_errors(model, kin, sol.closure_error);  // (L1), (L3)
 }
 
 }  // namespace sweepgen::solver

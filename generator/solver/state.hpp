@@ -137,8 +137,11 @@ struct Solution {
   // Ẍ of each listed constraint set's link, in its frame (DriverLayout::listed_sets; none for the
   // tip set of the short forms, whose Ẍ is tip_acceleration).
   std::vector<spatial::Motion<Scalar>> set_acceleration;
+  // Per set between two links (DriverLayout::loop_sets), in set order: its pose error (L3) and v_rel
+  // (L1) (solver/closure_error.hpp).
+  std::vector<std::array<spatial::Motion<Scalar>, 2>> closure_error;
 
-  static Solution sized(std::size_t n, std::size_t nc, std::size_t listed_sets) {
+  static Solution sized(std::size_t n, std::size_t nc, std::size_t listed_sets, std::size_t loop_sets = 0) {
     Solution s;
     for (auto* v : {&s.tau_ctrl, &s.qdd, &s.tau_cmd, &s.saturated}) v->setZero(n);
     s.nu.setZero(nc);
@@ -147,6 +150,7 @@ struct Solution {
     s.correction_force.resize(n + 1);
     s.transmitted_force.resize(n + 1);
     s.set_acceleration.resize(listed_sets);
+    s.closure_error.reserve(loop_sets);
     return s;
   }
 };

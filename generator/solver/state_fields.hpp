@@ -86,7 +86,7 @@ void visit_fields(const ArticulatedState<Scalar>& art, const DriverLayout& layou
   for (int k = 0; k < nc; ++k) visit(std::string("base_acceleration_energy"), kBodyless, k, art.base_acceleration_energy[k]);
 }
 
-// Solver sweep: outputs first (nu, qdd, tau_ctrl, tau_cmd, tip_acceleration, set_acceleration, saturated,
+// Solver sweep: outputs first (nu, qdd, tau_ctrl, tau_cmd, tip_acceleration, set_acceleration, closure_error, saturated,
 // dropped_pivots), then the intermediates (conf_energy, acceleration, correction_force).
 template <class Scalar, class Visit>
 void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
@@ -100,6 +100,10 @@ void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
     const int at = 6 * static_cast<int>(c);
     for (int i = 0; i < 3; ++i) visit(std::string("set_acceleration"), kBodyless, at + i, m.angular[i]);
     for (int i = 0; i < 3; ++i) visit(std::string("set_acceleration"), kBodyless, at + 3 + i, m.linear[i]);
+  }
+  for (std::size_t c = 0; c < s.closure_error.size(); ++c) {
+    visit_motion(visit, "closure_error", kBodyless, s.closure_error[c][0], 12 * static_cast<int>(c));
+    visit_motion(visit, "closure_error", kBodyless, s.closure_error[c][1], 12 * static_cast<int>(c) + 6);
   }
   for (int i = 0; i < s.saturated.size(); ++i) visit(std::string("saturated"), kBodyless, i, s.saturated[i]);
   visit(std::string("dropped_pivots"), kBodyless, 0, s.dropped_pivots);

@@ -44,6 +44,8 @@ const char* op_name(Op op) {
     case Op::select_greater: return "select";
     case Op::equilibration_scale: return "equilibration_scale";
     case Op::select_path: return "select_path";
+    case Op::sqrt: return "sqrt";
+    case Op::atan2: return "atan2";
   }
   return "?";
 }
@@ -56,6 +58,7 @@ int arity(Op op) {
     case Op::sin:
     case Op::cos:
     case Op::abs:
+    case Op::sqrt:
     case Op::equilibration_scale: return 1;
     case Op::select_greater:
     case Op::select_path: return 4;
@@ -159,6 +162,8 @@ NodeId Graph::fold(Op op, const std::array<NodeId, 4>& args) {
       case Op::sin: return constant(std::sin(u));
       case Op::cos: return constant(std::cos(u));
       case Op::abs: return constant(std::abs(u));
+      case Op::sqrt: return constant(std::sqrt(u));
+      case Op::atan2: return constant(std::atan2(u, v));
       case Op::min: return constant(std::min(u, v));
       case Op::max: return constant(std::max(u, v));
       case Op::select_greater:

@@ -37,6 +37,8 @@ enum class Op : std::uint8_t {
   equilibration_scale,  // the power of two s with s² x in [1, 4), 0 for x <= 0 (solver/scalar_ops.hpp)
   select_path,     // args[0] > args[1] ? args[2] : args[3], where only the taken operand need be computed:
                    // the emitter computes what only one path needs inside an if/else (Plan::guard)
+  sqrt,
+  atan2,           // atan2(args[0], args[1]): the angle of (x, y) = (args[1], args[0])
 };
 
 const char* op_name(Op op);

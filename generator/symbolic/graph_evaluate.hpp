@@ -25,6 +25,8 @@ std::vector<Scalar> Graph::evaluate(const std::vector<Scalar>& input_values) con
       case Op::sin: v[i] = std::sin(a(0)); break;
       case Op::cos: v[i] = std::cos(a(0)); break;
       case Op::abs: v[i] = std::abs(a(0)); break;
+      case Op::sqrt: v[i] = std::sqrt(a(0)); break;
+      case Op::atan2: v[i] = std::atan2(a(0), a(1)); break;
       case Op::min: v[i] = std::min(a(0), a(1)); break;
       case Op::max: v[i] = std::max(a(0), a(1)); break;
       case Op::select_greater:

@@ -51,6 +51,8 @@ class Symbol {
   friend Symbol sin(const Symbol& a) { return make(Op::sin, a); }
   friend Symbol cos(const Symbol& a) { return make(Op::cos, a); }
   friend Symbol abs_value(const Symbol& a) { return make(Op::abs, a); }
+  friend Symbol sqrt(const Symbol& a) { return make(Op::sqrt, a); }
+  friend Symbol atan2(const Symbol& y, const Symbol& x) { return make(Op::atan2, y, x); }
   friend Symbol equilibration_scale(const Symbol& a) { return make(Op::equilibration_scale, a); }
   friend Symbol refined_value(const Symbol& refined, const Symbol& /*first_pass*/) { return refined; }
   friend Symbol minimum(const Symbol& a, const Symbol& b) { return make(Op::min, a, b); }

@@ -11,6 +11,7 @@
 // are nearly always beyond float's domain (kappa > 1e3), the axes mostly within it. Exits 1 with
 // a message for a scene `sweepgen solve` cannot express (it knows one torque, one wrench per
 // link, default gravity and factorisation).
+#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -61,6 +62,7 @@ ordered_json scene_line(const Scene& s, const sweepgen::model::Chain& chain) {
   line["nq"] = s.flat_layout(chain.dof()).positions();
   line["constraints"] = s.layout.constraints;
   line["sets"] = s.layout.listed_sets();  // each reports its link's acceleration
+  line["loop_sets"] = s.layout.loop_sets();  // each reports its closure error (12)
   line["run_time_directions"] = s.layout.run_time_directions();
   line["flat_in_size"] = s.flat_layout(chain.dof()).in_size();
   std::vector<std::string> joints, policies;
@@ -102,6 +104,16 @@ ordered_json cli_problem(const Scene& s, const Problem& p) {
     std::size_t k = 0;
     for (const auto& set : s.layout.sets) {
       ordered_json entry{{"link", set.link}, {"alpha", ordered_json::array()}, {"beta", ordered_json::array()}};
+      if (set.relative()) {  // a set between two links: its frames as URDF origins (rpy from R = E^T)
+        const auto origin = [](const sweepgen::model::Transform& X) {
+          const sweepgen::model::Mat3 R = X.E.transpose();
+          return ordered_json{{"xyz", values(X.r)},
+                              {"rpy", {std::atan2(R(2, 1), R(2, 2)), std::asin(-R(2, 0)), std::atan2(R(1, 0), R(0, 0))}}};
+        };
+        entry["at"] = origin(set.at);
+        entry["relative_to"] = set.relative_to;
+        entry["relative_at"] = origin(set.relative_at);
+      }
       for (std::size_t d = 0; d < set.count; ++d, ++k) {
         entry["alpha"].push_back(wrench(p.alpha[k]));
         entry["beta"].push_back(p.beta[static_cast<Eigen::Index>(k)]);

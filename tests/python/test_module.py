@@ -155,7 +155,8 @@ class ModuleTest:
         self.assertTrue(m.flat_out_layout.startswith("qdd (dof), tau_cmd (dof), tau_ctrl (dof), "), m.flat_out_layout)
         for name, v in self.variants():
             self.assertEqual(v.flat_in_size, info["flat_in_size"], name)
-            self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + 6 + 6 * info["sets"] + 1, name)
+            closure = 12 * info["loop_sets"]  # each set between two links: pose error, v_rel
+            self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + 6 + 6 * info["sets"] + closure + 1, name)
             self.assertEqual(v.drivers_size, info["flat_in_size"] - info["nq"] - info["dof"] - info["constraints"], name)
             self.assertEqual(list(v.policies), info["policies"], name)
             self.assertEqual(v.dtype, np.dtype(np.float64 if name == "f64" else np.float32), name)
@@ -193,9 +194,16 @@ class ModuleTest:
                 saturated = [j for j, s in zip(d.info["joints"], r["saturated"]) if s]
                 self.assertEqual(saturated, answer["saturated_joints"], where)
                 outputs = OUTPUTS + ([("set_acceleration", "xdd_links", ("qdd",))] if d.sets else [])
+                outputs += [("closure_error", "closure_error", ())] if "closure_error" in answer else []
                 for key, cli_key, terms in outputs:
-                    # xdd_links: each set's link acceleration by link, in the scene's set order.
-                    expected = np.concatenate(list(answer[cli_key].values())) if cli_key == "xdd_links" else answer[cli_key]
+                    # xdd_links: each set's link acceleration by set, in the scene's set order; closure_error:
+                    # each set between two links' pose error and relative velocity, in that order.
+                    if cli_key == "xdd_links":
+                        expected = np.concatenate(list(answer[cli_key].values()))
+                    elif cli_key == "closure_error":
+                        expected = np.concatenate([e["pose_error"] + e["relative_velocity"] for e in answer[cli_key].values()])
+                    else:
+                        expected = answer[cli_key]
                     error = relative_error(r[key], expected, [answer[t] for t in terms])
                     worst = max(worst, error / (EPS[name] * max(1.0, d.kappa[k])))
                     self.assertLessEqual(error, FACTORS[name] * max(1.0, d.kappa[k]), f"{where} {key}")
@@ -231,7 +239,7 @@ class ModuleTest:
                     self.assertTrue(np.array_equal(out, flat_batched[k]), where)
                     expected = np.concatenate([single["qdd"], single["tau_cmd"], single["tau_ctrl"], single["nu"],
                                                single["tip_acceleration"], single.get("set_acceleration", []),
-                                               [single["status"]]]).astype(v.dtype)
+                                               single.get("closure_error", []), [single["status"]]]).astype(v.dtype)
                     self.assertTrue(np.array_equal(out, expected), where)
 
     def test_resolve_with_new_beta_equals_full_solve(self):
