@@ -1,7 +1,7 @@
 // Constraint sets between two links (docs/derivation.md, L1, L4, L5) in the reference solver:
 //   - against the dense oracle's Gauss principle with the relative Jacobian J_A − ᴬX_B J_B and the
 //     bias of (L2) (DenseDynamics::relative_motion), at random (open) states: the planar four-bar
-//     (robots/four_bar), the dual Panda with a 6-D set between its hands at turned offsets beside a
+//     (robots/four_bar, and closed by a 6-D set: three redundant directions dropped), the dual Panda with a 6-D set between its hands at turned offsets beside a
 //     world set, the quadruped on its floating base with a set between two feet beside two world
 //     sets, and the linkage biped (robots/linkage_biped: feet on the ground, knees' loops closed);
 //     with the inward columns (I2) and the outward rows (I6); q̈, ν, τcmd (T1), the solver's own
@@ -114,6 +114,11 @@ std::vector<LoopCase> loop_cases() {
     const scene::Scene s = scene::load_scene(test::source_path("robots/four_bar/four_bar_loop.yaml"));
     cases.push_back({"four_bar", scene::load_scene_chain(s), layout_with(s.layout.sets), s.gravity, true});
     cases.back().layout.sets[0].fixed.clear();  // directions drawn below, in the plane
+    // The same loop closed by a 6-D set (a weld): three of its six directions are redundant at
+    // every state, dropped by the pivoted factorisation (the dropped count asserted below).
+    const solver::ConstraintSet& pin = s.layout.sets[0];
+    cases.push_back({"four_bar_welded", cases.back().chain,
+                     layout_with({between(pin.link, pin.at, pin.relative_to, pin.relative_at, 6)}), s.gravity});
   }
   {  // floating, world sets on the feet beside the knees' loops (robots/linkage_biped)
     const scene::Scene s = scene::load_scene(test::source_path("robots/linkage_biped/linkage_biped_stance.yaml"));
@@ -310,10 +315,23 @@ TEST(LoopSets, SceneKeysAndTheirMistakes) {
   EXPECT_NE(error_of("    - {link: coupler, relative_at: {xyz: [1, 0, 0]}, count: 2}\n").find("give relative_to"), std::string::npos);
   EXPECT_NE(error_of("    - {link: coupler, at: {xyz: [1, 0]}, count: 2}\n").find("expected 3 numbers"), std::string::npos);
   EXPECT_NE(error_of("    - {link: coupler, at: {xzy: [1, 0, 0]}, count: 2}\n").find("unknown key"), std::string::npos);
-  // The joints between the two links, not those to the base, bound a set between them: the
-  // coupler and the rocker move apart by three joints; four directions over-determine them.
-  EXPECT_NE(error_of("    - {link: coupler, relative_to: rocker, count: 4}\n").find("only 3 joints"), std::string::npos);
-  EXPECT_NE(error_of("    - {link: coupler, relative_to: crank, count: 2}\n").find("only 1 joint"), std::string::npos);
+  // Redundant directions of a set between two links are the rule, not an error (a planar loop
+  // closed by a 6-D set): the scene loads, and the warning counts the joints between the links
+  // (the coupler and the rocker move apart by three, not by the two to the base), and fixed
+  // directions no joint moves are taken (they are among the redundant ones).
+  EXPECT_EQ(error_of("    - {link: coupler, relative_to: rocker, count: 6}\n"), "no error");
+  EXPECT_EQ(error_of("    - {link: coupler, relative_to: rocker, directions: [[0, 0, 0, 0, 0, 1], [0, 0, 0, 1, 0, 0]]}\n"),
+            "no error");
+  solver::ConstraintSet welded = between("coupler", {}, "rocker", {}, 6), pinned = welded;
+  pinned.count = 3;
+  const model::Chain chain = scene::load_scene_chain(s);
+  const std::vector<std::string> warned = solver::redundant_loop_warnings({welded, pinned}, chain);
+  ASSERT_EQ(warned.size(), 1u);
+  EXPECT_NE(warned[0].find("holds 6 directions but only 3 joints"), std::string::npos) << warned[0];
+  EXPECT_TRUE(solver::redundant_loop_warnings({between("coupler", {}, "crank", {}, 1)}, chain).empty());
+  EXPECT_EQ(solver::redundant_loop_warnings({between("coupler", {}, "crank", {}, 2)}, chain).size(), 1u);
+  // A world set still may not ask more than its joints give.
+  EXPECT_NE(error_of("    - {link: crank, count: 2}\n").find("only 1 joint"), std::string::npos);
 }
 
 // A bundled scene's loops closed and simulated by RK4, undriven and undamped, β from a stabilising

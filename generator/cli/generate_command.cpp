@@ -114,7 +114,9 @@ void print_notes(const scene::Scene& s, const model::Chain& chain, bool all_note
 
 // What the scene allows but will likely not do what was meant (solver/shared_body_sets.hpp).
 void print_warnings(const scene::Scene& s, const model::Chain& chain) {
-  for (const std::string& line : solver::shared_body_warnings(s.layout.constraint_sets(), chain))
+  std::vector<std::string> warnings = solver::shared_body_warnings(s.layout.constraint_sets(), chain);
+  for (const std::string& line : solver::redundant_loop_warnings(s.layout.constraint_sets(), chain)) warnings.push_back(line);
+  for (const std::string& line : warnings)
     std::cerr << "sweepgen: warning: " << (s.path.empty() ? std::string("command line") : inert_text(s.path, kShownPathBytes)) << ": " << line << "\n";
 }
 

@@ -756,7 +756,8 @@ void check_fixed_directions_move(const Scene& scene, const model::Chain& chain) 
   for (std::size_t c = 0; c < scene.layout.sets.size(); ++c) {
     const solver::ConstraintSet& set = scene.layout.sets[c];
     for (std::size_t k = 0; k < set.count; ++k, ++row) {
-      if (!set.directions_fixed() || energy(row, row) != 0) continue;
+      // A set between two links may hold redundant directions (redundant_loop_warnings).
+      if (!set.directions_fixed() || set.relative() || energy(row, row) != 0) continue;
       const spatial::Force<double>& alpha = set.fixed[k];
       std::ostringstream direction;
       direction << "[" << alpha.moment[0] << ", " << alpha.moment[1] << ", " << alpha.moment[2] << ", " << alpha.force[0]

@@ -99,6 +99,8 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
   // from the base to B: more directions than those joints, for any group of sets, are always
   // rank-deficient (Hall's condition). Every group is tried, smallest first, up to 16 sets;
   // beyond, each set alone and all of them together.
+  // Sets between two links are not judged here: their redundant directions are the rule
+  // (redundant_loop_warnings, solver/shared_body_sets.hpp); their joints count for no group.
   const std::size_t count = sets.size();
   // The joints moving any of a group's sets, counted by which sets each joint moves: per joint on
   // a set's path to the base, the mask of the sets it moves; a group's joints are the joints whose
@@ -107,16 +109,10 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
   static_assert(kMaxConstraints <= 32, "a set per bit of a mask");  // a set has a direction at least
   if (count > kMaxConstraints)
     return std::to_string(count) + " constraint sets, more than the " + std::to_string(kMaxConstraints) + " directions allowed";
-  // A set between two links moves with the joints between them only: those on one link's path
-  // to the base and not on the other's (the joints they share move both alike, (L1)).
   std::vector<std::uint32_t> moves(chain.dof() + 1, 0);
-  for (std::size_t c = 0; c < count; ++c) {
-    for (std::size_t j = chain.frames.at(sets[c].link_in(chain)).body; j > 0; j = chain.parent[j])
-      moves[j] ^= std::uint32_t{1} << c;
-    if (sets[c].relative())
-      for (std::size_t j = chain.frames.at(sets[c].relative_to).body; j > 0; j = chain.parent[j])
-        moves[j] ^= std::uint32_t{1} << c;
-  }
+  for (std::size_t c = 0; c < count; ++c)
+    for (std::size_t j = chain.frames.at(sets[c].link_in(chain)).body; j > 0 && !sets[c].relative(); j = chain.parent[j])
+      moves[j] |= std::uint32_t{1} << c;
   std::map<std::uint32_t, std::size_t> joints_by_mask;
   for (std::size_t j = 1; j <= chain.dof(); ++j)
     if (moves[j] != 0) ++joints_by_mask[moves[j]];
@@ -124,6 +120,7 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
     std::uint32_t mask = 0;
     std::size_t directions = 0, joints = 0;
     for (std::size_t c : group) {
+      if (sets[c].relative()) continue;
       directions += sets[c].count;
       mask |= std::uint32_t{1} << c;
     }
@@ -131,8 +128,7 @@ std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, 
     if (directions <= joints) return "";
     std::string links;
     for (std::size_t c : group)
-      links += (links.empty() ? "" : ", ") + quote_name(sets[c].link_in(chain)) +
-               (sets[c].relative() ? " relative to " + quote_name(sets[c].relative_to) : "");
+      if (!sets[c].relative()) links += (links.empty() ? "" : ", ") + quote_name(sets[c].link_in(chain));
     return std::to_string(directions) + " constraint direction" + (directions == 1 ? "" : "s") + " on link" +
            (group.size() == 1 ? " " : "s ") + links + " but only " + std::to_string(joints) + " joint" +
            (joints == 1 ? "" : "s") + " move" + (joints == 1 ? "s" : "") +

@@ -127,7 +127,8 @@ std::vector<std::string> constraint_set_summary(const DriverLayout& layout);
 // Whether the sets ask more of the robot than its joints can give at every state: a group of
 // sets with more directions than the joints on the paths from the base to their links (the
 // rank of their rows of the constraint Jacobian is at most that). Returns the explanation of
-// the smallest such group, or "".
+// the smallest such group, or "". Sets between two links are left out (their redundant
+// directions are the rule: redundant_loop_warnings, solver/shared_body_sets.hpp).
 std::string structurally_overdetermined(const std::vector<ConstraintSet>& sets, const model::Chain& chain);
 
 }  // namespace sweepgen::solver

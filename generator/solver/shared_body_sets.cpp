@@ -46,4 +46,25 @@ std::vector<std::string> shared_body_warnings(const std::vector<ConstraintSet>& 
   return warnings;
 }
 
+std::vector<std::string> redundant_loop_warnings(const std::vector<ConstraintSet>& sets, const model::Chain& chain) {
+  std::vector<std::string> warnings;
+  for (std::size_t c = 0; c < sets.size(); ++c) {
+    if (!sets[c].relative()) continue;
+    // The joints on one link's path to the base and not on the other's move the two apart.
+    std::vector<int> on_path(chain.dof() + 1, 0);
+    for (const std::string* link : {&sets[c].link_in(chain), &sets[c].relative_to})
+      for (std::size_t j = chain.frames.at(*link).body; j > 0; j = chain.parent[j]) on_path[j] ^= 1;
+    std::size_t joints = 0;
+    for (int moved : on_path) joints += static_cast<std::size_t>(moved);
+    if (sets[c].count <= joints) continue;
+    warnings.push_back("set " + std::to_string(c) + " on " + quote_name(sets[c].link_in(chain)) + " relative to " +
+                       quote_name(sets[c].relative_to) + " holds " + std::to_string(sets[c].count) + " directions but only " +
+                       std::to_string(joints) + " joint" + (joints == 1 ? "" : "s") + " move the two links apart: " +
+                       std::to_string(sets[c].count - joints) + " or more are redundant at every state and dropped, "
+                       "status_constraint_rank_deficient on every solve (a planar loop closed by a 3-D or 6-D set; "
+                       "leave the directions out that the mechanism cannot violate to have an ok status)");
+  }
+  return warnings;
+}
+
 }  // namespace sweepgen::solver
