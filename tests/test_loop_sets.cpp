@@ -20,6 +20,7 @@
 
 #include "scene/scene.hpp"
 #include "solver/closure_error.hpp"
+#include "solver/quad_scalar.hpp"
 #include "solver/outward_sweep.hpp"
 #include "solver/shared_body_sets.hpp"
 #include "support/oracle_problem.hpp"
@@ -47,27 +48,31 @@ constexpr double kCeiling = 1e-5;
 
 // The oracle's frame for a set's frame A (or B): the transform link -> frame as R (frame -> link
 // coordinates) and p (its origin in the link's).
-Oracle::AttachedFrame attached(const std::string& link, const model::Transform& X) {
-  return {link, X.E.transpose().cast<LongDouble>(), X.r.cast<LongDouble>()};
+template <class O = Oracle>
+typename O::AttachedFrame attached(const std::string& link, const model::Transform& X) {
+  using S = typename O::Vec::Scalar;
+  return {link, X.E.transpose().cast<S>(), X.r.cast<S>()};
 }
 
 // The dense rows of every set: α_k^T J_A (a world set: A's frame is its link's here) or α_k^T J_rel
-// (L2), right-hand side β_k − α_k^T c.
+// (L2), right-hand side β_k − α_k^T c; in the oracle's scalar.
+template <class O>
 struct DenseRows {
-  OracleMat Jc;
-  OracleVec rhs;
+  typename O::Mat Jc;
+  typename O::Vec rhs;
 };
-DenseRows dense_rows(const Oracle& o, const solver::DriverLayout& layout, const model::Chain& chain, const OracleVec& q,
-                     const OracleVec& qd, const OracleMat& alpha, const OracleVec& beta) {
+template <class O>
+DenseRows<O> dense_rows(const O& o, const solver::DriverLayout& layout, const model::Chain& chain, const typename O::Vec& q,
+                        const typename O::Vec& qd, const typename O::Mat& alpha, const typename O::Vec& beta) {
   const Eigen::Index n = static_cast<Eigen::Index>(chain.dof()), nc = alpha.cols();
-  DenseRows rows{OracleMat(nc, n), OracleVec(nc)};
+  DenseRows<O> rows{typename O::Mat(nc, n), typename O::Vec(nc)};
   Eigen::Index k = 0;
   for (const solver::ConstraintSet& set : layout.constraint_sets()) {
-    const OracleMat a = alpha.middleCols(k, static_cast<Eigen::Index>(set.count));
-    Oracle::Jacobian J;
-    Oracle::Six c;
+    const typename O::Mat a = alpha.middleCols(k, static_cast<Eigen::Index>(set.count));
+    typename O::Jacobian J;
+    typename O::Six c;
     if (set.relative()) {
-      const auto r = o.relative_motion(q, qd, attached(set.link, set.at), attached(set.relative_to, set.relative_at));
+      const auto r = o.relative_motion(q, qd, attached<O>(set.link, set.at), attached<O>(set.relative_to, set.relative_at));
       J = r.J;
       c = r.drift;
     } else {
@@ -163,7 +168,7 @@ TEST(LoopSets, ReferenceSolverAgreesWithTheDenseRelativeRows) {
         const Oracle o(c.chain, p.base_gravity(c.gravity));
         const OracleVec q = test::to_long(p.q), qd = test::to_long(p.qd), tau = test::to_long(p.tau_ff);
         const OracleMat alpha = p.alpha(nc);
-        const DenseRows dense = dense_rows(o, c.layout, c.chain, q, qd, alpha, test::to_long(p.beta));
+        const DenseRows<Oracle> dense = dense_rows(o, c.layout, c.chain, q, qd, alpha, test::to_long(p.beta));
         const OracleMat M = o.mass_matrix(q);
         const OracleMat E = dense.Jc * M.ldlt().solve(dense.Jc.transpose());
         const std::string where = c.name + " state " + std::to_string(s) +
@@ -217,6 +222,95 @@ TEST(LoopSets, ReferenceSolverAgreesWithTheDenseRelativeRows) {
       std::printf("[loop sets] %s %s: largest error / tolerance %.3g\n", c.name.c_str(),
                   rows == solver::ConstraintRows::outward_rows ? "(I6)" : "(I2)", worst);
     }
+  }
+}
+
+// How far the model's rotations (joints' tree transforms, links' frames, the sets' offsets), held
+// in double, are from orthogonal, max |E^T E − 1| in binary128: where they are not exactly, the
+// solver (E^T as the inverse of a composed transform) and the dense oracle (poses composed from the
+// base) treat a slightly different mechanism, by that much.
+double non_orthogonality(const model::Chain& chain, const solver::DriverLayout& layout) {
+  using Q = solver::Quad;
+  double worst = 0;
+  const auto judge = [&](const model::Mat3& E) {
+    const Eigen::Matrix<Q, 3, 3> e = E.cast<Q>();
+    const Eigen::Matrix<Q, 3, 3> gap = e.transpose() * e - Eigen::Matrix<Q, 3, 3>::Identity();
+    for (int i = 0; i < 9; ++i) worst = std::max(worst, std::abs(static_cast<double>(gap(i / 3, i % 3))));
+  };
+  for (std::size_t i = 1; i <= chain.dof(); ++i) judge(chain.joints[i].tree_transform.E);
+  for (const auto& [name, frame] : chain.frames) judge(frame.X.E);
+  for (const solver::ConstraintSet& set : layout.sets) judge(set.at.E), judge(set.relative_at.E);
+  return worst;
+}
+
+// The bundled closed-chain scenes in binary128: ReferenceSolver<Quad> against the dense rows of
+// DenseDynamics<Quad> (Gauss' principle on α_k^T J_rel, (L2)), each as its scene states it
+// (gravity, fixed directions; run-time ones and the states drawn at random, external forces 0):
+// q̈ and ν within 100 (ε + δ) κ (ε = 2^-112; 100 ε κ the suite's factor for a solve against a
+// dense one, test_dense_oracle.cpp; δ the model's non-orthogonality, above, 0 for the four-bar
+// whose rotations are exact, ~1e-16 where a URDF turns by an angle double cannot hold exactly),
+// κ = max(1, cond(E)) of the kept directions, judged where 100 (ε + δ) κ is at most 1e-6, the rest
+// counted.
+TEST(LoopSets, TheBundledLoopScenesAgreeWithTheDenseSolveInBinary128) {
+  using Q = solver::Quad;
+  using QOracle = oracle::DenseDynamics<Q>;
+  const double eps = std::ldexp(1.0, -112);
+  test::RandomProblem random(128);
+  test::SkipCount skips("bundled loop scenes in binary128", 0.05);
+  for (const char* path : {"robots/four_bar/four_bar_loop.yaml", "robots/delta/delta_loops.yaml",
+                           "robots/dual_panda/dual_panda_box_loop.yaml", "robots/linkage_biped/linkage_biped_stance.yaml"}) {
+    const scene::Scene s = scene::load_scene(test::source_path(path));
+    const model::Chain chain = scene::load_scene_chain(s);
+    solver::ReferenceSolver<Q> reference(chain, s.layout, s.solver_options());
+    const std::size_t n = chain.dof(), nc = s.layout.constraints;
+    const double delta = non_orthogonality(chain, s.layout);
+    double worst = 0;
+    for (int state = 0; state < test::state_count(8); ++state) {
+      test::OracleProblem p = test::draw_problem(random, test::OracleCase{path, chain, {}}, nc);
+      // A floating base upright: the oracle takes gravity in base coordinates as a double, R^T g
+      // of a drawn rotation would be rounded there and not in the solver (the base still moves).
+      p.base_rotation.setIdentity();
+      solver::SolveInputs<double> in;
+      in.q = p.q;
+      in.qd = p.qd;
+      in.torques = {p.tau_ff};
+      in.wrenches.assign(s.layout.external_forces.size(), spatial::Force<double>{});
+      std::size_t drawn = 0;
+      in.alpha = solver::directions_with(s.layout, [&] { return p.alpha_columns[drawn++]; });
+      in.beta = p.beta;
+      in.base_rotation = p.base_rotation;
+      const solver::Solution<Q>& sol = reference.run(in.cast<Q>(), solver::Policy::original);
+      const QOracle o(chain, p.base_gravity(s.gravity));
+      const QOracle::Vec q = p.q.cast<Q>(), qd = p.qd.cast<Q>(), tau = p.tau_ff.cast<Q>();
+      QOracle::Mat alpha(6, static_cast<Eigen::Index>(nc));
+      for (std::size_t k = 0; k < nc; ++k)
+        alpha.col(static_cast<Eigen::Index>(k)) << in.alpha[k].moment.cast<Q>(), in.alpha[k].force.cast<Q>();
+      const DenseRows<QOracle> dense = dense_rows(o, s.layout, chain, q, qd, alpha, QOracle::Vec(p.beta.cast<Q>()));
+      const QOracle::Mat M = o.mass_matrix(q);
+      const QOracle::Mat E = dense.Jc * M.ldlt().solve(dense.Jc.transpose());
+      const auto kept = QOracle::kept_constraints(E, reference.model().pivot_tolerance);
+      const std::string where = std::string(path) + " state " + std::to_string(state);
+      EXPECT_EQ(static_cast<double>(sol.dropped_pivots), static_cast<double>(nc - kept.size())) << where;
+      QOracle::Mat Jk(static_cast<Eigen::Index>(kept.size()), static_cast<Eigen::Index>(n));
+      QOracle::Vec rk(static_cast<Eigen::Index>(kept.size()));
+      for (std::size_t j = 0; j < kept.size(); ++j) {
+        Jk.row(static_cast<Eigen::Index>(j)) = dense.Jc.row(kept[j]);
+        rk[static_cast<Eigen::Index>(j)] = dense.rhs[kept[j]];
+      }
+      const double kappa = std::max(1.0, static_cast<double>(QOracle::condition(Jk * M.ldlt().solve(Jk.transpose()))));
+      const double tolerance = 100 * (eps + delta) * kappa;
+      if (skips.skip(tolerance > 1e-6, "tolerance beyond 1e-6")) continue;
+      const QOracle::KktSolution kkt = o.solve_rows(q, qd, tau, Jk, rk);
+      QOracle::Vec nu = QOracle::Vec::Zero(static_cast<Eigen::Index>(nc));
+      for (std::size_t j = 0; j < kept.size(); ++j) nu[kept[j]] = kkt.nu[static_cast<Eigen::Index>(j)];
+      const double e_qdd = static_cast<double>(oracle::relative_error<Q>(sol.qdd, o.in_solver_coordinates(q, qd, kkt.qdd)));
+      const double e_nu = static_cast<double>(oracle::relative_error<Q>(sol.nu, nu));
+      EXPECT_LE(e_qdd, tolerance) << where << " kappa " << kappa;
+      EXPECT_LE(e_nu, tolerance) << where << " kappa " << kappa;
+      worst = std::max({worst, e_qdd / ((eps + delta) * kappa), e_nu / ((eps + delta) * kappa)});
+    }
+    std::printf("[loop sets] %s in binary128 (model's rotations orthogonal to %.3g): largest error / ((eps + that) kappa) %.3g\n",
+                path, delta, worst);
   }
 }
 
