@@ -29,8 +29,7 @@ void loop_kinematics(const SolverModel<Scalar>& model, KinematicsState<Scalar>& 
   for (std::size_t s = 0; s < model.constraint_sets.size(); ++s) {
     const ConstraintSetModel<Scalar>& set = model.constraint_sets[s];
     if (!set.relative) continue;
-    std::size_t c = set.body;
-    while (!model::supports(model.parent, c, set.other_body)) c = model.parent[c];
+    const std::size_t c = set.common_ancestor;
     LoopKinematics<Scalar>& loop = kin.loop[s];
     loop.between_links = true;
     loop.X_other = set.frame * transform_from_ancestor(model, kin, set.body, c) *

@@ -99,8 +99,9 @@ struct JointModel {
 
 // Where a constraint set acts: the body its link rides on and the motion transform from that
 // body's frame to the set's frame A; its directions are first .. first + count - 1. A set between
-// two links (L1) also names the body its second link rides on, and the transform from that body to
-// frame B (B's pose enters the pose error only: ^AX_B Ẍ_B is ^AX_b Ẍ_b whatever B).
+// two links (L1) also names the body its second link rides on, the transform from that body to
+// frame B (B's pose enters the pose error only: ^AX_B Ẍ_B is ^AX_b Ẍ_b whatever B), and the two
+// bodies' nearest common ancestor, through which the outward sweep composes ^AX_b.
 template <class Scalar>
 struct ConstraintSetModel {
   std::size_t body = 0;
@@ -109,6 +110,7 @@ struct ConstraintSetModel {
   bool relative = false;
   std::size_t other_body = 0;
   Transform<Scalar> other_frame;
+  std::size_t common_ancestor = 0;
 };
 
 template <class Scalar>
@@ -190,6 +192,9 @@ struct SolverModel {
         placed.relative = true;
         placed.other_body = other.body;
         placed.other_frame = (set.relative_at * other.X).cast<Scalar>();
+        placed.common_ancestor = frame.body;
+        while (!model::supports(parent, placed.common_ancestor, other.body))
+          placed.common_ancestor = parent[placed.common_ancestor];
       }
       constraint_sets.push_back(placed);
     }
