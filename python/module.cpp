@@ -7,7 +7,7 @@
 //   SWEEPGEN_MODULE_FLAT_IN/OUT the flat layout as the header's comment states it
 //   SWEEPGEN_MODULE_HAS_DERIVATIVES whether the header has the derivative functions (scene key derivatives)
 // `<module>.torch` is python/torch_layer.py (README, "PyTorch"), run the first time it is read.
-// Only the generated API common to every scene is bound (and, with derivatives, `derivatives`): dof, nq, constraints, checks_inputs, Status,
+// Only the generated API common to every scene is bound (and, with derivatives, `derivatives`): dof, nq, nv, constraints, checks_inputs, Status,
 // and per scalar outward, decompose (through drivers_from_flat), the solves and flat_solves
 // tables and the Solution members nu (when constraints > 0), qdd, tau_ctrl, tau_cmd,
 // tip_acceleration, set_acceleration (when the scene lists constraint sets), closure_error (when it has sets
@@ -44,6 +44,7 @@ static_assert(scene::returns_every_output,
               "the Python module binds every result of a solve: leave the scene key 'outputs' out, or list them all");
 constexpr int dof = scene::dof;
 constexpr int nq = scene::nq;  // values of q: dof, or a floating base's world_R_base (9) and the joints'
+constexpr int nv = scene::nv;  // values of qd: dof, less the coupled <mimic> joints (mimic: coupled)
 constexpr int constraints = scene::constraints;
 
 // Entries of Solution::set_acceleration (6 per listed constraint set), 0 when it has none.
@@ -58,6 +59,13 @@ struct ClosureErrorSize : std::integral_constant<int, 0> {};
 template <class Solution>
 struct ClosureErrorSize<Solution, std::void_t<decltype(&Solution::closure_error)>>
     : std::integral_constant<int, static_cast<int>(std::extent_v<decltype(Solution::closure_error)>)> {};
+
+// Entries of Solution::coupling_torque (one per coupled <mimic> joint), 0 when it has none.
+template <class Solution, class = void>
+struct CouplingTorqueSize : std::integral_constant<int, 0> {};
+template <class Solution>
+struct CouplingTorqueSize<Solution, std::void_t<decltype(&Solution::coupling_torque)>>
+    : std::integral_constant<int, static_cast<int>(std::extent_v<decltype(Solution::coupling_torque)>)> {};
 
 // The Status flags by name (the generated header's enum Status), for Python and for messages.
 struct Flag {
@@ -165,7 +173,7 @@ py::array_t<T> array_of(const Batch& batch, py::ssize_t width) {
 
 // The results of the structured solves: arrays allocated before the loop (with the GIL), filled
 // row by row through raw pointers (without it).
-template <class Scalar, int set_width, int closure_width>
+template <class Scalar, int set_width, int closure_width, int coupling_width>
 class Results {
  public:
   explicit Results(const Batch& batch)
@@ -177,13 +185,14 @@ class Results {
         tip_acceleration_(array_of<Scalar>(batch, 6)),
         set_acceleration_(array_of<Scalar>(batch, set_width)),
         closure_error_(array_of<Scalar>(batch, closure_width)),
+        coupling_torque_(array_of<Scalar>(batch, coupling_width)),
         saturated_(array_of<bool>(batch, dof)),
         dropped_pivots_(batch.rows),
         locked_joints_(batch.rows),
         status_(batch.rows),
         to_{qdd_.mutable_data(),      tau_cmd_.mutable_data(),        tau_ctrl_.mutable_data(),
             nu_.mutable_data(),       tip_acceleration_.mutable_data(), set_acceleration_.mutable_data(),
-            closure_error_.mutable_data(), saturated_.mutable_data(), dropped_pivots_.mutable_data(), locked_joints_.mutable_data(),
+            closure_error_.mutable_data(), coupling_torque_.mutable_data(), saturated_.mutable_data(), dropped_pivots_.mutable_data(), locked_joints_.mutable_data(),
             status_.mutable_data()} {}
 
   template <class Solution>
@@ -195,6 +204,8 @@ class Results {
     std::copy_n(s.tip_acceleration, 6, to_.tip_acceleration + k * 6);
     if constexpr (set_width > 0) std::copy_n(s.set_acceleration, set_width, to_.set_acceleration + k * set_width);
     if constexpr (closure_width > 0) std::copy_n(s.closure_error, closure_width, to_.closure_error + k * closure_width);
+    if constexpr (coupling_width > 0)
+      std::copy_n(s.coupling_torque, coupling_width, to_.coupling_torque + k * coupling_width);
     std::copy_n(s.saturated, dof, to_.saturated + k * dof);
     to_.dropped_pivots[k] = s.dropped_pivots;
     to_.locked_joints[k] = s.locked_joints;
@@ -203,7 +214,7 @@ class Results {
 
   unsigned status(py::ssize_t k) const { return to_.status[k]; }
 
-  // {qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, (set_acceleration,) (closure_error,) saturated, dropped_pivots,
+  // {qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, (set_acceleration,) (closure_error,) (coupling_torque,) saturated, dropped_pivots,
   // locked_joints, status}: (K, ...) arrays when batched, else 1-D arrays and Python ints.
   py::dict dict() const {
     const auto per_row = [&](const auto& values) -> py::object {
@@ -218,6 +229,7 @@ class Results {
     d["tip_acceleration"] = tip_acceleration_;
     if (set_width > 0) d["set_acceleration"] = set_acceleration_;
     if (closure_width > 0) d["closure_error"] = closure_error_;
+    if (coupling_width > 0) d["coupling_torque"] = coupling_torque_;
     d["saturated"] = saturated_;
     d["dropped_pivots"] = per_row(dropped_pivots_);
     d["locked_joints"] = per_row(locked_joints_);
@@ -227,13 +239,13 @@ class Results {
 
  private:
   struct Pointers {
-    Scalar *qdd, *tau_cmd, *tau_ctrl, *nu, *tip_acceleration, *set_acceleration, *closure_error;
+    Scalar *qdd, *tau_cmd, *tau_ctrl, *nu, *tip_acceleration, *set_acceleration, *closure_error, *coupling_torque;
     bool* saturated;
     std::int32_t *dropped_pivots, *locked_joints;
     std::uint32_t* status;
   };
   Batch batch_;
-  py::array_t<Scalar> qdd_, tau_cmd_, tau_ctrl_, nu_, tip_acceleration_, set_acceleration_, closure_error_;
+  py::array_t<Scalar> qdd_, tau_cmd_, tau_ctrl_, nu_, tip_acceleration_, set_acceleration_, closure_error_, coupling_torque_;
   py::array_t<bool> saturated_;
   py::array_t<std::int32_t> dropped_pivots_, locked_joints_;
   py::array_t<std::uint32_t> status_;
@@ -410,7 +422,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
       "derivatives",
       [prefix, n_drivers](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
                           const std::string& policy, unsigned mask) {
-        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", nv),
                            d = rows_of<Scalar>(drivers, "drivers", n_drivers),
                            b = rows_of<Scalar>(beta, "beta", constraints);
         const std::size_t index = derivative_index<Derived>(policy);
@@ -507,7 +519,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
 
 // The flat input between q, qd and beta: the drivers (SWEEPGEN_MODULE_FLAT_IN).
 template <class Api>
-constexpr int drivers_size = Api::flat_in_size - nq - dof - constraints;
+constexpr int drivers_size = Api::flat_in_size - nq - nv - constraints;
 
 // outward() and decompose() results of one state or of K (a batched outward()).
 template <class Api>
@@ -533,6 +545,7 @@ void bind_variant(py::module_& module, const char* doc) {
   const std::string default_policy = Api::solves[0].policy;
   m.attr("dof") = dof;
   m.attr("nq") = nq;
+  m.attr("nv") = nv;
   m.attr("constraints") = constraints;
   m.attr("drivers_size") = n_drivers;
   m.attr("flat_in_size") = Api::flat_in_size;
@@ -550,7 +563,7 @@ void bind_variant(py::module_& module, const char* doc) {
   m.def(
       "outward",
       [](const py::object& q, const py::object& qd) {
-        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof);
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", nv);
         const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows});
         State state;
         state.batched = batch.batched;
@@ -559,7 +572,7 @@ void bind_variant(py::module_& module, const char* doc) {
         return state;
       },
       py::arg("q"), py::arg("qd"),
-      "Outward sweep: everything that depends on q, qd only. q: (nq,) or (K, nq), qd: (dof,) or (K, dof). Returns a State.");
+      "Outward sweep: everything that depends on q, qd only. q: (nq,) or (K, nq), qd: (nv,) or (K, nv). Returns a State.");
 
   m.def(
       "decompose",
@@ -582,7 +595,8 @@ void bind_variant(py::module_& module, const char* doc) {
         if (!state.decomposed) throw py::value_error("state: decompose() has not run on it");
         const auto solve = Api::solves[policy_index(Api::solves, policy)].solve;
         const Batch batch = batch_of<Scalar>({&b}, state.batched ? state.batch() : Batch{});
-        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value, ClosureErrorSize<typename Api::Solution>::value>
+        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value, ClosureErrorSize<typename Api::Solution>::value,
+                CouplingTorqueSize<typename Api::Solution>::value>
             results(batch);
         for_each_row(batch, [&](py::ssize_t k) {
           typename Api::Solution solution;
@@ -604,12 +618,13 @@ void bind_variant(py::module_& module, const char* doc) {
       "solve",
       [prefix](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
          const std::string& policy, unsigned mask) {
-        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", nv),
                            d = rows_of<Scalar>(drivers, "drivers", n_drivers),
                            b = rows_of<Scalar>(beta, "beta", constraints);
         const auto solve = Api::solves[policy_index(Api::solves, policy)].solve;
         const Batch batch = batch_of<Scalar>({&q_rows, &qd_rows, &d, &b});
-        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value, ClosureErrorSize<typename Api::Solution>::value>
+        Results<Scalar, SetAccelerationSize<typename Api::Solution>::value, ClosureErrorSize<typename Api::Solution>::value,
+                CouplingTorqueSize<typename Api::Solution>::value>
             results(batch);
         for_each_row(batch, [&](py::ssize_t k) {
           typename Api::State state;
@@ -626,7 +641,7 @@ void bind_variant(py::module_& module, const char* doc) {
       },
       py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),
       py::arg("policy") = default_policy, py::arg("raise_on_status") = 0u,
-      "outward + decompose + solve_<policy>. q: (nq,), qd: (dof,); drivers: (drivers_size,); beta: (constraints,); "
+      "outward + decompose + solve_<policy>. q: (nq,), qd: (nv,); drivers: (drivers_size,); beta: (constraints,); "
       "each also (K, width) for K states (1-D ones shared by every row). Returns a dict: qdd, tau_cmd, "
       "tau_ctrl (dof), nu (constraints), tip_acceleration (6), saturated (dof, bool), dropped_pivots, "
       "locked_joints, status (ints; (K,) arrays when batched). raise_on_status: a mask of Status flags; "
@@ -660,7 +675,7 @@ void bind_variant(py::module_& module, const char* doc) {
       "solve_batch",
       [prefix](const py::object& q, const py::object& qd, const py::object& drivers, const py::object& beta,
                const std::string& policy, unsigned mask) {
-        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", dof),
+        const Rows<Scalar> q_rows = rows_of<Scalar>(q, "q", nq), qd_rows = rows_of<Scalar>(qd, "qd", nv),
                            d = rows_of<Scalar>(drivers, "drivers", n_drivers),
                            b = rows_of<Scalar>(beta, "beta", constraints);
         const std::size_t index = policy_index(Api::flat_solves, policy);
@@ -702,6 +717,7 @@ PYBIND11_MODULE(SWEEPGEN_MODULE_NAME, m) {
             "without beta.";
   m.attr("dof") = dof;
   m.attr("nq") = nq;
+  m.attr("nv") = nv;
   m.attr("constraints") = constraints;
   m.attr("checks_inputs") = scene::checks_inputs;
   m.attr("flat_in_layout") = SWEEPGEN_MODULE_FLAT_IN;

@@ -155,7 +155,7 @@ TEST(Batch, EveryStateAsItsFlatCall) {
   s.layout.torques = {"tau_ff"};
   s.layout.constraints = 2;  // two run-time directions at the tip
   s.layout.compose_all();
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   ASSERT_EQ(layout.input_directions.size(), 2u);
 
   test::TempDir dir;

@@ -532,7 +532,7 @@ TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
   for (const solver::Policy policy : c.scene.policies) {
     const std::string where = c.name + " " + solver::name(policy);
     const auto generated = report::measure_generated<double>(compiled.solve_f64_of.at(policy), "double",
-                                                             c.scene.flat_layout(n), problems, untimed);
+                                                             c.scene.flat_layout(c.chain), problems, untimed);
     solver::SolverOptions traced_options = c.scene.solver_options();  // the rows as the generator formed them
     traced_options.constraint_rows = compiled.constraint_rows;
     solver::ReferenceSolver<double> reference(c.chain, c.scene.layout, traced_options);
@@ -603,7 +603,7 @@ TEST(Emitter, ASingularConstraintTakesThePivotedPath) {
   report::TimingOptions untimed;
   untimed.repetitions = 0;
   const auto generated = report::measure_generated<double>(compiled.solve_f64_of.at(solver::Policy::original), "double",
-                                                           s.flat_layout(chain.dof()), problems, untimed);
+                                                           s.flat_layout(chain), problems, untimed);
   solver::SolverOptions options = s.solver_options();
   options.constraint_rows = compiled.constraint_rows;
   solver::ReferenceSolver<double> reference(chain, s.layout, options);
@@ -647,7 +647,7 @@ TEST(Emitter, OptimisationDoesNotChangeTheNumbers) {
   ASSERT_NE(deployed.command, checked.command);
 
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const std::size_t out_size = s.flat_layout(n).out_size();
+  const std::size_t out_size = s.flat_layout(chain).out_size();
   const std::size_t derivative_out_size = s.derivative_outputs.flat_out_size(solver::DerivativeColumns{n, nc});
   using test::flat_output;
   using test::same_bits;

@@ -31,7 +31,7 @@ template <class Result>
 void write_results(const std::string& scene_file, const std::string& file, std::size_t states, Result&& result) {
   const scene::Scene s = scene::load_scene(scene_file);
   const model::Chain chain = scene::load_scene_chain(s);
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   solver::ReferenceSolver<double> reference(chain, s.layout, s.solver_options());
   std::FILE* out = std::fopen(file.c_str(), "w");
   ASSERT_NE(out, nullptr);
@@ -131,7 +131,7 @@ TEST(FlatJudgement, FlatInputsReadBackExactly) {
   for (const std::string scene : {"panda/panda_sets.yaml", "quadruped/quadruped_stance.yaml", "planar/planar_nc2.yaml"}) {
     const scene::Scene s = scene::load_scene(scene_path(scene));
     const model::Chain chain = scene::load_scene_chain(s);
-    const solver::FlatLayout layout = s.flat_layout(chain.dof());
+    const solver::FlatLayout layout = s.flat_layout(chain);
     for (const report::Problem& p : report::random_problems(s, chain, 5, 9)) {
       const solver::SolveInputs<double> back = solver::solve_inputs_from_flat(p.flat.data(), layout, s.layout);
       EXPECT_EQ(solver::flat_input(back, layout), p.flat) << scene;

@@ -189,7 +189,7 @@ TEST(LaneGroups, ScalarFallbackAgreesBitForBit) {
   const report::CompiledSolver scalars = report::compile_scene_solver(s, chain, scalar_dir.path(), compiler.string(), quiet);
   ASSERT_NE(vectors.command, scalars.command);
 
-  const std::size_t out_size = s.flat_layout(chain.dof()).out_size();
+  const std::size_t out_size = s.flat_layout(chain).out_size();
   using test::flat_output;
   using test::same_bits;
   std::size_t differing = 0;

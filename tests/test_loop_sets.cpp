@@ -24,6 +24,7 @@
 #include "solver/quad_scalar.hpp"
 #include "solver/outward_sweep.hpp"
 #include "solver/shared_body_sets.hpp"
+#include "support/non_orthogonality.hpp"
 #include "support/oracle_problem.hpp"
 #include "support/rk4.hpp"
 #include "support/skip_count.hpp"
@@ -229,29 +230,11 @@ TEST(LoopSets, ReferenceSolverAgreesWithTheDenseRelativeRows) {
   }
 }
 
-// How far the model's rotations (joints' tree transforms, links' frames, the sets' offsets), held
-// in double, are from orthogonal, max |E^T E − 1| in binary128: where they are not exactly, the
-// solver (E^T as the inverse of a composed transform) and the dense oracle (poses composed from the
-// base) treat a slightly different mechanism, by that much.
-double non_orthogonality(const model::Chain& chain, const solver::DriverLayout& layout) {
-  using Q = solver::Quad;
-  double worst = 0;
-  const auto judge = [&](const model::Mat3& E) {
-    const Eigen::Matrix<Q, 3, 3> e = E.cast<Q>();
-    const Eigen::Matrix<Q, 3, 3> gap = e.transpose() * e - Eigen::Matrix<Q, 3, 3>::Identity();
-    for (int i = 0; i < 9; ++i) worst = std::max(worst, std::abs(static_cast<double>(gap(i / 3, i % 3))));
-  };
-  for (std::size_t i = 1; i <= chain.dof(); ++i) judge(chain.joints[i].tree_transform.E);
-  for (const auto& [name, frame] : chain.frames) judge(frame.X.E);
-  for (const solver::ConstraintSet& set : layout.sets) judge(set.at.E), judge(set.relative_at.E);
-  return worst;
-}
-
 // The bundled closed-chain scenes in binary128: ReferenceSolver<Quad> against the dense rows of
 // DenseDynamics<Quad> (Gauss' principle on α_k^T J_rel, (L2)), each as its scene states it
 // (gravity, fixed directions; run-time ones and the states drawn at random, external forces 0):
 // q̈ and ν within 100 (ε + δ) κ (ε = 2^-112; 100 ε κ the suite's factor for a solve against a
-// dense one, test_dense_oracle.cpp; δ the model's non-orthogonality, above, 0 for the four-bar
+// dense one, test_dense_oracle.cpp; δ the model's non-orthogonality (support/non_orthogonality.hpp), 0 for the four-bar
 // whose rotations are exact, ~1e-16 where a URDF turns by an angle double cannot hold exactly),
 // κ = max(1, cond(E)) of the kept directions, judged where 100 (ε + δ) κ is at most 1e-6, the rest
 // counted.
@@ -267,7 +250,7 @@ TEST(LoopSets, TheBundledLoopScenesAgreeWithTheDenseSolveInBinary128) {
     const model::Chain chain = scene::load_scene_chain(s);
     solver::ReferenceSolver<Q> reference(chain, s.layout, s.solver_options());
     const std::size_t n = chain.dof(), nc = s.layout.constraints;
-    const double delta = non_orthogonality(chain, s.layout);
+    const double delta = test::non_orthogonality(chain, s.layout);
     double worst = 0;
     for (int state = 0; state < test::state_count(8); ++state) {
       test::OracleProblem p = test::draw_problem(random, test::OracleCase{path, chain, {}}, nc);

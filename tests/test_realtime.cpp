@@ -616,7 +616,7 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
   static const std::regex call(R"(([A-Za-z_][A-Za-z0-9_:]*(?:<[^()]*>)?(?:::\w+)?)\s*\()");
   static const std::regex template_arguments(R"(<[^()]*>)");
   static const std::set<std::string> runtime = {
-      "sincos_each",  "sin_of",       "cos_of",        "abs_of",       "min_of",           "max_of", "sqrt_of", "atan2_of",
+      "sincos_each",  "sincos_of", "sin_of",       "cos_of",        "abs_of",       "min_of",           "max_of", "sqrt_of", "atan2_of",
       "equilibration_scale", "Lanes::all", "Lanes::any",  "Lanes::count", "Lanes::flag",      "Lanes::of",
       "Lanes::value", "Lanes::status_if", "Lanes::raise_if", "static_cast", "solve_in_lanes", "solve_state_by_state",
       "batch_isa"};

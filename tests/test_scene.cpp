@@ -237,13 +237,13 @@ TEST(Scene, OutputsListTheResultsTheSolvesReturn) {
   EXPECT_TRUE(listed.outputs.qdd && listed.outputs.nu);
   EXPECT_FALSE(listed.outputs.tau_cmd || listed.outputs.tau_ctrl || listed.outputs.tip_acceleration);
   const model::Chain chain = scene::load_scene_chain(listed);
-  const solver::FlatLayout flat = listed.flat_layout(chain.dof());
+  const solver::FlatLayout flat = listed.flat_layout(chain);
   EXPECT_EQ(flat.qdd(), 0u);
   EXPECT_EQ(flat.nu(), chain.dof());
   EXPECT_EQ(flat.status(), chain.dof() + 6);
   EXPECT_EQ(flat.out_size(), chain.dof() + 6 + 1);
   EXPECT_FALSE(flat.has_link_acceleration());
-  EXPECT_EQ(all.flat_layout(chain.dof()).out_size(), 3 * chain.dof() + 6 + 6 + 1);
+  EXPECT_EQ(all.flat_layout(chain).out_size(), 3 * chain.dof() + 6 + 6 + 1);
 
   const int line = static_cast<int>(std::count(base.begin(), base.end(), '\n')) + 1;
   const std::string unknown = base + "outputs: [qdd, tau]\n";
@@ -677,7 +677,7 @@ TEST(Scene, ConstraintSetsOnAnyLinks) {
   EXPECT_EQ(s.layout.listed_sets(), 3u);
   const model::Chain chain = scene::load_scene_chain(s);
   // α: the run-time directions only, in order (sets 0 and 2); out: Ẍ of every listed set.
-  const solver::FlatLayout flat = s.flat_layout(chain.dof());
+  const solver::FlatLayout flat = s.flat_layout(chain);
   EXPECT_EQ(flat.input_directions, (std::vector<std::size_t>{0, 1, 3}));
   EXPECT_EQ(flat.direction_set, (std::vector<std::size_t>{0, 0, 1, 2}));
   EXPECT_EQ(flat.status(), flat.tip_acceleration() + 6 + 3 * 6);

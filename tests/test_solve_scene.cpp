@@ -167,7 +167,8 @@ TEST(SolveScene, RefusesWhatTheSceneDoesNotHave) {
 TEST(SolveScene, ChainFlagsBesideASceneAreAUsageError) {
   for (const std::vector<std::string>& extra :
        {std::vector<std::string>{"--tip", "tool"}, {"--urdf", kSource + "/robots/planar/planar_rpr.urdf"},
-        {"--floating-base"}, {"--rotor-inertia", "planar_joint1=0.02"}, {"--no-snap-quarter-turns"}}) {
+        {"--floating-base"}, {"--rotor-inertia", "planar_joint1=0.02"}, {"--no-snap-quarter-turns"},
+        {"--mimic", "coupled"}}) {
     std::vector<std::string> args{"--scene", kPlanarScene};
     args.insert(args.end(), extra.begin(), extra.end());
     const CommandResult r = solve(args, "");

@@ -20,7 +20,7 @@ SceneInputs make_inputs(const std::string& scene_path, std::size_t count, unsign
   s.chain = scene::load_scene_chain(s.scene);
   s.dof = s.chain.dof();
   s.constraints = s.scene.layout.constraints;
-  const solver::FlatLayout layout = s.scene.flat_layout(s.dof);
+  const solver::FlatLayout layout = s.scene.flat_layout(s.chain);
   const auto n = static_cast<Eigen::Index>(s.dof);
   Random random(seed);
   for (std::size_t state = 0; state < count; ++state) {

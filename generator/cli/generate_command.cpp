@@ -34,6 +34,10 @@ void add_scene_options(CLI::App* command, SceneOptions& options) {
   command->add_flag("--no-snap-quarter-turns", options.literal_angles,
                     "take URDF angles as written, not within 1e-10 rad of a multiple of pi/2 as exact (scene key "
                     "snap_quarter_turns: false)");
+  command->add_option("--mimic", options.mimic,
+                      "independent: each <mimic> joint a joint of its own (the default); coupled: held to its source "
+                      "exactly, q and qd without it (scene key mimic; docs/derivation.md, M1)")
+      ->check(CLI::IsMember({"independent", "coupled"}));
   command->add_flag("--notes", options.all_notes,
                     "every note on the URDF, a line each (as the generated header lists them), not one line per kind "
                     "with its count");
@@ -78,6 +82,10 @@ scene::Scene resolve_scene(const SceneOptions& options) {
   if (options.floating_base) {
     s.chain.floating_base = true;
     s.locations["base"] = "--floating-base";
+  }
+  if (!options.mimic.empty()) {
+    s.chain.couple_mimics = options.mimic == "coupled";
+    s.chain.mimic_location = "--mimic " + options.mimic;
   }
   if (!options.expose.empty()) s.expose_all = options.expose == "all";
   if (!options.scalars.empty()) s.scalars = options.scalars;
@@ -258,8 +266,13 @@ int run_info(const SceneOptions& options) {
               << ") moves " << inert_text(b.link) << (is_chain ? "" : " against " + inert_text(chain.bodies[chain.parent[i]].link))
               << ", mass " << b.mass << " kg";
     std::cout << ", effort limit " << j.effort_limit << ", rotor inertia " << j.rotor_inertia;
-    for (const auto& mimic : chain.mimics)
-      if (mimic.joint == j.name) std::cout << ", a <mimic> of " << quote_name(mimic.source) << " (see the notes)";
+    if (const model::JointCoupling* coupling = chain.coupling_of(i))  // (M1)
+      std::cout << ", coupled: q = " << coupling->multiplier << " q_" << coupling->source << " + " << coupling->offset
+                << " (" << quote_name(chain.joints[coupling->source].name) << "; no input of its own; coupling_torque["
+                << coupling - chain.couplings.data() << "])";
+    else
+      for (const auto& mimic : chain.mimics)
+        if (mimic.joint == j.name) std::cout << ", a <mimic> of " << quote_name(mimic.source) << " (see the notes)";
     std::cout << "\n";
   }
   std::cout << "links carried by the chain (lumped: fixed, or behind a locked joint off the chain), locked joints, links left out:\n";

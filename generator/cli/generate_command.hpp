@@ -19,6 +19,7 @@ struct SceneOptions {
   std::vector<std::string> scalars;
   std::vector<std::string> branch_tips;
   bool floating_base = false;
+  std::string mimic;            // --mimic: independent | coupled (scene key mimic)
   bool literal_angles = false;  // --no-snap-quarter-turns
   bool all_notes = false;       // --notes: every model note, not one line per kind
 };

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "model/error.hpp"
+#include "solver/flat_layout.hpp"
 
 namespace sweepgen::cli {
 namespace {
@@ -133,13 +134,21 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   Problem p;
   for (const char* key : {"q", "qd"})
     if (!line.contains(key)) throw KeyError(key, "missing");
-  // q as the generated code takes it: a floating base's world_R_base (9, row-major) first (F5).
-  const std::size_t base = chain.base_coordinates(), rotation = base > 0 ? 9 : 0;
-  const Eigen::VectorXd q = numbers(line["q"], "q", n - base + rotation);
+  // q and qd as the generated code takes them: a floating base's world_R_base (9, row-major) first
+  // (F5), no entry for a coupled <mimic> joint (M1), whose values its source gives.
+  const std::size_t base = chain.base_coordinates(), rotation = base > 0 ? 9 : 0, coupled = chain.couplings.size();
+  const Eigen::VectorXd q = numbers(line["q"], "q", n - base + rotation - coupled);
+  const Eigen::VectorXd qd = numbers(line["qd"], "qd", n - coupled);
   p.q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-  p.q.tail(static_cast<Eigen::Index>(n - base)) = q.tail(static_cast<Eigen::Index>(n - base));
+  p.qd = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  Eigen::Index position = static_cast<Eigen::Index>(rotation), velocity = 0;
+  for (std::size_t i = 1; i <= n; ++i) {
+    if (chain.coupling_of(i) != nullptr) continue;
+    if (i > base) p.q[static_cast<Eigen::Index>(i - 1)] = q[position++];
+    p.qd[static_cast<Eigen::Index>(i - 1)] = qd[velocity++];
+  }
+  solver::follow_couplings(p.q, p.qd, chain.couplings);
   if (rotation > 0) p.base_rotation = base_rotation(q, "q");
-  p.qd = numbers(line["qd"], "qd", n);
   p.tau_ff = line.contains("tau_ff") ? numbers(line["tau_ff"], "tau_ff", n) : Eigen::VectorXd::Zero(n);
   std::vector<std::string> links;
   for (const auto& [name, frame] : chain.frames) links.push_back(name);
@@ -256,7 +265,14 @@ nlohmann::ordered_json solution_to_json(const solver::Solution<double>& s, unsig
   out["qdd"] = array(s.qdd);
   out["tau_ctrl"] = array(s.tau_ctrl);
   out["tau_cmd"] = array(s.tau_cmd);
-  out["nu"] = array(s.nu);
+  const auto set_directions = static_cast<Eigen::Index>(s.nu.size() - static_cast<Eigen::Index>(s.couplings));
+  out["nu"] = array(Eigen::VectorXd(s.nu.head(set_directions)));
+  if (s.couplings > 0) {  // each coupled <mimic> joint's transmission torque (M2), by joint
+    nlohmann::ordered_json couplings;
+    for (std::size_t c = 0; c < chain.couplings.size(); ++c)
+      couplings[chain.joints[chain.couplings[c].joint].name] = s.nu[set_directions + static_cast<Eigen::Index>(c)];
+    out["coupling_torque"] = couplings;
+  }
   Eigen::VectorXd tip(6);
   tip << s.tip_acceleration.angular, s.tip_acceleration.linear;
   out["xdd_tip"] = array(tip);

@@ -10,7 +10,8 @@ using nlohmann::json;
 // What solution_to_json calls each result the scene's `outputs` key lists.
 const std::vector<std::pair<const char*, const char*>> kOutputKeys = {
     {"qdd", "qdd"}, {"tau_cmd", "tau_cmd"}, {"tau_ctrl", "tau_ctrl"}, {"nu", "nu"},
-    {"tip_acceleration", "xdd_tip"}, {"set_acceleration", "xdd_links"}, {"closure_error", "closure_error"}};
+    {"tip_acceleration", "xdd_tip"}, {"set_acceleration", "xdd_links"}, {"closure_error", "closure_error"},
+    {"coupling_torque", "coupling_torque"}};
 
 // The keys a line may hold for this scene: its drivers by name, or "flat" alone with "policy".
 std::vector<std::string> keys_of(const solver::DriverLayout& drivers) {
@@ -29,7 +30,7 @@ void copy_into(const Eigen::VectorXd& values, std::vector<double>& flat, std::si
 SceneSolve::SceneSolve(const scene::Scene& scene, const model::Chain& chain)
     : scene_(scene),
       chain_(chain),
-      layout_(scene.flat_layout(chain.dof())),
+      layout_(scene.flat_layout(chain)),
       solver_(chain, scene.layout, scene.solver_options()) {}
 
 // The flat input (solver/flat_layout.hpp) of a line: "flat" as it is, or the named values at
@@ -52,7 +53,7 @@ std::vector<double> SceneSolve::flat_input(const json& line) const {
   const Eigen::VectorXd q = numbers(line["q"], "q", layout_.positions());
   if (layout_.floating_base) base_rotation(q, "q");
   copy_into(q, flat, layout_.q());
-  copy_into(numbers(line["qd"], "qd", layout_.dof), flat, layout_.qd());
+  copy_into(numbers(line["qd"], "qd", layout_.velocities()), flat, layout_.qd());
   for (std::size_t t = 0; t < scene_.layout.torques.size(); ++t)
     if (const std::string& name = scene_.layout.torques[t]; line.contains(name))
       copy_into(numbers(line[name], name, layout_.dof), flat, layout_.torque(t));

@@ -89,6 +89,10 @@ void add_solve_command(CLI::App& app, SolveOptions& options) {
                   "qd, tau_ff and qdd with the base's six coordinates");
   solve->add_flag("--no-snap-quarter-turns", options.literal_angles,
                   "take URDF angles as written, not within 1e-10 rad of a multiple of pi/2 as exact (docs/derivation.md, F2)");
+  solve->add_option("--mimic", options.mimic,
+                    "independent: each <mimic> joint a joint of its own (the default); coupled: held to its source "
+                    "exactly (docs/derivation.md, M1): q and qd without it, coupling_torque by joint in the answer")
+      ->check(CLI::IsMember({"independent", "coupled"}));
   solve->add_option("--input", options.input, "file of JSON lines, or - for standard input")->capture_default_str();
   solve->add_option("--rotor-inertia", options.rotor_inertia, "JOINT=VALUE rotor inertia (repeatable)");
   // A scene states its chain: a chain flag beside it would solve another problem than the scene's
@@ -97,7 +101,7 @@ void add_solve_command(CLI::App& app, SolveOptions& options) {
     if (options.scene.empty() && options.urdf.empty()) throw CLI::RequiredError("--scene or --urdf");
     if (options.scene.empty()) return;
     for (const char* flag : {"--urdf", "--root", "--tip", "--branch-tip", "--floating-base", "--no-snap-quarter-turns",
-                             "--rotor-inertia"})
+                             "--rotor-inertia", "--mimic"})
       if (solve->count(flag) > 0)
         throw CLI::ValidationError(std::string(flag) + " and --scene",
                                    "the scene states the chain; change it there, or drop --scene");
@@ -169,6 +173,7 @@ int run_solve(const SolveOptions& options) {
   spec.branch_tips = options.branch_tips;
   spec.floating_base = options.floating_base;
   spec.snap_quarter_turns = !options.literal_angles;
+  spec.couple_mimics = options.mimic == "coupled";
   spec.rotor_inertia = parse_rotor_inertia(options.rotor_inertia);
   spec.naming_the_tip = "sweepgen solve --urdf " + options.urdf + " --tip LINK (for a tree, --branch-tip LINK for each further tip)";
   const model::Chain chain = model::load_chain(spec);

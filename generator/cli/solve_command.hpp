@@ -14,6 +14,7 @@ struct SolveOptions {
   std::string tip;
   std::vector<std::string> branch_tips;  // further tips: the tree of all root-to-tip paths
   bool floating_base = false;
+  std::string mimic;            // --mimic: independent | coupled (docs/derivation.md, M1)
   bool literal_angles = false;  // --no-snap-quarter-turns
   std::string input = "-";
   std::vector<std::string> rotor_inertia;  // JOINT=VALUE

@@ -28,6 +28,7 @@ const Equation& equation_of(const std::string& array) {
       {"articulated_force", {"inward", "articulated force F^A_t,i-1 of the track", "I4"}},
       {"acceleration_energy", {"inward", "acceleration energy E^A_t,i-1 of the track", "I5"}},
       {"nu", {"solver", "constraint multipliers nu: equilibrated E^A_cstr,0 factored as the file header says", "S2, C1, C2, C3, C4"}},
+      {"coupling_torque", {"solver", "transmission torque of each coupled <mimic> joint: its direction's nu", "M2, S2"}},
       {"conf_energy", {"solver", "composed acceleration energy E_conf", "S1"}},
       {"locked_joints", {"solver", "number of joints locked (status_joint_inertia_singular)", "J1"}},
       {"dropped_pivots", {"solver", "number of constraint directions not enforced (status_constraint_rank_deficient)", "C2, C3, C4"}},

@@ -3,6 +3,7 @@
 #include <kainjow/mustache.hpp>
 
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "emit/constant_check.hpp"
@@ -137,7 +138,7 @@ void count_function(const std::string& scalar, const std::string& name, const Op
 // (outward + decompose + the solve), on the usual path and where (C4)'s pivoted path differs.
 data solve_values(const std::vector<std::pair<const FunctionPlan*, FunctionText>>& written,
                   const EmitRequest& request, const std::string& scalar, data& variant, EmittedSolver& result,
-                  FileTally& tally) {
+                  FileTally& tally, std::size_t couplings) {
   const std::size_t nc = request.trace.layout.constraints, sets = request.trace.layout.listed_sets(),
                     loops = request.trace.layout.loop_sets();
   OpCount shared, shared_worst;
@@ -166,7 +167,7 @@ data solve_values(const std::vector<std::pair<const FunctionPlan*, FunctionText>
     // Only the saturating policies set a flag of `saturated` (the others write false).
     solve.set("saturates", f->group == solver::name(solver::Policy::saturate) ||
                                f->group == solver::name(solver::Policy::saturate_exact));
-    solve.set("pack_solution", pack_solution(request.trace.outputs, nc, sets, loops));
+    solve.set("pack_solution", pack_solution(request.trace.outputs, nc, sets, loops, couplings));
     solves.push_back(solve);
   }
   for (const std::string& line : worst_lines) tally.op_lines.push_back(data("line", line));
@@ -204,7 +205,7 @@ data derivative_values(const model::Chain& chain, const EmitRequest& request, co
 data variant_values(const model::Chain& chain, const EmitRequest& request, const std::string& scalar,
                     EmittedSolver& result, FileTally& tally) {
   const std::size_t n = chain.dof(), nc = request.trace.layout.constraints, sets = request.trace.layout.listed_sets(),
-                    loops = request.trace.layout.loop_sets();
+                    loops = request.trace.layout.loop_sets(), couplings = chain.couplings.size();
   symbolic::TraceRequest trace_request = request.trace;
   trace_request.epsilon = epsilon_of(scalar);
   const ChosenRows chosen = choose_constraint_rows(chain, request, trace_request);
@@ -234,21 +235,21 @@ data variant_values(const model::Chain& chain, const EmitRequest& request, const
   check_constants_finite(trace, plan, chain, trace_request.options, scalar);
   std::size_t vector_expressions = 0;
   const auto written = write_functions(trace, plan, chain, scalar, vector_expressions);
-  variant.set("solves", solve_values(written, request, scalar, variant, result, tally));
+  variant.set("solves", solve_values(written, request, scalar, variant, result, tally, couplings));
   if (request.derivatives)
     variant.set("derivative_functions",
                 derivative_values(chain, request, trace_request, scalar, variant, result, tally, vector_expressions));
   variant.set("lane_types", vector_expressions > 0 ? lane_type() : "");
   if (tally.lanes_line.empty() && vector_expressions > 0) tally.lanes_line = lanes_note(vector_expressions);
-  variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base));
-  variant.set("flat_out", flat_out(request.trace.outputs, sets, loops));
-  const auto flat = solver::FlatLayout::of(request.trace.layout, n, chain.floating_base, request.trace.outputs);
+  variant.set("flat_in", flat_in(request.trace, nc, chain.floating_base, couplings));
+  variant.set("flat_out", flat_out(request.trace.outputs, sets, loops, couplings));
+  const auto flat = solver::FlatLayout::of(request.trace.layout, chain, request.trace.outputs);
   variant.set("flat_in_size", std::to_string(flat.in_size()));
   variant.set("flat_out_size", std::to_string(flat.out_size()));
   variant.set("unpack_drivers", unpack_drivers(request.trace));
   variant.set("drivers_view_init", drivers_view_init(request.trace));
   variant.set("check_drivers", check_drivers(request.trace));
-  variant.set("check_solution", check_solution(request.trace.outputs, nc, sets, loops));
+  variant.set("check_solution", check_solution(request.trace.outputs, nc, sets, loops, couplings));
   variant.set("state_note", request.expose_all ? ", and every intermediate of the sweeps (expose: all)"
                                                : " (expose: outputs; carried values only)");
   return variant;
@@ -332,12 +333,41 @@ data file_values(const model::Chain& chain, const EmitRequest& request, const Fi
                             "// the classical acceleration of its origin is R (qdd[3..5] + omega x v)), tau[0..5] a wrench\n"
                             "// [moment; force] on it about its origin, in its frame."
                       : "");
-  values.set("nq_line", "\nconstexpr int nq = " + std::to_string(floating ? n + 3 : n) +
+  const std::size_t positions = (floating ? n + 3 : n) - chain.couplings.size();
+  values.set("nq_line", "\nconstexpr int nq = " + std::to_string(positions) +
                             (floating ? ";  // values of q: world_R_base (9, row-major), then the joints'"
-                                      : ";  // values of q (= dof: a fixed base)"));
-  values.set("q_pre", floating ? "nq and dof values" : "dof values each");
-  values.set("q_size", floating ? "nq" : "dof");
-  values.set("drivers_offset", floating ? "nq + dof" : "2 * dof");
+                             : chain.couplings.empty() ? ";  // values of q (= dof: a fixed base)"
+                                                        : ";  // values of q: the joints but the coupled ones"));
+  // Coupled <mimic> joints (M1): q and qd hold the other joints only.
+  const std::size_t couplings = chain.couplings.size();
+  values.set("couplings_line",
+             couplings == 0 ? "\nconstexpr int nv = dof;  // values of qd (= dof: no coupled <mimic> joints)"
+                            : "\nconstexpr int couplings = " + std::to_string(couplings) +
+                                  ";  // coupled <mimic> joints (docs/derivation.md, M1): no entry in q, qd\n"
+                                  "constexpr int nv = dof - couplings;  // values of qd");
+  if (couplings > 0) {
+    std::string note = "\n// Coupled <mimic> joints (docs/derivation.md, M1, M2; scene key mimic: coupled): q and qd hold the\n"
+                       "// other joints only, in joint order; each coupled joint follows its source exactly,\n"
+                       "// q = k q_source + o. qdd, tau_ff, tau_cmd and tau_ctrl cover every joint; coupling_torque[c]\n"
+                       "// is coupling c's transmission torque (+lambda on the joint, -k lambda on its source):";
+    for (std::size_t c = 0; c < couplings; ++c) {
+      const model::JointCoupling& coupling = chain.couplings[c];
+      std::ostringstream line;
+      line.precision(17);
+      line << "\n//   coupling " << c << ": joint " << coupling.joint << " " << inert_text(chain.joints[coupling.joint].name)
+           << " = " << coupling.multiplier << " * joint " << coupling.source << " "
+           << inert_text(chain.joints[coupling.source].name) << " + " << coupling.offset;
+      note += line.str();
+    }
+    values.set("couplings_note", note);
+  } else {
+    values.set("couplings_note", "");
+  }
+  const std::string velocities = couplings > 0 ? "nv" : "dof";
+  values.set("q_pre", floating || couplings > 0 ? "nq and " + velocities + " values" : "dof values each");
+  values.set("q_size", floating || couplings > 0 ? "nq" : "dof");
+  values.set("qd_size", velocities);
+  values.set("drivers_offset", floating || couplings > 0 ? "nq + " + velocities : "2 * dof");
   data lumping{data::type::list};
   for (const std::string& line : model::lumping_summary(chain)) lumping.push_back(data("line", line));
   values.set("lumping", lumping);

@@ -52,12 +52,15 @@ std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
 struct SolutionArray {
   std::string name, extent, element, loop;
 };
-std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops) {
+std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops,
+                                           std::size_t couplings) {
   std::vector<SolutionArray> arrays;
   const std::string joints = "for (int i = 0; i < dof; ++i)";
   for (const char* name : {"qdd", "tau_cmd", "tau_ctrl"})
     if (outputs.lists(name)) arrays.push_back({name, "dof", name + std::string("[i]"), joints});
   if (outputs.nu) arrays.push_back({"nu", "constraints", "nu[k]", "for (int k = 0; k < constraints; ++k)"});
+  if (couplings > 0 && outputs.coupling_torque)
+    arrays.push_back({"coupling_torque", "couplings", "coupling_torque[c]", "for (int c = 0; c < couplings; ++c)"});
   if (outputs.tip_acceleration) arrays.push_back({"tip_acceleration", "6", "tip_acceleration[i]", "for (int i = 0; i < 6; ++i)"});
   if (sets > 0 && outputs.set_acceleration) {
     const std::string n = std::to_string(6 * sets);
@@ -138,8 +141,8 @@ std::string check_drivers(const symbolic::TraceRequest& request) {
 }
 
 // The order of solver::FlatLayout's `in` (solver/flat_layout.hpp).
-std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool floating_base) {
-  std::string text = floating_base ? "q (nq), qd (dof)" : "q (dof), qd (dof)";
+std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool floating_base, std::size_t couplings) {
+  std::string text = couplings > 0 ? "q (nq), qd (nv)" : floating_base ? "q (nq), qd (dof)" : "q (dof), qd (dof)";
   for (const auto& name : request.layout.torques) text += ", " + name + " (dof)";
   for (const auto& ext : request.layout.external_forces) text += ", " + ext.name + " (6)";
   if (request.layout.run_time_directions() > 0) text += ", alpha (" + alpha_extent(request.layout) + " x 6)";
@@ -148,24 +151,26 @@ std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool 
 }
 
 // The order of solver::FlatLayout's `out`.
-std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops) {
+std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops, std::size_t couplings) {
   std::string text;
-  for (const SolutionArray& a : solution_arrays(outputs, sets, loops)) text += a.name + " (" + a.extent + "), ";
+  for (const SolutionArray& a : solution_arrays(outputs, sets, loops, couplings)) text += a.name + " (" + a.extent + "), ";
   return text + "status";
 }
 
-std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops) {
+std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops,
+                          std::size_t couplings) {
   std::string text = "  S* cursor_out = out;\n";
-  for (const SolutionArray& a : solution_arrays(outputs, sets, loops))
+  for (const SolutionArray& a : solution_arrays(outputs, sets, loops, couplings))
     if (nc > 0 || a.name != "nu") text += "  " + a.loop + " *cursor_out++ = solution." + a.element + ";\n";
   text += "  *cursor_out = Lanes<S>::value(solution.status);";
   return text;
 }
 
-std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops) {
+std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops,
+                           std::size_t couplings) {
   std::string text = "  S residue{};  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
   if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
-  for (const SolutionArray& a : solution_arrays(outputs, sets, loops))
+  for (const SolutionArray& a : solution_arrays(outputs, sets, loops, couplings))
     if (nc > 0 || a.name != "nu") text += "  " + a.loop + " residue += out." + a.element + " - out." + a.element + ";\n";
   text.pop_back();  // the template ends the line
   return text;

@@ -38,12 +38,14 @@ std::string flat_drivers_init(const symbolic::TraceRequest& request);
 // decompose(): NaN/Inf among the drivers (scene: check_inputs).
 std::string check_drivers(const symbolic::TraceRequest& request);
 // The order of solver::FlatLayout's `in`, as the header documents it.
-std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool floating_base);
+std::string flat_in(const symbolic::TraceRequest& request, std::size_t nc, bool floating_base, std::size_t couplings = 0);
 // The order of solver::FlatLayout's `out` (scene key outputs).
-std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops);
+std::string flat_out(const solver::SolveOutputs& outputs, std::size_t sets, std::size_t loops, std::size_t couplings = 0);
 // The flat solve's output written from a Solution.
-std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops);
+std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops,
+                          std::size_t couplings = 0);
 // solve_<policy>(): NaN/Inf among the setpoints and the results (scene: check_inputs).
-std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops);
+std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops,
+                           std::size_t couplings = 0);
 
 }  // namespace sweepgen::emit

@@ -14,6 +14,12 @@ std::size_t Chain::joint_index(const std::string& name) const {
   return 0;
 }
 
+const JointCoupling* Chain::coupling_of(std::size_t i) const {
+  for (const JointCoupling& coupling : couplings)
+    if (coupling.joint == i) return &coupling;
+  return nullptr;
+}
+
 std::string Chain::extent() const {
   std::string text = (branch_tips.empty() ? "the chain from " : "the tree from ") + quote_name(root_link) + " to " +
                      quote_name(tip_link);

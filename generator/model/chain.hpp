@@ -65,13 +65,25 @@ struct UnmodelledDynamics {
   double damping = 0, friction = 0;
 };
 
-// A URDF <mimic>: `joint` is written to follow `source` as q = multiplier q_source + offset. The
-// model takes it as a joint of its own, as KDL and the URDF dynamics readers do: a degree of freedom
-// on the chain, locked like any joint off it, or locked where the scene's locked_joints names it;
-// the coupling is the application's to enforce.
+// A URDF <mimic>: `joint` is written to follow `source` as q = multiplier q_source + offset. By
+// default the model takes it as a joint of its own, as KDL and the URDF dynamics readers do: a
+// degree of freedom on the chain, locked like any joint off it, or locked where the scene's
+// locked_joints names it; the coupling is the application's to enforce. With the mimic mode
+// `coupled` (ChainSpec::couple_mimics) each such joint on the chain follows its source exactly
+// (JointCoupling, docs/derivation.md M1).
 struct MimicJoint {
   std::string joint, source;
   double multiplier = 1, offset = 0;
+};
+
+// A moving joint of the chain held to another by a coupled <mimic> (M1): q_joint = multiplier
+// q_source + offset, q̇ and q̈ in the same ratio. `source` is the root of the <mimic>s it follows (a
+// follows b follows c: c, the numbers composed), itself a moving joint that follows none; both are
+// joint indices 1..N. `through` names the <mimic>s on the way, for messages.
+struct JointCoupling {
+  std::size_t joint = 0, source = 0;
+  double multiplier = 1, offset = 0;
+  std::vector<std::string> through;
 };
 
 // A number of the URDF that the model does not take as written (docs/derivation.md, F2, F3): an
@@ -126,6 +138,7 @@ struct Chain {
   std::vector<LeftOutLink> left_out;       // links not carried by the chain, by name
   std::vector<UnmodelledDynamics> unmodelled_dynamics;  // chain joints with URDF damping or friction
   std::vector<MimicJoint> mimics;        // <mimic> joints the chain moves or locks, URDF order of reading
+  std::vector<JointCoupling> couplings;  // with the mimic mode `coupled`: the <mimic> joints it moves, in joint order
   std::vector<ModelChange> changes;      // numbers not taken as written, in the order read
   // Origins whose angles are the doubles nearest to multiples of pi/2 (kRoundingOfQuarterTurns),
   // taken exactly: counted, not listed one by one.
@@ -148,6 +161,10 @@ struct Chain {
   std::string extent() const;
   // Index (1..N) of the joint named `name`, or 0 if there is none.
   std::size_t joint_index(const std::string& name) const;
+  // The joints whose q and q̇ are inputs: every one but the coupled <mimic> joints (M1).
+  std::size_t independent_dof() const { return dof() - couplings.size(); }
+  // Joint i's coupling (1..N), or null where it follows no joint.
+  const JointCoupling* coupling_of(std::size_t i) const;
 };
 
 // The names of a floating base's six coordinates, joints 1..6 (F5).

@@ -17,6 +17,7 @@ struct Note {
 };
 
 constexpr const char* kMimic = "<mimic> joints, each taken as a joint of its own or locked";
+constexpr const char* kCoupled = "<mimic> joints held to their sources exactly (mimic: coupled)";
 constexpr const char* kLocked = "joints off the chain locked at a default position (scene key locked_joints)";
 constexpr const char* kDynamics = "joints whose <dynamics> is not modelled (add its torques to tau_ff)";
 constexpr const char* kChanged = "numbers taken otherwise than written";
@@ -37,7 +38,15 @@ std::vector<Note> notes_of(const Chain& chain) {
     std::ostringstream written;
     written << "joint " << quote_name(mimic.joint) << " is a <mimic> of " << quote_name(mimic.source) << " (q = "
             << mimic.multiplier << " q_source + " << mimic.offset << "): ";
-    if (const std::size_t i = chain.joint_index(mimic.joint); i != 0)
+    const std::size_t i = chain.joint_index(mimic.joint);
+    if (const JointCoupling* coupling = i != 0 ? chain.coupling_of(i) : nullptr) {
+      std::string through;
+      for (const std::string& name : coupling->through) through += ", through " + quote_name(name);
+      line(kCoupled, written.str(), "here joint ", i, " is coupled to joint ",
+           quote_name(chain.joints[coupling->source].name), through, " (q = ", coupling->multiplier, " q_source + ",
+           coupling->offset, "): q and qd hold no entry for it; coupling_torque[",
+           coupling - chain.couplings.data(), "] is its transmission's torque");
+    } else if (i != 0)
       line(kMimic, written.str(), "here it is a joint of its own, joint ", i,
            " of the chain; the application enforces the coupling (through tau_ff or a constraint) or locks the joint "
            "(locked_joints)");
@@ -94,7 +103,7 @@ std::vector<std::string> model_notes(const Chain& chain) {
 std::vector<std::string> model_note_summary(const Chain& chain) {
   const std::vector<Note> notes = notes_of(chain);
   std::vector<std::string> lines;
-  for (const char* kind : {kMimic, kLocked, kDynamics, kChanged, kRule}) {
+  for (const char* kind : {kMimic, kCoupled, kLocked, kDynamics, kChanged, kRule}) {
     std::vector<const Note*> of_kind;
     for (const Note& note : notes)
       if (note.kind == kind) of_kind.push_back(&note);

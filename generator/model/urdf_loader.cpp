@@ -16,6 +16,7 @@
 
 #include "model/error.hpp"
 #include "model/input_limits.hpp"
+#include "model/mimic_couplings.hpp"
 #include "model/xml_nesting.hpp"
 #include "model/quarter_turns.hpp"
 #include "model/xml_syntax.hpp"
@@ -704,6 +705,7 @@ Chain load_chain(const ChainSpec& spec) {
   check_finite_model(chain);
   apply_rotor_inertia(chain, spec.rotor_inertia, spec.rotor_inertia_source);
   check_outermost_joints_can_accelerate(chain);
+  if (spec.couple_mimics) chain.couplings = mimic_couplings(*model, chain, urdf_path, spec.mimic_location);
   // The quarter-turn rule's listing shows the angles as written (urdfdom keeps a quaternion), and
   // the rotation taken in the same form where it can (quarter_turns_as_written).
   if (std::any_of(chain.changes.begin(), chain.changes.end(), [](const ModelChange& c) { return c.unit == "rad"; })) {

@@ -27,6 +27,11 @@ struct ChainSpec {
   // The quarter-turn rule (model/quarter_turns.hpp): true takes URDF angles within 1e-10 rad of a
   // multiple of pi/2 as exactly that (each such origin listed in Chain::changes); false, literally.
   bool snap_quarter_turns = true;
+  // The mimic mode: false ("independent", the default) takes each <mimic> joint as a joint of its
+  // own; true ("coupled") holds each one the chain moves to its source exactly (Chain::couplings,
+  // docs/derivation.md M1). `mimic_location` says where the mode came from, for messages.
+  bool couple_mimics = false;
+  std::string mimic_location = "--mimic coupled";
   // How the user names the tip, for the message when an empty tip_link cannot be found (the tree
   // branches): the scene's keys, or the command line's flags with the command that was run.
   std::string naming_the_tip = "the scene key 'tip' (for a tree, 'tips')";
@@ -44,7 +49,8 @@ std::shared_ptr<const std::string> read_urdf(const std::string& path);
 // joint that cannot accelerate (D_N = 0), a locked position that names no off-chain moving joint
 // or <mimic> joint or lies outside its limits, an off-chain joint that cannot be locked (floating,
 // planar) and a <mimic> of a joint the URDF does not have. A <mimic> joint is a joint of its own
-// (Chain::mimics); every number not taken as written is in Chain::changes.
+// (Chain::mimics), or with couple_mimics held to its source (Chain::couplings; a source the chain
+// does not move is refused); every number not taken as written is in Chain::changes.
 Chain load_chain(const ChainSpec& spec);
 
 }  // namespace sweepgen::model

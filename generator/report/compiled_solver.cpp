@@ -108,7 +108,7 @@ CompiledSolver compile_scene_solver(const scene::Scene& s, const model::Chain& c
         reinterpret_cast<FlatSolve<double>>(loaded.symbol("report_derivatives_f64_" + policy));
   const auto in_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_in_size"))();
   const auto out_size = reinterpret_cast<int (*)()>(loaded.symbol("report_flat_out_size"))();
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   if (static_cast<std::size_t>(in_size) != layout.in_size() || static_cast<std::size_t>(out_size) != layout.out_size())
     throw io::IoError(library + ": flat sizes " + std::to_string(in_size) + "/" + std::to_string(out_size) +
                        " do not match the scene (" + std::to_string(layout.in_size()) + "/" +

@@ -39,7 +39,7 @@ std::vector<LabelledProblem> extreme_states(const scene::Scene& s, const model::
   Uniform uniform(seed ^ 0x5eed);
   std::vector<LabelledProblem> states;
   const auto add = [&](const std::string& kind, Problem p, double delta = 0) {
-    pack_flat(s, p);
+    pack_flat(s, chain, p);
     states.push_back({kind, delta, std::move(p)});
   };
   const auto base = [&](unsigned long long offset) { return random_problems(s, chain, per_kind, seed + offset); };

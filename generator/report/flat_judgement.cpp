@@ -48,7 +48,7 @@ std::vector<std::vector<double>> read_states(const std::string& file, std::size_
 
 FlatJudgement judge_flat_results(const scene::Scene& s, const std::string& file, std::ostream& out) {
   const model::Chain chain = scene::load_scene_chain(s);
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   const std::vector<std::vector<double>> lines = read_states(file, layout.in_size() + layout.out_size());
   std::vector<Problem> problems;
   for (const std::vector<double>& line : lines) {

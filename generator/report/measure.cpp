@@ -20,8 +20,13 @@ std::vector<Precise> constraint_torque_terms(const solver::ReferenceSolver<Preci
                                              const solver::ConstraintVector<Precise>& nu) {
   const std::size_t n = reference.dof();
   std::vector<Precise> terms(n, Precise(0));
+  const solver::SolverModel<Precise>& model = reference.model();
   for (Eigen::Index k = 0; k < nu.size(); ++k) {
-    const std::size_t body = reference.model().set_of(static_cast<std::size_t>(k)).body;
+    if (static_cast<std::size_t>(k) >= model.set_directions()) {  // a coupling's torque pair τ_c ν_k (M2)
+      for (std::size_t i = 1; i <= n; ++i) terms[i - 1] += abs(solver::coupling_torque_at(model, static_cast<std::size_t>(k), i) * nu[k]);
+      continue;
+    }
+    const std::size_t body = model.set_of(static_cast<std::size_t>(k)).body;
     spatial::Force<Precise> f = reference.articulated().body[body].constraint_force[static_cast<std::size_t>(k)] * nu[k];
     for (std::size_t i = body; i >= 1; --i) {
       terms[i - 1] += abs(spatial::dot(f, reference.model().joints[i].S));
@@ -98,8 +103,8 @@ double inertia_condition_number(const model::Chain& chain, const solver::JointVe
   return sv(n - 1) > 0 ? static_cast<double>(sv(0) / sv(n - 1)) : std::numeric_limits<double>::infinity();
 }
 
-void pack_flat(const scene::Scene& s, Problem& p) {
-  p.flat = solver::flat_input(p, s.flat_layout(static_cast<std::size_t>(p.q.size())));  // q: one value per joint
+void pack_flat(const scene::Scene& s, const model::Chain& chain, Problem& p) {
+  p.flat = solver::flat_input(p, s.flat_layout(chain));
 }
 
 std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& chain, std::size_t count,
@@ -140,7 +145,7 @@ std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& 
       p.base_rotation = Eigen::Quaterniond(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1),
                                            random.uniform(-1, 1)).normalized().toRotationMatrix();
 
-    pack_flat(s, p);
+    pack_flat(s, chain, p);
   }
   return problems;
 }
@@ -162,7 +167,7 @@ std::vector<Truth> precise_reference(const scene::Scene& s, const model::Chain& 
     const auto& E = reference.articulated().body[0].constraint_energy;
     Truth t{widen(r.qdd),
             widen(r.tau_cmd),
-            widen(r.nu),
+            widen(r.nu.head(static_cast<Eigen::Index>(s.layout.constraints))),  // the sets' (the couplings' after them, M2)
             {},
             {},
             oracle::condition_number(E),
@@ -220,7 +225,7 @@ template <class Scalar>
 VariantResult measure_reference(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
                                 const TimingOptions& timing, const char* scalar_name) {
   solver::ReferenceSolver<Scalar> reference(chain, s.layout, s.solver_options());
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   // Results go to a plain buffer in the timed calls (as the generated code's do), widened after.
   std::vector<Scalar> out(problems.size() * layout.out_size());
   std::vector<solver::SolveInputs<Scalar>> inputs;

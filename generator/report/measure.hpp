@@ -41,7 +41,7 @@ std::vector<Problem> random_problems(const scene::Scene& s, const model::Chain& 
                                      unsigned long long seed);
 
 // Fills p.flat, the generated code's flat input.
-void pack_flat(const scene::Scene& s, Problem& p);
+void pack_flat(const scene::Scene& s, const model::Chain& chain, Problem& p);
 
 // The high-precision answer for one state.
 struct Truth {

@@ -25,7 +25,6 @@ std::vector<StabilityRow> measure_stability_case(const StabilityCase& c, const S
   const auto states = extreme_states(c.scene, c.chain, options.states_per_kind, c.singular_q, options.seed);
   std::vector<Problem> problems;
   for (const auto& s : states) problems.push_back(s.problem);
-  const std::size_t n = c.chain.dof();
 
   // The referees first: the damped rows are judged against the pivoted ones too.
   std::map<std::string, scene::Scene> scenes;                             // by policy
@@ -50,8 +49,8 @@ std::vector<StabilityRow> measure_stability_case(const StabilityCase& c, const S
                              Optimisation::checked);  // untimed: only its numbers count
     const std::vector<VariantResult> results = {
         measure_reference_double(s, c.chain, problems, untimed),
-        measure_generated<double>(compiled.solve_f64_of.at(solver::Policy::original), "double", s.flat_layout(n), problems, untimed),
-        measure_generated<float>(compiled.solve_f32, "float", s.flat_layout(n), problems, untimed)};
+        measure_generated<double>(compiled.solve_f64_of.at(solver::Policy::original), "double", s.flat_layout(c.chain), problems, untimed),
+        measure_generated<float>(compiled.solve_f32, "float", s.flat_layout(c.chain), problems, untimed)};
     for (const VariantResult& result : results) {
       const double largest =
           result.scalar == "float" ? std::numeric_limits<float>::max() : std::numeric_limits<double>::max();

@@ -244,7 +244,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
   study.dof = chain.dof();
   study.constraints = s.layout.constraints;
   const std::size_t n = study.dof, nc = study.constraints;
-  const solver::FlatLayout flat = s.flat_layout(n);
+  const solver::FlatLayout flat = s.flat_layout(chain);
 
   say("states");
   const std::vector<LabelledProblem> states = study_states(s, chain, options, study.singular_note);

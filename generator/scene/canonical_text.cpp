@@ -56,6 +56,7 @@ void add_chain(CanonicalText& out, const model::Chain& chain) {
   for (const model::LeftOutLink& l : chain.left_out) out.line("left_out", l.link, l.mass, l.reason);
   for (const model::UnmodelledDynamics& d : chain.unmodelled_dynamics) out.line("dynamics", d.joint, d.damping, d.friction);
   for (const model::MimicJoint& m : chain.mimics) out.line("mimic", m.joint, m.source, m.multiplier, m.offset);
+  for (const model::JointCoupling& c : chain.couplings) out.line("coupling", c.joint, c.source, c.multiplier, c.offset);
   for (const model::ModelChange& c : chain.changes) out.line("change", c.element, c.written, c.taken_as, c.deviation, c.unit);
 }
 

@@ -438,7 +438,7 @@ std::string unseparable_external_force(const solver::DriverLayout& layout) {
 const std::vector<std::string>& scene_keys() {
   static const std::vector<std::string> keys = {
       "sweepgen_scene", "solver", "urdf", "root", "tip", "tips", "base", "gravity", "rotor_inertia",
-      "snap_quarter_turns", "locked_joints", "drivers", "drivers.torques", "drivers.external_forces",
+      "snap_quarter_turns", "mimic", "locked_joints", "drivers", "drivers.torques", "drivers.external_forces",
       "drivers.external_forces[].name", "drivers.external_forces[].link", "drivers.constraints",
       "drivers.constraints.directions", "drivers.constraints[].link", "drivers.constraints[].count",
       "drivers.constraints[].directions", "drivers.constraints[].at", "drivers.constraints[].relative_to",
@@ -452,8 +452,8 @@ std::string Scene::location(const std::string& element) const {
   return path.empty() ? "command line" : path;
 }
 
-solver::FlatLayout Scene::flat_layout(std::size_t dof) const {
-  return solver::FlatLayout::of(layout, dof, chain.floating_base, outputs);
+solver::FlatLayout Scene::flat_layout(const model::Chain& loaded) const {
+  return solver::FlatLayout::of(layout, loaded, outputs);
 }
 
 solver::SolverOptions Scene::solver_options() const {
@@ -557,6 +557,11 @@ Scene load_scene(const std::string& path) {
 
   if (const auto item = get("snap_quarter_turns"))
     scene.chain.snap_quarter_turns = reader.choice(*item, {"true", "false"}, "snap_quarter_turns value") == "true";
+
+  if (const auto item = get("mimic")) {  // docs/derivation.md (M1)
+    scene.chain.couple_mimics = reader.choice(*item, {"independent", "coupled"}, "mimic mode") == "coupled";
+    scene.chain.mimic_location = "scene key mimic at " + reader.where(*item);
+  }
 
   if (const auto item = get("base")) {
     scene.chain.floating_base = reader.choice(*item, {"fixed", "floating"}, "base") == "floating";
@@ -670,11 +675,12 @@ Scene load_scene(const std::string& path) {
     const auto entries = reader.sequence(*item);
     if (entries.empty()) reader.fail(*item, "at least one output is needed (leave the key out for all of them)");
     if (scene.expose_all) reader.fail(*item, "'expose: all' returns every intermediate; 'outputs' lists what 'expose: outputs' returns");
-    scene.outputs = {false, false, false, false, false, false, false};
+    scene.outputs = {false, false, false, false, false, false, false, false};
     std::map<std::string, Item> seen;
     for (const Item& entry : entries) {
       const std::string name =
-          reader.choice(entry, {"qdd", "tau_cmd", "tau_ctrl", "nu", "tip_acceleration", "set_acceleration", "closure_error"},
+          reader.choice(entry, {"qdd", "tau_cmd", "tau_ctrl", "nu", "tip_acceleration", "set_acceleration", "closure_error",
+                                "coupling_torque"},
                         "output");
       if (const auto previous = seen.find(name); previous != seen.end())
         reader.fail(entry, "duplicate output " + quote_name(name) + " (first given at " + reader.where(previous->second) + ")");
@@ -682,6 +688,8 @@ Scene load_scene(const std::string& path) {
         reader.fail(entry, "nu has no entries: the scene has no constraint directions");
       if (name == "set_acceleration" && scene.layout.listed_sets() == 0)
         reader.fail(entry, "set_acceleration has no entries: the scene lists no constraint sets");
+      if (name == "coupling_torque" && !scene.chain.couple_mimics)
+        reader.fail(entry, "coupling_torque has no entries without coupled <mimic> joints (mimic: coupled)");
       if (name == "closure_error" && scene.layout.loop_sets() == 0)
         reader.fail(entry, "closure_error has no entries: the scene has no set between two links (relative_to)");
       seen.emplace(name, entry);
@@ -689,6 +697,7 @@ Scene load_scene(const std::string& path) {
     }
     // No set between two links: no closure error to leave out (the list still returns everything).
     if (scene.layout.loop_sets() == 0) scene.outputs.closure_error = true;
+    if (!scene.chain.couple_mimics) scene.outputs.coupling_torque = true;  // likewise without couplings
   }
   if (const auto item = get("derivatives")) {
     if (item->node.IsSequence()) {  // the outputs whose Jacobians are returned
@@ -714,6 +723,9 @@ Scene load_scene(const std::string& path) {
                                          [](const solver::ConstraintSet& set) { return set.relative(); }))
       reader.fail(*item, "derivatives of a set between two links (relative_to) are not generated: the residual Jacobians "
                          "(D8) cover sets on one link only");
+    if (scene.derivatives && scene.chain.couple_mimics)
+      reader.fail(*item, "derivatives with coupled <mimic> joints (mimic: coupled) are not generated: the residual "
+                         "Jacobians (D8) have no rows for a coupling");
     if (scene.derivatives && scene.layout.torques.empty())
       reader.fail(*item, "derivatives need a torque driver (drivers: torques), the columns of d/d tau_ff");
     if (scene.derivatives && std::none_of(scene.policies.begin(), scene.policies.end(), solver::differentiable))

@@ -59,7 +59,7 @@ struct Scene {
 
   solver::SolverOptions solver_options() const;
   // Where the generated solver's flat entry points put each value, for a chain of `dof` joints.
-  solver::FlatLayout flat_layout(std::size_t dof) const;
+  solver::FlatLayout flat_layout(const model::Chain& chain) const;
 };
 
 // Reads and validates the scene file (structure, types, names, ranges; everything that does not

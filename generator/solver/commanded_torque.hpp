@@ -3,7 +3,8 @@
 // τ_i = S_i^T f_i:
 //   τcmd = τff + Σ_k J_k^T (α_k ν_k)          for the policies that keep the constraint;  (T1)
 //          (J_k the Jacobian of direction k's link: its unit force enters at its body; for a set
-//          between two links J_A − ^AX_B J_B, its pair of wrenches entering at both bodies, L4)
+//          between two links J_A − ^AX_B J_B, its pair of wrenches entering at both bodies, L4;
+//          for a coupling its torque pair τ_c ν_k, M2)
 //   τcmd = RNEA(q, q̇, q̈; F_ext) + d q̈         for any q̈ (used by Eq. 1 saturation).     (T2)
 #pragma once
 
@@ -33,6 +34,8 @@ void constraint_torque_tip_to_base(const SolverModel<Scalar>& model, const Kinem
     for (std::size_t k = 0; k < model.constraints(); ++k)
       if (constraint_enters_at(model, k, i)) f += constraint_own_force(model, kin, inputs, k, i) * sol.nu[k];
     sol.tau_cmd[i - 1] = feedforward_torque(inputs, i) + spatial::dot(f, model.joints[i].S);
+    for (std::size_t k = model.set_directions(); k < model.constraints(); ++k)  // τ_c ν_k (M2)
+      if (coupling_acts_at(model, k, i)) sol.tau_cmd[i - 1] += coupling_torque_at(model, k, i) * sol.nu[k];
     if (model.parent[i] > 0)
       sol.transmitted_force[model.parent[i]] = sol.transmitted_force[model.parent[i]] + kin.body[i].X.apply_transpose(f);
   }

@@ -8,21 +8,35 @@
 // and with z_0 = Ẍ_0, z_j = P_j X_j z_λ(j) + Ẍb_j:
 //   F^A_cstr,0^T Ẍ_0 + Σ_{i>=1} F^A_cstr,i^T Ẍb_i = α_k^T X_link z_b        (I6)
 // Here P_j w = w − S_j D_j^-1 U_j^T w is (I0)'s projection acting on motions (its transpose acts on
-// forces). Each joint's vector goes out only as far as the constrained links beyond it: on the
+// forces). A coupling's unit torque τ_c (M2) adds τ_c,i to r_i and, at each joint j beyond i,
+// τ_c,j σ_j with σ_j = −D_j^-1 U_j^T X_j w_λ(j), the share of S_j in w_j; to the energy likewise
+// with z in place of w. Each joint's vector goes out only as far as the constrained links beyond it: on the
 // Panda's 6-D tip set that is n (n − 1) / 2 = 21 steps of one 6-vector against (I2)'s N Nc = 42.
 #pragma once
 
+#include "solver/joint_couplings.hpp"
 #include "solver/solver_model.hpp"
 #include "solver/state.hpp"
 
 namespace sweepgen::solver {
 
-// P_j X_j w: one step of (I6) through body j (its articulated quantities from the inward sweep).
+// P_j X_j w: one step of (I6) through body j (its articulated quantities from the inward sweep);
+// `removed` = D_j^-1 U_j^T X_j w, the multiple of S_j it takes away (σ_j = −removed).
 template <class Scalar>
 spatial::Motion<Scalar> project_outward(const JointModel<Scalar>& joint, const BodyKinematics<Scalar>& body,
-                                        const BodyArticulated<Scalar>& art, const spatial::Motion<Scalar>& w) {
+                                        const BodyArticulated<Scalar>& art, const spatial::Motion<Scalar>& w,
+                                        Scalar& removed) {
   const spatial::Motion<Scalar> moved = body.X.apply(w);
-  return moved - joint.S * (art.inverse_D * spatial::dot(art.U, moved));
+  removed = art.inverse_D * spatial::dot(art.U, moved);
+  return moved - joint.S * removed;
+}
+
+// Adds τ_c,j,k σ_j = −τ_c,j,k · removed to out[k] for every coupling k with a torque on joint j (M2).
+template <class Scalar>
+void add_coupling_projections(const SolverModel<Scalar>& model, std::size_t j, const Scalar& removed,
+                              ConstraintVector<Scalar>& out) {
+  for (std::size_t k = model.set_directions(); k < model.constraints(); ++k)
+    if (coupling_acts_at(model, k, j)) out[k] -= coupling_torque_at(model, k, j) * removed;
 }
 
 // Whether body j or a body beyond it carries a constraint set (the bodies (I6) must reach).
@@ -33,6 +47,7 @@ std::vector<bool> bodies_reaching_a_set(const SolverModel<Scalar>& model) {
     reaches[set.body] = true;
     if (set.relative) reaches[set.other_body] = true;
   }
+  for (const JointCouplingModel<Scalar>& coupling : model.couplings) reaches[coupling.joint] = reaches[coupling.source] = true;
   for (std::size_t j = model.dof(); j >= 1; --j)
     if (reaches[j]) reaches[model.parent[j]] = true;
   return reaches;
@@ -71,11 +86,15 @@ ConstraintVector<Scalar> constraint_row_outward(const SolverModel<Scalar>& model
   w[i] = model.joints[i].S;
   beyond_i[i] = true;
   add_set_projections(model, kin, inputs, i, w[i], row);
+  for (std::size_t k = model.set_directions(); k < model.constraints(); ++k)
+    if (coupling_acts_at(model, k, i)) row[k] = coupling_torque_at(model, k, i);  // τ_c,i (M2)
   for (std::size_t j = i + 1; j <= n; ++j) {
     beyond_i[j] = beyond_i[model.parent[j]];
     if (!beyond_i[j] || !reaches[j]) continue;
-    w[j] = project_outward(model.joints[j], kin.body[j], art.body[j], w[model.parent[j]]);
+    Scalar removed;
+    w[j] = project_outward(model.joints[j], kin.body[j], art.body[j], w[model.parent[j]], removed);
     add_set_projections(model, kin, inputs, j, w[j], row);
+    add_coupling_projections(model, j, removed, row);
   }
   return row;
 }
@@ -92,8 +111,11 @@ ConstraintVector<Scalar> bias_energy_outward(const SolverModel<Scalar>& model, c
   add_set_projections(model, kin, inputs, 0, z[0], energy);
   for (std::size_t j = 1; j <= n; ++j) {
     if (!reaches[j]) continue;
-    z[j] = project_outward(model.joints[j], kin.body[j], art.body[j], z[model.parent[j]]) + kin.body[j].bias_acceleration;
+    Scalar removed;
+    z[j] = project_outward(model.joints[j], kin.body[j], art.body[j], z[model.parent[j]], removed) +
+           kin.body[j].bias_acceleration;
     add_set_projections(model, kin, inputs, j, z[j], energy);
+    add_coupling_projections(model, j, removed, energy);
   }
   return energy;
 }

@@ -6,8 +6,10 @@
 // (J1) (without the test where it provably never does, J2, whose exact zeros of S_i^T P_i^T are
 // written in), each child i adds to its parent (on a chain p = i-1 has one child):
 //   M^A_p     += X_i^T P_i^T M^A_i X_i                       (from M^A_p = M_p)            (I1)
-//   F^A_cstr,p += X_i^T P_i^T F^A_cstr,i                     (from own_cstr,p)             (I2)
-//   E^A_cstr,p += E^A_cstr,i + F^A_cstr,i^T S_i D_i^-1 S_i^T F^A_cstr,i  (from 0)          (I3)
+//   F^A_cstr,p += X_i^T (F^A_cstr,i − U_i D_i^-1 r_i)        (from own_cstr,p)             (I2)
+//   E^A_cstr,p += E^A_cstr,i + r_i D_i^-1 r_i^T               (from 0)                      (I3)
+// with the rows r_i = S_i^T F^A_cstr,i + τ_c,i, τ_c,i the couplings' unit torques at joint i (M2;
+// 0 without couplings, when F − U D^-1 r is P_i^T F)
 // and for every track t, with Fc = F^A_t,i (+ M^A_i Ẍb_i if t carries the bias) and
 // u = Σ_{τ in t} τ_i − S_i^T Fc:
 //   F^A_t,p += X_i^T (Fc + U_i D_i^-1 u)                     (from own_t,p)                (I4)
@@ -61,12 +63,14 @@ spatial::Force<Scalar> track_own_force(const SolverModel<Scalar>& model, const T
 }
 
 // Column k of own_cstr,i: direction k's unit force where its set's frame A rides on body i, and for a
-// set between two links its opposite where the other link rides, −(^AX_b)^T α_k (L4).
+// set between two links its opposite where the other link rides, −(^AX_b)^T α_k (L4); none for a
+// coupling, whose unit force is a joint torque (M2).
 template <class Scalar>
 spatial::Force<Scalar> constraint_own_force(const SolverModel<Scalar>& model, const KinematicsState<Scalar>& kin,
                                             const DriverInputs<Scalar>& inputs, std::size_t k, std::size_t i) {
-  const ConstraintSetModel<Scalar>& set = model.set_of(k);
   spatial::Force<Scalar> own;
+  if (k >= model.set_directions()) return own;
+  const ConstraintSetModel<Scalar>& set = model.set_of(k);
   if (set.body == i) own = set.frame.apply_transpose(inputs.constraint_directions[k]);
   if (set.relative && set.other_body == i)
     own -= kin.loop[model.constraint_set_of[k]].X_other.apply_transpose(inputs.constraint_directions[k]);
@@ -76,6 +80,7 @@ spatial::Force<Scalar> constraint_own_force(const SolverModel<Scalar>& model, co
 // Whether direction k's unit force enters at body i (L4).
 template <class Scalar>
 bool constraint_enters_at(const SolverModel<Scalar>& model, std::size_t k, std::size_t i) {
+  if (k >= model.set_directions()) return false;
   const ConstraintSetModel<Scalar>& set = model.set_of(k);
   return set.body == i || (set.relative && set.other_body == i);
 }
@@ -163,9 +168,12 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
       s = constraint_row_outward(model, kin, art, inputs, reaches, i);
     } else {
       for (std::size_t k = 0; k < nc; ++k) s[k] = spatial::dot(a.constraint_force[k], joint.S);
+      for (std::size_t k = 0; k < nc; ++k)
+        if (coupling_acts_at(model, k, i)) s[k] += coupling_torque_at(model, k, i);  // (M2)
       for (std::size_t k = 0; k < nc; ++k) {
         spatial::Force<Scalar> projected = a.constraint_force[k] - a.U * (a.inverse_D * s[k]);
-        set_axis_component(joint, projected, Scalar(0));  // (J2)
+        // (J2): S_i^T of it is −τ_c,i, exactly (M2)
+        set_axis_component_to_torque(joint, projected, coupling_acts_at(model, k, i) ? Scalar(-coupling_torque_at(model, k, i)) : Scalar(0));
         parent.constraint_force[k] = parent.constraint_force[k] + body.X.apply_transpose(projected);
       }
     }

@@ -1,9 +1,11 @@
 // Outward sweep, base to tip (docs/derivation.md, section 2): X_i (F2), then, λ(i) the parent,
 //   Ẍ_0 (O4), Ẋ_i  = X_i Ẋ_λ(i) + S_i q̇_i (O1),   Ẍb_i = Ẋ_i × (S_i q̇_i) (O2),   Fb_i = Ẋ_i ×* (M_i Ẋ_i) (O3),
 // then for each set between two links ^AX_b, v_rel and v_A × ^AX_b Ẋ_b (L1).
+// A coupled <mimic> joint takes q = k q_s + o, q̇ = k q̇_s of its source (M1), not its inputs.
 // External forces are not folded into Fb here: every track adds its own (decomposition_sweep).
 #pragma once
 
+#include "solver/joint_couplings.hpp"
 #include "solver/solver_model.hpp"
 #include "solver/state.hpp"
 
@@ -49,7 +51,8 @@ Transform<Scalar> relative_pose(const SolverModel<Scalar>& model, const Kinemati
   return kin.loop[s].X_other * spatial::inverse(model.constraint_sets[s].other_frame);
 }
 
-// @pre q, qd have N entries (a floating base's six are read from qd only); kin.body has N + 1.
+// @pre q, qd have N entries (a floating base's six are read from qd only, a coupled joint's from
+// neither); kin.body has N + 1.
 // `base_rotation` (world_R_base, base coordinates -> world) is read for a floating base only.
 template <class Scalar>
 void outward_sweep_base_to_tip(const SolverModel<Scalar>& model, const JointVector<Scalar>& q,
@@ -61,8 +64,8 @@ void outward_sweep_base_to_tip(const SolverModel<Scalar>& model, const JointVect
   for (std::size_t i = 1; i <= model.dof(); ++i) {
     const JointModel<Scalar>& joint = model.joints[i];
     BodyKinematics<Scalar>& body = kin.body[i];
-    body.X = joint.transform(q[i - 1]);
-    const spatial::Motion<Scalar> joint_velocity = joint.S * qd[i - 1];
+    body.X = joint.transform(joint_position(model, q, i));
+    const spatial::Motion<Scalar> joint_velocity = joint.S * solver::joint_velocity(model, qd, i);
     body.velocity = body.X.apply(kin.body[model.parent[i]].velocity) + joint_velocity;
     // (O2); zero for a floating base's coordinates: together one free joint, S = 1, Ẋ × Ẋ = 0 (F5)
     if (!joint.floating_base_coordinate) body.bias_acceleration = spatial::cross_motion(body.velocity, joint_velocity);

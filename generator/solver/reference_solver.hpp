@@ -20,14 +20,15 @@ class ReferenceSolver {
   std::size_t dof() const { return model_.dof(); }
 
   // Outward sweep for joint positions and velocities (N each; a floating base's first six q are
-  // not read, its orientation world_R_base is `base_rotation`, F5).
+  // not read, its orientation world_R_base is `base_rotation`, F5; a coupled <mimic> joint's q and
+  // q̇ are not read, M1).
   void outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd,
                const Mat3<Scalar>& base_rotation = Mat3<Scalar>::Identity());
   // Driver values used by the next decompose(); sizes as in the layout.
   DriverInputs<Scalar>& drivers() { return inputs_; }
   // Inward sweep over the layout's tracks (Alg. 1, Alg. 2 or any grouping between).
   void decompose();
-  // Solver sweep for setpoints E_cstr,N (Nc entries) under `policy`.
+  // Solver sweep for setpoints E_cstr,N (the sets' Nc entries) under `policy`.
   const Solution<Scalar>& solve(Policy policy, const ConstraintVector<Scalar>& setpoints);
   unsigned status() const;
   // outward() and decompose() for one problem's values (its drivers copied in).
@@ -56,7 +57,8 @@ ReferenceSolver<Scalar>::ReferenceSolver(const model::Chain& chain, const Driver
       kinematics_(KinematicsState<Scalar>::sized(model_.dof(), model_.constraint_sets.size())),
       articulated_(ArticulatedState<Scalar>::sized(model_.dof(), model_.constraints(), layout.tracks.size())),
       inputs_(DriverInputs<Scalar>::sized(layout, model_.dof())),
-      solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints(), layout.listed_sets(), layout.loop_sets())) {}
+      solution_(Solution<Scalar>::sized(model_.dof(), model_.constraints(), layout.listed_sets(), layout.loop_sets(),
+                                        model_.couplings.size())) {}
 
 template <class Scalar>
 void ReferenceSolver<Scalar>::outward(const JointVector<Scalar>& q, const JointVector<Scalar>& qd,

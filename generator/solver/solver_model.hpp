@@ -80,6 +80,9 @@ struct JointModel {
   // (J2): k where the joint never locks, d_i = 0 and S_i = ±e_k in its angular (revolute) or
   // linear (prismatic) part: the k-th component of P_i^T F is then exactly 0; else -1.
   int exact_zero_component = -1;
+  // A coupled <mimic> joint (M1): the joint (1..N) it follows, 0 for none; q = multiplier q_source + offset.
+  std::size_t coupled_to = 0;
+  Scalar coupling_multiplier{1}, coupling_offset{0};
 
   // X_i = X_J(q) X_T, the motion transform from body λ(i) to body i (F2); X_T for a floating
   // base's coordinate, which is held at q = 0 (F5).
@@ -113,6 +116,13 @@ struct ConstraintSetModel {
   std::size_t common_ancestor = 0;
 };
 
+// A coupled <mimic> joint (model::JointCoupling): one constraint direction of its own (M2).
+template <class Scalar>
+struct JointCouplingModel {
+  std::size_t joint = 0, source = 0;  // 1..N
+  Scalar multiplier;
+};
+
 template <class Scalar>
 struct SolverModel {
   std::vector<JointModel<Scalar>> joints;  // 0..N, [0] unused
@@ -122,7 +132,9 @@ struct SolverModel {
   std::vector<std::size_t> external_force_body;        // per external-force instance
   std::vector<Transform<Scalar>> external_force_frame; // body -> link of that instance
   std::vector<ConstraintSetModel<Scalar>> constraint_sets;
-  std::vector<std::size_t> constraint_set_of;          // per direction k, its set
+  std::vector<std::size_t> constraint_set_of;          // per direction k of the sets, its set
+  // The coupled <mimic> joints, directions set_directions() .. constraints() - 1 (M2).
+  std::vector<JointCouplingModel<Scalar>> couplings;
   Vec3<Scalar> gravity;                    // g in the root link's (fixed) or the world's (floating) frame
   bool floating_base = false;              // Ẍ_0 = −[0; Rᵀ g] at run time (O4, F5), else −[0; g]
   ConstraintFactorisation constraint_factorisation = ConstraintFactorisation::pivoted_ldlt;
@@ -138,7 +150,9 @@ struct SolverModel {
 
   std::size_t dof() const { return joints.size() - 1; }
   std::size_t base_coordinates() const { return floating_base ? 6 : 0; }
-  std::size_t constraints() const { return layout.constraints; }
+  // Every constraint direction: the sets' (Nc, those of β and ν), then one per coupling.
+  std::size_t constraints() const { return layout.constraints + couplings.size(); }
+  std::size_t set_directions() const { return layout.constraints; }
   bool has_relative_sets() const {
     for (const ConstraintSetModel<Scalar>& set : constraint_sets)
       if (set.relative) return true;
@@ -172,6 +186,13 @@ struct SolverModel {
       jm.effort_limit = Scalar(j.effort_limit);
       jm.floating_base_coordinate = j.floating_base_coordinate;
       inertia[i] = chain.bodies[i].inertia.cast<Scalar>();
+    }
+    for (const model::JointCoupling& coupling : chain.couplings) {
+      JointModel<Scalar>& jm = joints[coupling.joint];
+      jm.coupled_to = coupling.source;
+      jm.coupling_multiplier = Scalar(coupling.multiplier);
+      jm.coupling_offset = Scalar(coupling.offset);
+      couplings.push_back({coupling.joint, coupling.source, Scalar(coupling.multiplier)});
     }
     tip = chain.tip().X.cast<Scalar>();
     for (const auto& ext : layout.external_forces) {
@@ -227,8 +248,10 @@ struct SolverModel {
   std::vector<std::size_t> private_blocks_tops(const model::Chain& chain) const {
     std::vector<std::size_t> tops;
     if (constraint_sets.size() < 2) return tops;
-    // A set between two links is carried up two paths; its block would be complete only where
-    // they meet. Not taken: (C4)'s own test decides (the same answer, docs/derivation.md (C5)).
+    // A set between two links is carried up two paths, a coupling acts at two joints; a block
+    // would be complete only where they meet. Not taken: (C4)'s own test decides (the same
+    // answer, docs/derivation.md (C5)).
+    if (!couplings.empty()) return tops;
     for (const ConstraintSetModel<Scalar>& set : constraint_sets)
       if (set.relative) return tops;
     for (std::size_t c = 0; c < constraint_sets.size(); ++c) {

@@ -120,7 +120,10 @@ enum Status : unsigned {
 
 template <class Scalar>
 struct Solution {
-  ConstraintVector<Scalar> nu;               // ν, Lagrange multipliers (constraint wrench = F_cstr ν)
+  // ν, Lagrange multipliers (constraint wrench = F_cstr ν): the sets' Nc, then the last `couplings`
+  // those of the coupled <mimic> joints, their transmissions' torques (M2; output coupling_torque).
+  ConstraintVector<Scalar> nu;
+  std::size_t couplings = 0;
   ConstraintVector<Scalar> conf_energy;      // E_conf
   Scalar dropped_pivots{};                   // count of E^A_cstr,0 pivots treated as zero
   Scalar pivoted_path{};                     // 1 where ν came from the pivoted factorisation (C2, C3), 0
@@ -141,8 +144,11 @@ struct Solution {
   // (L1) (solver/closure_error.hpp).
   std::vector<std::array<spatial::Motion<Scalar>, 2>> closure_error;
 
-  static Solution sized(std::size_t n, std::size_t nc, std::size_t listed_sets, std::size_t loop_sets = 0) {
+  // `nc`: every direction, the couplings' among them.
+  static Solution sized(std::size_t n, std::size_t nc, std::size_t listed_sets, std::size_t loop_sets = 0,
+                        std::size_t couplings = 0) {
     Solution s;
+    s.couplings = couplings;
     for (auto* v : {&s.tau_ctrl, &s.qdd, &s.tau_cmd, &s.saturated}) v->setZero(n);
     s.nu.setZero(nc);
     s.conf_energy.setZero(nc);

@@ -86,11 +86,13 @@ void visit_fields(const ArticulatedState<Scalar>& art, const DriverLayout& layou
   for (int k = 0; k < nc; ++k) visit(std::string("base_acceleration_energy"), kBodyless, k, art.base_acceleration_energy[k]);
 }
 
-// Solver sweep: outputs first (nu, qdd, tau_ctrl, tau_cmd, tip_acceleration, set_acceleration, closure_error, saturated,
+// Solver sweep: outputs first (nu, coupling_torque, qdd, tau_ctrl, tau_cmd, tip_acceleration, set_acceleration, closure_error, saturated,
 // dropped_pivots), then the intermediates (conf_energy, acceleration, correction_force).
 template <class Scalar, class Visit>
 void visit_fields(const Solution<Scalar>& s, Policy policy, Visit&& visit) {
-  for (int k = 0; k < s.nu.size(); ++k) visit(std::string("nu"), kBodyless, k, s.nu[k]);
+  const int set_directions = static_cast<int>(s.nu.size()) - static_cast<int>(s.couplings);
+  for (int k = 0; k < set_directions; ++k) visit(std::string("nu"), kBodyless, k, s.nu[k]);
+  for (int k = set_directions; k < s.nu.size(); ++k) visit(std::string("coupling_torque"), kBodyless, k - set_directions, s.nu[k]);
   for (int i = 0; i < s.qdd.size(); ++i) visit(std::string("qdd"), kBodyless, i, s.qdd[i]);
   for (int i = 0; i < s.tau_ctrl.size(); ++i) visit(std::string("tau_ctrl"), kBodyless, i, s.tau_ctrl[i]);
   for (int i = 0; i < s.tau_cmd.size(); ++i) visit(std::string("tau_cmd"), kBodyless, i, s.tau_cmd[i]);

@@ -15,17 +15,23 @@ Symbol traced_input(Trace& trace, Quantity quantity, std::size_t instance, std::
 }
 
 // q as generated: a floating base's rotation (9), then the joints' positions; its six
-// coordinates have no position (F5).
-TracedKinematicsInputs traced_kinematics_inputs(Trace& trace, std::size_t n, std::size_t base) {
+// coordinates have no position (F5), a coupled joint neither position nor velocity (M1).
+TracedKinematicsInputs traced_kinematics_inputs(Trace& trace, const model::Chain& chain) {
+  const std::size_t n = chain.dof(), base = chain.base_coordinates();
   const std::size_t rotation = base > 0 ? 9 : 0;
   TracedKinematicsInputs in{spatial::Mat3<Symbol>::Identity(), solver::JointVector<Symbol>(n),
                             solver::JointVector<Symbol>(n)};
   for (std::size_t r = 0; r < rotation; ++r)
     in.base_rotation(static_cast<Eigen::Index>(r / 3), static_cast<Eigen::Index>(r % 3)) =
         traced_input(trace, Quantity::base_rotation, 0, r);
+  std::size_t coupled = 0;  // coupled joints before joint i + 1
   for (std::size_t i = 0; i < n; ++i) {
-    if (i >= base) in.q[i] = traced_input(trace, Quantity::joint_position, 0, rotation + i - base);
-    in.qd[i] = traced_input(trace, Quantity::joint_velocity, 0, i);
+    if (chain.coupling_of(i + 1) != nullptr) {
+      ++coupled;
+      continue;
+    }
+    if (i >= base) in.q[i] = traced_input(trace, Quantity::joint_position, 0, rotation + i - base - coupled);
+    in.qd[i] = traced_input(trace, Quantity::joint_velocity, 0, i - coupled);
   }
   return in;
 }
@@ -100,7 +106,7 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   trace.constraints = nc;
   trace.policies = request.policies;
 
-  const TracedKinematicsInputs in = traced_kinematics_inputs(trace, n, model.base_coordinates());
+  const TracedKinematicsInputs in = traced_kinematics_inputs(trace, chain);
   auto kin = solver::KinematicsState<Symbol>::sized(n);
   solver::outward_sweep_base_to_tip(model, in.q, in.qd, kin, in.base_rotation);
 
@@ -109,7 +115,7 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   auto art = solver::ArticulatedState<Symbol>::sized(n, nc, layout.tracks.size());
   solver::decomposition_sweep_tip_to_base(model, kin, drivers, art);
 
-  const solver::ConstraintVector<Symbol> beta = traced_setpoints(trace, nc);
+  const solver::ConstraintVector<Symbol> beta = traced_setpoints(trace, model.set_directions());
 
   const auto record = [&trace, &request](const std::string& group, bool solution) {
     return [&trace, &request, group, solution](const std::string& array, int body, int component, const Symbol& value) {
@@ -120,7 +126,7 @@ Trace trace_solver(const model::Chain& chain, const TraceRequest& request) {
   solver::visit_fields(kin, record("kinematics", false));
   solver::visit_fields(art, layout, record("articulated", false));
   for (solver::Policy policy : request.policies) {
-    auto solution = solver::Solution<Symbol>::sized(n, nc, layout.listed_sets());
+    auto solution = solver::Solution<Symbol>::sized(n, nc, layout.listed_sets(), 0, model.couplings.size());
     solver::solver_sweep_base_to_tip(model, kin, art, drivers, beta, policy, solution);
     solver::visit_fields(solution, policy, record(solver::name(policy), true));
   }

@@ -42,7 +42,7 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
     if (solver::differentiable(policy)) trace.policies.push_back(policy);
 
   // The generated code's inputs, seeded along (D2)'s columns.
-  const TracedKinematicsInputs in = traced_kinematics_inputs(trace, n, base);
+  const TracedKinematicsInputs in = traced_kinematics_inputs(trace, chain);
   const solver::SeededKinematics<Symbol> seeds = solver::seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
   const solver::JointVector<D>& q = seeds.q;
   const solver::JointVector<D>& qd = seeds.qd;

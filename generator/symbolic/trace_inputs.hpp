@@ -3,6 +3,7 @@
 // (trace_derivatives.cpp), so both read q, q̇, the drivers and β alike.
 #pragma once
 
+#include "model/chain.hpp"
 #include "solver/state.hpp"
 #include "symbolic/symbol.hpp"
 #include "symbolic/trace.hpp"
@@ -14,11 +15,12 @@ Symbol traced_input(Trace& trace, Quantity quantity, std::size_t instance, std::
 
 struct TracedKinematicsInputs {
   spatial::Mat3<Symbol> base_rotation;  // world_R_base (identity for a fixed base)
-  solver::JointVector<Symbol> q, qd;    // a floating base's six q are not read (0)
+  solver::JointVector<Symbol> q, qd;    // a floating base's six q and a coupled joint's q, q̇ are not read (0)
 };
 
-// q (a floating base's rotation first, `base` = its coordinates: 6 or 0) and q̇, for `n` joints.
-TracedKinematicsInputs traced_kinematics_inputs(Trace& trace, std::size_t n, std::size_t base);
+// q (a floating base's rotation first) and q̇ of `chain`'s joints, numbered as the generated code
+// holds them: without the coupled <mimic> joints (M1), whose q and q̇ follow their sources.
+TracedKinematicsInputs traced_kinematics_inputs(Trace& trace, const model::Chain& chain);
 // τff, F_ext and the run-time α of `layout` (fixed α as constants).
 solver::DriverInputs<Symbol> traced_driver_inputs(Trace& trace, const solver::DriverLayout& layout, std::size_t n);
 // β, Nc of them.

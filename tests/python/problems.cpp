@@ -56,15 +56,21 @@ ordered_json scene_line(const Scene& s, const sweepgen::model::Chain& chain) {
     line["cli_args"].push_back(tip);
   }
   if (chain.floating_base) line["cli_args"].push_back("--floating-base");
+  if (s.chain.couple_mimics) {
+    line["cli_args"].push_back("--mimic");
+    line["cli_args"].push_back("coupled");
+  }
   for (const auto& [joint, value] : s.chain.rotor_inertia)
     line["cli_args"].push_back("--rotor-inertia=" + joint + "=" + nlohmann::json(value).dump());
   line["dof"] = chain.dof();
-  line["nq"] = s.flat_layout(chain.dof()).positions();
+  line["nq"] = s.flat_layout(chain).positions();
+  line["nv"] = s.flat_layout(chain).velocities();
+  line["couplings"] = chain.couplings.size();
   line["constraints"] = s.layout.constraints;
   line["sets"] = s.layout.listed_sets();  // each reports its link's acceleration
   line["loop_sets"] = s.layout.loop_sets();  // each reports its closure error (12)
   line["run_time_directions"] = s.layout.run_time_directions();
-  line["flat_in_size"] = s.flat_layout(chain.dof()).in_size();
+  line["flat_in_size"] = s.flat_layout(chain).in_size();
   std::vector<std::string> joints, policies;
   for (std::size_t i = 1; i <= chain.dof(); ++i) joints.push_back(chain.joints[i].name);
   for (const auto policy : s.policies) policies.push_back(sweepgen::solver::name(policy));
@@ -79,20 +85,21 @@ ordered_json scene_line(const Scene& s, const sweepgen::model::Chain& chain) {
 }
 
 // Direction k := unit axis k, for a scene whose directions are run-time inputs.
-void use_axis_directions(const Scene& s, Problem& p) {
+void use_axis_directions(const Scene& s, const sweepgen::model::Chain& chain, Problem& p) {
   if (s.layout.run_time_directions() != s.layout.constraints) return;
   for (std::size_t k = 0; k < p.alpha.size(); ++k) {
     p.alpha[k].moment.setZero();
     p.alpha[k].force.setZero();
     (k < 3 ? p.alpha[k].moment : p.alpha[k].force)[static_cast<Eigen::Index>(k % 3)] = 1;
   }
-  sweepgen::report::pack_flat(s, p);
+  sweepgen::report::pack_flat(s, chain, p);
 }
 
-ordered_json cli_problem(const Scene& s, const Problem& p) {
+ordered_json cli_problem(const Scene& s, const sweepgen::model::Chain& chain, const Problem& p) {
   ordered_json line;
-  line["q"] = sweepgen::solver::generated_positions(p.q, p.base_rotation, s.chain.floating_base);  // as `in` holds it
-  line["qd"] = values(p.qd);
+  // q and qd as `in` holds them (a floating base's rotation first, no coupled <mimic> joint)
+  line["q"] = sweepgen::solver::generated_positions(p.q, p.base_rotation, s.chain.floating_base, chain.couplings);
+  line["qd"] = sweepgen::solver::generated_velocities(p.qd, chain.couplings);
   line["tau_ff"] = values(p.tau_ff);
   if (!p.wrenches.empty()) {
     line["f_ext"] = ordered_json::object();
@@ -146,14 +153,14 @@ int main(int argc, char** argv) {
     std::vector<Problem> problems =
         sweepgen::report::random_problems(s, chain, std::stoul(argv[2]), std::stoull(argv[3]));
     if (axes)
-      for (Problem& p : problems) use_axis_directions(s, p);
+      for (Problem& p : problems) use_axis_directions(s, chain, p);
     const std::vector<sweepgen::report::Truth> truths = sweepgen::report::precise_reference(s, chain, problems);
     std::cout << scene_line(s, chain).dump() << "\n";
     for (std::size_t k = 0; k < problems.size(); ++k) {
       ordered_json line;
       line["in"] = problems[k].flat;
       line["kappa"] = sweepgen::report::kappa(truths[k].cond_scaled, truths[k].min_relative_D);
-      line["cli"] = cli_problem(s, problems[k]);
+      line["cli"] = cli_problem(s, chain, problems[k]);
       std::cout << line.dump() << "\n";
     }
   } catch (const std::exception& e) {

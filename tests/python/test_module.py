@@ -113,6 +113,7 @@ class ProblemSet:
         self.kappa = np.array([p["kappa"] for p in problems])
         self.dof, self.nc, self.sets = self.info["dof"], self.info["constraints"], self.info["sets"]
         self.nq = self.info["nq"]  # values of q: dof, or a floating base's rotation (9) and the joints' positions
+        self.nv = self.info["nv"]  # values of qd: dof, less the coupled <mimic> joints
         self.oracle = {}  # policy -> one `sweepgen solve` answer per problem
         cli_input = "".join(json.dumps(dict(p["cli"], policy=policy)) + "\n"
                             for policy in self.info["policies"] for p in problems)
@@ -124,8 +125,8 @@ class ProblemSet:
 
     def split(self, flat):
         """q, qd, drivers, beta of flat inputs (1-D or 2-D): the module's flat_in_layout."""
-        n, nq, nc = self.dof, self.nq, self.nc
-        return (flat[..., :nq], flat[..., nq:nq + n], flat[..., nq + n:flat.shape[-1] - nc],
+        nv, nq, nc = self.nv, self.nq, self.nc
+        return (flat[..., :nq], flat[..., nq:nq + nv], flat[..., nq + nv:flat.shape[-1] - nc],
                 flat[..., flat.shape[-1] - nc:])
 
 
@@ -146,18 +147,20 @@ class ModuleTest:
     def test_constants(self):
         info, m = self.data.info, self.m
         self.assertEqual(m.scalars, ("f64", "f32"))  # both bundled scenes emit double and float
-        self.assertEqual((m.dof, m.nq, m.constraints, m.checks_inputs),
-                         (info["dof"], info["nq"], info["constraints"], True))
+        self.assertEqual((m.dof, m.nq, m.nv, m.constraints, m.checks_inputs),
+                         (info["dof"], info["nq"], info["nv"], info["constraints"], True))
         for flag, value in info["status"].items():
             self.assertEqual(int(getattr(m.Status, flag)), value, flag)
         q_size = "nq" if info["nq"] != info["dof"] else "dof"  # a floating base's q (world_R_base first)
-        self.assertTrue(m.flat_in_layout.startswith(f"q ({q_size}), qd (dof), "), m.flat_in_layout)
+        qd_size = "nv" if info["couplings"] > 0 else "dof"  # no entry for a coupled <mimic> joint
+        self.assertTrue(m.flat_in_layout.startswith(f"q ({q_size}), qd ({qd_size}), "), m.flat_in_layout)
         self.assertTrue(m.flat_out_layout.startswith("qdd (dof), tau_cmd (dof), tau_ctrl (dof), "), m.flat_out_layout)
         for name, v in self.variants():
             self.assertEqual(v.flat_in_size, info["flat_in_size"], name)
             closure = 12 * info["loop_sets"]  # each set between two links: pose error, v_rel
-            self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + 6 + 6 * info["sets"] + closure + 1, name)
-            self.assertEqual(v.drivers_size, info["flat_in_size"] - info["nq"] - info["dof"] - info["constraints"], name)
+            self.assertEqual(v.flat_out_size, 3 * info["dof"] + info["constraints"] + info["couplings"] + 6 +
+                             6 * info["sets"] + closure + 1, name)
+            self.assertEqual(v.drivers_size, info["flat_in_size"] - info["nq"] - info["nv"] - info["constraints"], name)
             self.assertEqual(list(v.policies), info["policies"], name)
             self.assertEqual(v.dtype, np.dtype(np.float64 if name == "f64" else np.float32), name)
 
@@ -195,6 +198,7 @@ class ModuleTest:
                 self.assertEqual(saturated, answer["saturated_joints"], where)
                 outputs = OUTPUTS + ([("set_acceleration", "xdd_links", ("qdd",))] if d.sets else [])
                 outputs += [("closure_error", "closure_error", ())] if "closure_error" in answer else []
+                outputs += [("coupling_torque", "coupling_torque", ())] if "coupling_torque" in answer else []
                 for key, cli_key, terms in outputs:
                     # xdd_links: each set's link acceleration by set, in the scene's set order; closure_error:
                     # each set between two links' pose error and relative velocity, in that order.
@@ -202,6 +206,8 @@ class ModuleTest:
                         expected = np.concatenate(list(answer[cli_key].values()))
                     elif cli_key == "closure_error":
                         expected = np.concatenate([e["pose_error"] + e["relative_velocity"] for e in answer[cli_key].values()])
+                    elif cli_key == "coupling_torque":  # by coupled joint, in joint order
+                        expected = np.array(list(answer[cli_key].values()))
                     else:
                         expected = answer[cli_key]
                     error = relative_error(r[key], expected, [answer[t] for t in terms])
@@ -238,8 +244,9 @@ class ModuleTest:
                     out = v.solve_flat(flat[k], policy=policy)
                     self.assertTrue(np.array_equal(out, flat_batched[k]), where)
                     expected = np.concatenate([single["qdd"], single["tau_cmd"], single["tau_ctrl"], single["nu"],
-                                               single["tip_acceleration"], single.get("set_acceleration", []),
-                                               single.get("closure_error", []), [single["status"]]]).astype(v.dtype)
+                                               single.get("coupling_torque", []), single["tip_acceleration"],
+                                               single.get("set_acceleration", []), single.get("closure_error", []),
+                                               [single["status"]]]).astype(v.dtype)
                     self.assertTrue(np.array_equal(out, expected), where)
 
     def test_resolve_with_new_beta_equals_full_solve(self):
@@ -271,7 +278,7 @@ class ModuleTest:
 
     def test_bad_arguments_raise_value_errors(self):
         d = self.data
-        n, nq = d.dof, d.nq
+        n, nq = d.nv, d.nq
         for name, v in self.variants():
             q, qd, drivers, beta = d.split(d.flat[0])
             Q, QD, D, B = d.split(d.flat)

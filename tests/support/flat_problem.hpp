@@ -29,7 +29,7 @@ inline FlatProblem random_flat_problem(RandomProblem& random, const scene::Scene
   p.beta.resize(nc);
   for (auto& b : p.beta) b = random.uniform(-3, 3);
   if (chain.floating_base) p.base_rotation = random.rotation();
-  p.in = solver::flat_input(p, s.flat_layout(chain.dof()));
+  p.in = solver::flat_input(p, s.flat_layout(chain));
   return p;
 }
 

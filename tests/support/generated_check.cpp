@@ -66,7 +66,7 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
       variant.outward_rows ? solver::ConstraintRows::outward_rows : solver::ConstraintRows::inward_columns;
   solver::ReferenceSolver<Scalar> traced(chain, s.layout, traced_options);
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   EXPECT_EQ(variant.out_size, layout.out_size());
   const long double eps = std::numeric_limits<Scalar>::epsilon();
   const std::string name = scene_path.substr(scene_path.find_last_of('/') + 1) +
@@ -122,7 +122,12 @@ ErrorSummary check_against_reference(const FlatVariant<Scalar>& variant, const s
         if (layout.outputs.qdd) e = std::max(e, oracle::relative_error<long double>(slice(layout.qdd(), n), vec(answer.qdd)));
         if (layout.outputs.tau_cmd)
           e = std::max(e, oracle::relative_error<long double>(slice(layout.tau_cmd(), n), vec(answer.tau_cmd)));
-        if (layout.outputs.nu) e = std::max(e, oracle::relative_error<long double>(slice(layout.nu(), nc), vec(answer.nu)));
+        const auto couplings = static_cast<Eigen::Index>(layout.couplings.size());
+        if (layout.outputs.nu)
+          e = std::max(e, oracle::relative_error<long double>(slice(layout.nu(), nc), vec(answer.nu.head(answer.nu.size() - couplings))));
+        if (layout.outputs.coupling_torque && couplings > 0)  // the couplings' ν (M2)
+          e = std::max(e, oracle::relative_error<long double>(slice(layout.coupling_torque(), layout.couplings.size()),
+                                                              vec(answer.nu.tail(couplings))));
         return e;
       };
       if (!inside) continue;
@@ -172,7 +177,7 @@ void check_bad_inputs(const FlatVariant<Scalar>& variant, const std::string& sce
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
   const std::size_t n = chain.dof();
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   const std::size_t status_at = layout.status();
   RandomProblem random(5);
   const FlatProblem p = random_flat_problem(random, s, chain);
@@ -229,7 +234,7 @@ template <class Scalar>
 void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::string& scene_path, int states) {
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   const std::size_t rows = static_cast<std::size_t>(states | 1), in_size = variant.in_size, out_size = variant.out_size;
   RandomProblem random(11);
   std::vector<std::vector<Scalar>> problems;
@@ -277,7 +282,7 @@ void check_batch_equals_flat(const FlatVariant<Scalar>& variant, const std::stri
 void check_solve_scene(const FlatVariant<double>& variant, const std::string& scene_path, int states) {
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
-  const solver::FlatLayout layout = s.flat_layout(chain.dof());
+  const solver::FlatLayout layout = s.flat_layout(chain);
   solver::SolverOptions options = s.solver_options();
   options.pivot_tolerance = options.pivot_tolerance_for(std::numeric_limits<double>::epsilon());
   options.joint_inertia_tolerance = options.joint_inertia_tolerance_for(std::numeric_limits<double>::epsilon());
@@ -340,6 +345,7 @@ void check_solve_scene(const FlatVariant<double>& variant, const std::string& sc
       if (layout.outputs.qdd) e = std::max(e, error(layout.qdd(), layout.dof));
       if (layout.outputs.tau_cmd) e = std::max(e, error(layout.tau_cmd(), layout.dof));
       if (layout.outputs.nu) e = std::max(e, error(layout.nu(), layout.constraints));
+      if (layout.outputs.coupling_torque) e = std::max(e, error(layout.coupling_torque(), layout.couplings.size()));
       const double k_widened = e > kFactor * eps * k
                                    ? std::max(k, report::inertia_condition_number(chain, p.q.cast<report::Precise>(), options))
                                    : k;
@@ -356,7 +362,7 @@ ResolveProblems resolve_problems(const std::string& scene_path, int states) {
   const scene::Scene s = scene::load_scene(scene_path);
   const model::Chain chain = scene::load_scene_chain(s);
   ResolveProblems p;
-  p.layout = s.flat_layout(chain.dof());
+  p.layout = s.flat_layout(chain);
   RandomProblem random(99);
   for (int state = 0; state < states; ++state) {
     p.in.push_back(random_flat_problem(random, s, chain).in);

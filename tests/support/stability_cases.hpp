@@ -79,7 +79,7 @@ inline report::Problem scaled(report::Problem p, const model::Chain& chain, cons
     w.force *= k.M() * k.L();
   }
   for (auto& a : p.alpha) a.force /= k.L();
-  report::pack_flat(s, p);
+  report::pack_flat(s, chain, p);
   return p;
 }
 
