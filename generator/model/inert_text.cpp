@@ -1,5 +1,6 @@
 #include "model/inert_text.hpp"
 
+#include <charconv>
 #include <cstdint>
 #include <cstdio>
 
@@ -91,6 +92,11 @@ std::string escaped_text(std::string_view text, char quote, std::size_t shown) {
 }
 
 std::string quote_name(std::string_view name) { return escaped_text(name, '\'', kShownBytes); }
+
+std::string shortest(double value) {
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
+}
 
 std::string inert_text(std::string_view name, std::size_t shown) {
   bool plain = !name.empty() && name.size() <= shown;

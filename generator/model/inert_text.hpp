@@ -35,6 +35,9 @@ std::string escaped_text(std::string_view text, char quote, std::size_t shown);
 // element ends and the reason begins.
 std::string quote_name(std::string_view name);
 
+// The shortest text that reads back as `value` (std::to_chars): a number in a message.
+std::string shortest(double value);
+
 // The one way a name or path from an input file reaches generated code (comments of the .hpp,
 // .cpp and .cmake) and `sweepgen info`: a plain name (printable ASCII but for '\' and '\'', no
 // "/*", "*/" or "??", at most `shown` bytes) as it is, so that bundled robots read as before,

@@ -17,7 +17,7 @@ std::string not_moved_reason(const urdf::ModelInterface& model, const Chain& cha
   const auto held = std::find_if(chain.locked_joints.begin(), chain.locked_joints.end(),
                                  [&name](const LockedJoint& j) { return j.name == name; });
   if (held != chain.locked_joints.end())
-    return "locked at " + std::to_string(held->position) + (held->from_scene ? " (locked_joints)" : " (off the chain)");
+    return "locked at " + shortest(held->position) + (held->from_scene ? " (locked_joints)" : " (off the chain)");
   return "not on a path from the root to a tip";
 }
 

@@ -53,12 +53,6 @@ class CapturedConsole : public console_bridge::OutputHandler {
   std::size_t count_ = 0;
 };
 
-// The shortest text that reads back as `value`.
-std::string shortest(double value) {
-  char text[32];
-  return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
-
 std::string vector_text(const Vec3& v) { return "(" + shortest(v.x()) + ", " + shortest(v.y()) + ", " + shortest(v.z()) + ")"; }
 
 std::string named(const std::string& kind, const std::string& name) { return kind + " " + quote_name(name); }
