@@ -13,6 +13,7 @@
 //   - the CLI: `info --mimic coupled` lists each coupling, `solve --urdf ... --mimic coupled` takes q
 //     and qd without the coupled joints and answers their coupling_torque by name, as the scene's
 //     own problem (`solve --scene`) with the same sets;
+//   - the report's KDL and dense KKT rows, which know no coupling (nor loop), step aside saying why;
 //   - the gripper swinging under gravity for 2 s (RK4 at 1 ms and 0.5 ms): the energy stays to
 //     RK4's error (the transmissions' torque pairs do no work while the couplings hold), the
 //     coupled joints with their sources.
@@ -23,6 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "report/dense_kkt_row.hpp"
+#include "report/kdl_row.hpp"
+#include "report/measure.hpp"
 #include "scene/scene.hpp"
 #include "solver/flat_layout.hpp"
 #include "solver/quad_scalar.hpp"
@@ -162,6 +166,30 @@ TEST(CoupledMimics, ASourceTheModelDoesNotMoveIsRefusedNamingBothJoints) {
   }
 }
 
+// 25 joints that follow a first: one constraint direction each, more than a solve holds.
+TEST(CoupledMimics, MoreCouplingsThanASolveHoldsAreRefused) {
+  const test::TempDir dir;
+  std::string urdf = "<robot name=\"fan\">\n  <link name=\"l0\"/>\n";
+  for (int i = 1; i <= 26; ++i) {
+    const std::string link = "l" + std::to_string(i), parent = "l" + std::to_string(i - 1);
+    urdf += "  <link name=\"" + link + "\"><inertial><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" "
+            "iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>\n  <joint name=\"j" + std::to_string(i) +
+            "\" type=\"revolute\"><parent link=\"" + parent + "\"/><child link=\"" + link +
+            "\"/><origin xyz=\"0.1 0 0\"/><axis xyz=\"0 0 1\"/><limit effort=\"10\" lower=\"-1\" upper=\"1\" "
+            "velocity=\"1\"/>" + (i > 1 ? "<mimic joint=\"j1\" multiplier=\"0.5\"/>" : "") + "</joint>\n";
+  }
+  const std::string path = dir.write("fan.urdf", urdf + "</robot>\n");
+  const std::string scene = dir.write("fan.yaml", "sweepgen_scene: 1\nsolver: fan\nurdf: " + path + "\nmimic: coupled\n");
+  try {
+    scene::load_scene_chain(scene::load_scene(scene));
+    FAIL() << "25 couplings were taken";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("25 coupled <mimic> joints and 0 set directions: a solve holds at most 24"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CoupledMimics, SceneKeysAreChecked) {
   const test::TempDir dir;
   const std::string urdf = test::source_path("robots/parallel_gripper/parallel_gripper.urdf");
@@ -222,6 +250,35 @@ TEST(CoupledMimics, TheCliTakesTheMimicMode) {
       test::shell_command(by_urdf), R"({"q":[0,0,0,0,0,0,0,0,0,0,0,0],"qd":)" + qd + "}\n");
   EXPECT_EQ(wrong.exit_code, 1);
   EXPECT_NE(wrong.err.find("expected 7 numbers, got 12"), std::string::npos) << wrong.err;
+}
+
+TEST(CoupledMimics, TheReportsOraclesThatKnowNoCouplingStepAside) {
+  report::TimingOptions untimed;
+  untimed.repetitions = 0;
+  for (const char* path : {kGripper, "robots/four_bar/four_bar_loop.yaml"}) {
+    scene::Scene s = scene::load_scene(test::source_path(path));
+    const model::Chain chain = scene::load_scene_chain(s);
+    const auto problems = report::random_problems(s, chain, 3, 7);
+    const report::VariantResult dense = report::measure_dense_kkt(s, chain, problems, untimed);
+    EXPECT_TRUE(dense.outcomes.empty()) << path;
+    EXPECT_NE(dense.note.find(chain.couplings.empty() ? "tests/test_loop_sets.cpp" : "tests/test_coupled_mimics.cpp"),
+              std::string::npos)
+        << path << ": " << dense.note;
+  }
+  // A serial chain with a coupled <mimic> (the UR5 to the gripper's left pad, the rest locked): KDL
+  // would take the mimic as a joint of its own.
+  scene::Scene s = scene::load_scene(test::source_path(kGripper));
+  s.chain.tip_link = "left_inner_finger_pad";
+  s.chain.branch_tips.clear();
+  s.layout = solver::DriverLayout{};
+  s.layout.torques = {"tau_ff"};
+  s.layout.decompose_all();
+  const model::Chain chain = scene::load_scene_chain(s);
+  ASSERT_TRUE(chain.is_chain());
+  ASSERT_EQ(chain.couplings.size(), 1u);
+  const report::VariantResult kdl = report::measure_kdl(s, chain, report::random_problems(s, chain, 3, 7), untimed);
+  EXPECT_TRUE(kdl.outcomes.empty());
+  EXPECT_NE(kdl.note.find("mimic: coupled"), std::string::npos) << kdl.note;
 }
 
 TEST(CoupledMimics, ReferenceSolverAgreesWithTheDenseCoupledRows) {

@@ -519,7 +519,6 @@ class EmittedSolver : public ::testing::TestWithParam<std::size_t> {};
 
 TEST_P(EmittedSolver, CompiledAndRunMatchesTheReference) {
   const EmitterCase& c = emitter_cases().at(GetParam());
-  const std::size_t n = c.chain.dof();
   test::TempDir dir;
   const report::CompiledSolver compiled = test::compile_scene(c.scene, c.chain, dir.path());
 

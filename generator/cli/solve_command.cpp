@@ -43,6 +43,8 @@ nlohmann::ordered_json solve_problem(const Problem& p, const model::Chain& chain
   layout.constraints = p.alpha.size();
   layout.sets = p.sets;
   layout.decompose_all();
+  if (const std::string problem = solver::too_many_directions(layout, chain); !problem.empty())
+    throw KeyError("constraints", problem);
   solver::ReferenceSolver<double> solver(chain, layout);
   solver.outward(p.q, p.qd, p.base_rotation);
   auto& drivers = solver.drivers();

@@ -7,6 +7,18 @@ namespace sweepgen::report {
 VariantResult measure_dense_kkt(const scene::Scene& s, const model::Chain& chain, const std::vector<Problem>& problems,
                                 const TimingOptions& timing) {
   using Dynamics = oracle::DenseDynamics<double>;
+  // The rows of sets on one link each: the relative rows of a loop (L2) and a coupling's (M1) are
+  // the tests' (tests/test_loop_sets.cpp, tests/test_coupled_mimics.cpp), not this row's.
+  if (s.layout.loop_sets() > 0)
+    return {"dense_kkt", "double",
+            "the dense KKT row takes sets on one link; a set between two links is held to its relative rows by "
+            "tests/test_loop_sets.cpp",
+            {}, {}};
+  if (!chain.couplings.empty())
+    return {"dense_kkt", "double",
+            "the dense KKT row takes no coupled <mimic> joints; tests/test_coupled_mimics.cpp holds the solver to their "
+            "rows",
+            {}, {}};
   std::vector<oracle::DenseKktProblem> posed;
   for (const Problem& p : problems) posed.emplace_back(s, chain, p);
   const std::string& tip = chain.tip_link;

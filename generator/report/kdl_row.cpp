@@ -51,6 +51,8 @@ VariantResult measure_kdl(const scene::Scene& s, const model::Chain& chain, cons
   if (!chain.is_chain()) return unavailable("KDL's Vereshchagin solver takes a chain, not a tree");
   if (s.layout.listed_sets() > 0)
     return unavailable("KDL's Vereshchagin solver takes one constraint set, on the chain's tip");
+  if (!chain.couplings.empty())
+    return unavailable("KDL takes a <mimic> joint as a joint of its own; the scene couples them (mimic: coupled)");
   KDL::Chain kdl;
   std::string why;
   if (!kdl_chain(s.chain.urdf, chain, kdl, why)) return unavailable(why);

@@ -243,7 +243,7 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
   study.source = s.path.empty() ? "default scene for " + s.chain.urdf : s.path;
   study.dof = chain.dof();
   study.constraints = s.layout.constraints;
-  const std::size_t n = study.dof, nc = study.constraints;
+  const std::size_t nc = study.constraints;
   const solver::FlatLayout flat = s.flat_layout(chain);
 
   say("states");

@@ -169,6 +169,14 @@ std::string relative_to_problem(const ConstraintSet& set, const model::Chain& ch
          "the two never move apart";
 }
 
+std::string too_many_directions(const DriverLayout& layout, const model::Chain& chain) {
+  if (layout.constraints + chain.couplings.size() <= kMaxConstraints) return "";
+  return std::to_string(chain.couplings.size()) + " coupled <mimic> joints and " + std::to_string(layout.constraints) +
+         " set directions: a solve holds at most " + std::to_string(kMaxConstraints) +
+         " constraint directions, one per coupling among them (docs/derivation.md, M2); lock some of the <mimic> "
+         "joints (locked_joints) or take them as joints of their own (mimic: independent)";
+}
+
 void validate(const DriverLayout& layout, const model::Chain& chain, const std::string& source) {
   std::vector<std::string> links;
   for (const auto& [name, frame] : chain.frames) links.push_back(name);
@@ -202,6 +210,8 @@ void validate(const DriverLayout& layout, const model::Chain& chain, const std::
     throw InputError(source, "constraints", "the sets hold " + std::to_string(directions) + " directions, the layout says " +
                                                 std::to_string(layout.constraints) + " (at most " +
                                                 std::to_string(kMaxConstraints) + ")");
+  if (const std::string problem = too_many_directions(layout, chain); !problem.empty())
+    throw InputError(source, "mimic: coupled", problem);
   for (const auto& ext : layout.external_forces) {
     const std::string element = "external force " + quote_name(ext.name);
     const auto frame = chain.frames.find(ext.link);

@@ -101,6 +101,10 @@ struct DriverLayout {
 // the scene's error, structurally_overdetermined; the solver itself copes: pivots drop.)
 void validate(const DriverLayout& layout, const model::Chain& chain, const std::string& source);
 
+// Why the sets' directions and the chain's coupled <mimic> joints (one direction each, M2) do not
+// fit the kMaxConstraints directions a solve holds, "" where they do.
+std::string too_many_directions(const DriverLayout& layout, const model::Chain& chain);
+
 // Why a set between two links cannot be taken, "" where it can: its `relative_to` is not on the
 // chain, or rides on the same body as its link (lumped together: they never move apart). The link
 // itself is checked as every set's.
