@@ -139,15 +139,7 @@ Problem parse_problem(const json& line, const model::Chain& chain) {
   const std::size_t base = chain.base_coordinates(), rotation = base > 0 ? 9 : 0, coupled = chain.couplings.size();
   const Eigen::VectorXd q = numbers(line["q"], "q", n - base + rotation - coupled);
   const Eigen::VectorXd qd = numbers(line["qd"], "qd", n - coupled);
-  p.q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-  p.qd = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-  Eigen::Index position = static_cast<Eigen::Index>(rotation), velocity = 0;
-  for (std::size_t i = 1; i <= n; ++i) {
-    if (chain.coupling_of(i) != nullptr) continue;
-    if (i > base) p.q[static_cast<Eigen::Index>(i - 1)] = q[position++];
-    p.qd[static_cast<Eigen::Index>(i - 1)] = qd[velocity++];
-  }
-  solver::follow_couplings(p.q, p.qd, chain.couplings);
+  solver::joint_values_from_generated(q.data() + rotation, qd.data(), n, chain.floating_base, chain.couplings, p.q, p.qd);
   if (rotation > 0) p.base_rotation = base_rotation(q, "q");
   p.tau_ff = line.contains("tau_ff") ? numbers(line["tau_ff"], "tau_ff", n) : Eigen::VectorXd::Zero(n);
   std::vector<std::string> links;

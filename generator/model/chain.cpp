@@ -14,11 +14,13 @@ std::size_t Chain::joint_index(const std::string& name) const {
   return 0;
 }
 
-const JointCoupling* Chain::coupling_of(std::size_t i) const {
+const JointCoupling* coupling_of(const std::vector<JointCoupling>& couplings, std::size_t i) {
   for (const JointCoupling& coupling : couplings)
     if (coupling.joint == i) return &coupling;
   return nullptr;
 }
+
+const JointCoupling* Chain::coupling_of(std::size_t i) const { return model::coupling_of(couplings, i); }
 
 std::string Chain::extent() const {
   std::string text = (branch_tips.empty() ? "the chain from " : "the tree from ") + quote_name(root_link) + " to " +

@@ -167,6 +167,9 @@ struct Chain {
   const JointCoupling* coupling_of(std::size_t i) const;
 };
 
+// The coupling of joint i (1..N) among `couplings`, or null where it follows no joint.
+const JointCoupling* coupling_of(const std::vector<JointCoupling>& couplings, std::size_t i);
+
 // The names of a floating base's six coordinates, joints 1..6 (F5).
 const std::vector<std::string>& floating_base_joint_names();
 

@@ -173,7 +173,8 @@ void decomposition_sweep_tip_to_base(const SolverModel<Scalar>& model, const Kin
       for (std::size_t k = 0; k < nc; ++k) {
         spatial::Force<Scalar> projected = a.constraint_force[k] - a.U * (a.inverse_D * s[k]);
         // (J2): S_i^T of it is −τ_c,i, exactly (M2)
-        set_axis_component_to_torque(joint, projected, coupling_acts_at(model, k, i) ? Scalar(-coupling_torque_at(model, k, i)) : Scalar(0));
+        const Scalar axis_torque = coupling_acts_at(model, k, i) ? Scalar(-coupling_torque_at(model, k, i)) : Scalar(0);
+        set_axis_component_to_torque(joint, projected, axis_torque);
         parent.constraint_force[k] = parent.constraint_force[k] + body.X.apply_transpose(projected);
       }
     }

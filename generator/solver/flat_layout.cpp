@@ -7,9 +7,7 @@ namespace sweepgen::solver {
 namespace {
 
 bool is_coupled(const std::vector<model::JointCoupling>& couplings, Eigen::Index at) {
-  for (const model::JointCoupling& coupling : couplings)
-    if (static_cast<Eigen::Index>(coupling.joint) == at + 1) return true;
-  return false;
+  return model::coupling_of(couplings, static_cast<std::size_t>(at) + 1) != nullptr;
 }
 
 }  // namespace
@@ -38,6 +36,19 @@ void follow_couplings(JointVector<double>& q, JointVector<double>& qd, const std
     q[m] = c.multiplier * q[s] + c.offset;
     qd[m] = c.multiplier * qd[s];
   }
+}
+
+void joint_values_from_generated(const double* positions, const double* velocities, std::size_t dof, bool floating_base,
+                                 const std::vector<model::JointCoupling>& couplings, JointVector<double>& q,
+                                 JointVector<double>& qd) {
+  q = JointVector<double>::Zero(static_cast<Eigen::Index>(dof));
+  qd = JointVector<double>::Zero(static_cast<Eigen::Index>(dof));
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    if (is_coupled(couplings, i)) continue;
+    if (!floating_base || i >= 6) q[i] = *positions++;
+    qd[i] = *velocities++;
+  }
+  follow_couplings(q, qd, couplings);
 }
 
 std::vector<double> flat_input(const SolveInputs<double>& inputs, const FlatLayout& layout) {
@@ -74,17 +85,8 @@ SolveInputs<double> solve_inputs_from_flat(const double* in, const FlatLayout& f
     return spatial::Force<double>{spatial::Vec3<double>(in[offset], in[offset + 1], in[offset + 2]),
                                   spatial::Vec3<double>(in[offset + 3], in[offset + 4], in[offset + 5])};
   };
-  // q and q̇ as the generated code holds them (a floating base's rotation first, no coupled
-  // joint), then each coupled joint's from its source (M1).
-  inputs.q = JointVector<double>::Zero(n);
-  inputs.qd = JointVector<double>::Zero(n);
-  std::size_t position = flat.q() + (flat.floating_base ? 9 : 0), velocity = flat.qd();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (is_coupled(flat.couplings, i)) continue;
-    if (!flat.floating_base || i >= 6) inputs.q[i] = in[position++];
-    inputs.qd[i] = in[velocity++];
-  }
-  follow_couplings(inputs.q, inputs.qd, flat.couplings);
+  joint_values_from_generated(in + flat.q() + (flat.floating_base ? 9 : 0), in + flat.qd(), flat.dof, flat.floating_base,
+                              flat.couplings, inputs.q, inputs.qd);
   if (flat.floating_base)
     for (Eigen::Index r = 0; r < 3; ++r)
       for (Eigen::Index c = 0; c < 3; ++c) inputs.base_rotation(r, c) = in[flat.q() + static_cast<std::size_t>(3 * r + c)];

@@ -117,6 +117,12 @@ std::vector<double> generated_positions(const JointVector<double>& q, const spat
 std::vector<double> generated_velocities(const JointVector<double>& qd, const std::vector<model::JointCoupling>& couplings);
 // q and q̇ with each coupled joint's entries those its source gives it (M1): q_m = k q_s + o, q̇_m = k q̇_s.
 void follow_couplings(JointVector<double>& q, JointVector<double>& qd, const std::vector<model::JointCoupling>& couplings);
+// q and q̇ of all `dof` joints from the generated code's values (generated_positions without a
+// floating base's rotation, generated_velocities): a floating base's six q 0 (F5), each coupled
+// joint's from its source (follow_couplings).
+void joint_values_from_generated(const double* positions, const double* velocities, std::size_t dof, bool floating_base,
+                                 const std::vector<model::JointCoupling>& couplings, JointVector<double>& q,
+                                 JointVector<double>& qd);
 
 // `inputs` in the order of `layout` (α only of the directions in layout.input_directions).
 std::vector<double> flat_input(const SolveInputs<double>& inputs, const FlatLayout& layout);

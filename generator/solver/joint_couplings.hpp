@@ -14,17 +14,19 @@ namespace sweepgen::solver {
 // q of joint i (1..N) as the sweeps take it: its input, or k q_s + o where it is coupled (M1).
 template <class Scalar>
 Scalar joint_position(const SolverModel<Scalar>& model, const JointVector<Scalar>& q, std::size_t i) {
-  const JointModel<Scalar>& joint = model.joints[i];
-  if (joint.coupled_to == 0) return q[static_cast<Eigen::Index>(i - 1)];
-  return joint.coupling_multiplier * q[static_cast<Eigen::Index>(joint.coupled_to - 1)] + joint.coupling_offset;
+  const int c = model.joints[i].coupling;
+  if (c < 0) return q[static_cast<Eigen::Index>(i - 1)];
+  const JointCouplingModel<Scalar>& coupling = model.couplings[static_cast<std::size_t>(c)];
+  return coupling.multiplier * q[static_cast<Eigen::Index>(coupling.source - 1)] + coupling.offset;
 }
 
 // q̇ of joint i: its input, or k q̇_s where it is coupled (M1).
 template <class Scalar>
 Scalar joint_velocity(const SolverModel<Scalar>& model, const JointVector<Scalar>& qd, std::size_t i) {
-  const JointModel<Scalar>& joint = model.joints[i];
-  if (joint.coupled_to == 0) return qd[static_cast<Eigen::Index>(i - 1)];
-  return joint.coupling_multiplier * qd[static_cast<Eigen::Index>(joint.coupled_to - 1)];
+  const int c = model.joints[i].coupling;
+  if (c < 0) return qd[static_cast<Eigen::Index>(i - 1)];
+  const JointCouplingModel<Scalar>& coupling = model.couplings[static_cast<std::size_t>(c)];
+  return coupling.multiplier * qd[static_cast<Eigen::Index>(coupling.source - 1)];
 }
 
 // τ_c,i of direction k (M2): 1 at the mimic joint of coupling k, −k at its source, 0 elsewhere and
@@ -47,6 +49,7 @@ bool coupling_acts_at(const SolverModel<Scalar>& model, std::size_t k, std::size
 }
 
 // The setpoints of every direction: the sets' as given (Nc), then 0 for each coupling (M1).
+// Without couplings the sets' own (solver_sweep.hpp takes them as they are, no copy).
 template <class Scalar>
 ConstraintVector<Scalar> with_coupling_setpoints(const SolverModel<Scalar>& model, const ConstraintVector<Scalar>& setpoints) {
   ConstraintVector<Scalar> all(model.constraints());

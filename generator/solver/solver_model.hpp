@@ -80,9 +80,8 @@ struct JointModel {
   // (J2): k where the joint never locks, d_i = 0 and S_i = ±e_k in its angular (revolute) or
   // linear (prismatic) part: the k-th component of P_i^T F is then exactly 0; else -1.
   int exact_zero_component = -1;
-  // A coupled <mimic> joint (M1): the joint (1..N) it follows, 0 for none; q = multiplier q_source + offset.
-  std::size_t coupled_to = 0;
-  Scalar coupling_multiplier{1}, coupling_offset{0};
+  // A coupled <mimic> joint (M1): its index in SolverModel::couplings, -1 for a joint of its own.
+  int coupling = -1;
 
   // X_i = X_J(q) X_T, the motion transform from body λ(i) to body i (F2); X_T for a floating
   // base's coordinate, which is held at q = 0 (F5).
@@ -120,7 +119,7 @@ struct ConstraintSetModel {
 template <class Scalar>
 struct JointCouplingModel {
   std::size_t joint = 0, source = 0;  // 1..N
-  Scalar multiplier;
+  Scalar multiplier, offset;          // q_joint = multiplier q_source + offset
 };
 
 template <class Scalar>
@@ -188,11 +187,8 @@ struct SolverModel {
       inertia[i] = chain.bodies[i].inertia.cast<Scalar>();
     }
     for (const model::JointCoupling& coupling : chain.couplings) {
-      JointModel<Scalar>& jm = joints[coupling.joint];
-      jm.coupled_to = coupling.source;
-      jm.coupling_multiplier = Scalar(coupling.multiplier);
-      jm.coupling_offset = Scalar(coupling.offset);
-      couplings.push_back({coupling.joint, coupling.source, Scalar(coupling.multiplier)});
+      joints[coupling.joint].coupling = static_cast<int>(couplings.size());
+      couplings.push_back({coupling.joint, coupling.source, Scalar(coupling.multiplier), Scalar(coupling.offset)});
     }
     tip = chain.tip().X.cast<Scalar>();
     for (const auto& ext : layout.external_forces) {

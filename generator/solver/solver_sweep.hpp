@@ -8,7 +8,8 @@
 //   q̈_i     = D_i^-1 (τff_i + τctrl_i − S_i^T (Σ_{t composed} F^A_t,i + M^A_i a_i)),   (S4)
 //   a_i     = X_i Ẍ_λ(i) + Ẍb_i,       Ẍ_i = a_i + S_i q̈_i                              (S5)
 // Refinement (original policy, pivoted factorisation): with r_k = E_cstr,k − α_kᵀ Ẍ_link(k) the
-// residual of the first pass (for a coupling −(q̈_m − k q̈_s), M1), (S2)–(S5) once more with the setpoints E_cstr + r             (R1)
+// residual of the first pass (for a coupling −(q̈_m − k q̈_s), M1), (S2)–(S5) once more with the
+// setpoints E_cstr + r                                                                      (R1)
 // and, for derivatives, ν differentiated as the first pass (its tangents need no refinement) (D4)
 // Exact saturation clamps τcmd instead and runs forward dynamics with it: the extra torque
 // Δτ = clamp(τcmd) − τff gets a track of its own (F^A_Δ, no constraint), by linearity (X1).
@@ -196,7 +197,9 @@ void solver_sweep_base_to_tip(const SolverModel<Scalar>& model, const Kinematics
                               const ArticulatedState<Scalar>& art, const DriverInputs<Scalar>& inputs,
                               const ConstraintVector<Scalar>& set_setpoints, Policy policy, Solution<Scalar>& sol) {
   const Policy constraint_policy = policy == Policy::saturate_exact ? Policy::original : policy;
-  const ConstraintVector<Scalar> setpoints = with_coupling_setpoints(model, set_setpoints);  // (M1)
+  ConstraintVector<Scalar> with_couplings;  // (M1): the couplings' setpoints 0 after the sets'
+  if (!model.couplings.empty()) with_couplings = with_coupling_setpoints(model, set_setpoints);
+  const ConstraintVector<Scalar>& setpoints = model.couplings.empty() ? set_setpoints : with_couplings;
   sol.locked_joints = Scalar(0);
   for (std::size_t i = 1; i <= model.dof(); ++i) sol.locked_joints += art.body[i].locked;
   const std::vector<spatial::Force<Scalar>>* no_extra_force = nullptr;
