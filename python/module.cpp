@@ -401,7 +401,7 @@ std::size_t derivative_index(const std::string& policy) {
 }
 
 // derivatives(): the values and the Jacobians of one state or K, split by the columns of (D2):
-// d_<y>_dq (rows, dof), d_<y>_dqd (rows, dof), d_<y>_dtau_ff (rows, dof), d_<y>_dbeta (rows,
+// d_<y>_dq (rows, nv), d_<y>_dqd (rows, nv), d_<y>_dtau_ff (rows, dof), d_<y>_dbeta (rows,
 // constraints), each (K, rows, columns) when batched; y the outputs the scene asks Jacobians of
 // (derivative_outputs).
 template <class Derived>
@@ -435,7 +435,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
           bool with_jacobian;
           py::array_t<Scalar> values, blocks[4];
         };
-        const py::ssize_t widths[4] = {dof, dof, dof, constraints};
+        const py::ssize_t widths[4] = {nv, nv, dof, constraints};
         const char* suffixes[4] = {"_dq", "_dqd", "_dtau_ff", "_dbeta"};
         std::vector<Output> outputs;
         for (const auto& [name, rows, with_jacobian] : kOutputs) {
@@ -511,7 +511,7 @@ void bind_derivatives(py::module_& m, const std::string& prefix, py::ssize_t n_d
       py::arg("q"), py::arg("qd"), py::arg("drivers") = py::none(), py::arg("beta") = py::none(), py::kw_only(),
       py::arg("policy") = Derived::solves[0].policy, py::arg("raise_on_status") = 0u,
       "The generated derivatives_<policy> (scene key derivatives): arguments as solve(). Returns a dict: qdd, nu, "
-      "tau_cmd and, for each y of derivative_outputs, d_y_dq, d_y_dqd, d_y_dtau_ff (rows, dof) and d_y_dbeta (rows, constraints) "
+      "tau_cmd and, for each y of derivative_outputs, d_y_dq, d_y_dqd (rows, nv), d_y_dtau_ff (rows, dof) and d_y_dbeta (rows, constraints) "
       "(K, rows, columns) when batched: a floating base's first six q columns are its rotation vector in its own "
       "frame and its position (docs/derivation.md, D2); status.");
 }

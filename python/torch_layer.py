@@ -7,7 +7,7 @@ that importing a module never imports torch. `bind(module)` returns the namespac
     solve(q, qd, drivers=None, beta=None, *, policy=None, raise_on_status=0) -> Solution
 
 a `torch.autograd.Function` over the module's generated code:
-  - the arguments as the module's solve(): q (..., nq), qd (..., dof), beta (..., constraints) and
+  - the arguments as the module's solve(): q (..., nq), qd (..., nv), beta (..., constraints) and
     drivers (..., drivers_size) the flat drivers, or a dict of the drivers by name (the names of
     the module's flat_in_layout, e.g. {"tau_ff": ..., "push": ...}), so that each has a gradient
     of its own; leading batch shapes broadcast; float64 tensors go to the module's f64 variant,
@@ -47,7 +47,7 @@ def _driver_layout(module):
     """The drivers in the module's flat_in_layout ('q (nq), qd (dof), tau_ff (dof), push (6),
     alpha (constraints x 6), beta (constraints)'): [(name, width, is_torque)]; a torque driver is
     one value per joint."""
-    sizes = {"dof": module.dof, "nq": module.nq, "constraints": module.constraints}
+    sizes = {"dof": module.dof, "nq": module.nq, "nv": module.nv, "constraints": module.constraints}
     parts = []
     for part, width in re.findall(r"(\w+) \(([^)]*)\)", module.flat_in_layout):
         size = 1
@@ -66,8 +66,8 @@ def _driver_layout(module):
 
 def bind(module):
     name = module.__name__
-    dof, nq, nc = module.dof, module.nq, module.constraints
-    floating = nq != dof
+    dof, nq, nv, nc = module.dof, module.nq, module.nv, module.constraints
+    floating = nq != nv  # world_R_base's nine values for the six [dtheta; dp] columns (D2)
     variants = {getattr(torch, dtype): getattr(module, scalar)
                 for scalar, dtype in (("f64", "float64"), ("f32", "float32")) if scalar in module.scalars}
     layout = _driver_layout(module)
@@ -129,7 +129,7 @@ def bind(module):
             shapes = [v.shape[:-1] for v in given if v is not None]
             batch = (shapes[0] if all(shape == shapes[0] for shape in shapes)
                      else torch.Size(torch.broadcast_shapes(*shapes)))
-            q_rows, qd_rows = rows(q, batch, nq), rows(qd, batch, dof)
+            q_rows, qd_rows = rows(q, batch, nq), rows(qd, batch, nv)
             b_rows = rows(beta, batch, nc) if beta is not None else None
             d_rows = [rows(d, batch, d.shape[-1]) for d in drivers]
             d_rows = None if not d_rows else d_rows[0] if len(d_rows) == 1 else np.concatenate(d_rows, 1)
@@ -240,7 +240,7 @@ def bind(module):
                             f"{' or '.join(str(d) for d in variants)} (scene key scalars)")
         variant = variants[q.dtype]
         q = check("q", q, nq, q.dtype)
-        qd = check("qd", qd, dof, q.dtype)
+        qd = check("qd", qd, nv, q.dtype)
         beta = check("beta", beta, nc, q.dtype)
         parts = driver_parts(drivers, q.dtype)
         policy = variant.policies[0] if policy is None else policy

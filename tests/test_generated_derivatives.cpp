@@ -40,15 +40,19 @@ const test::RoundingBound kBound{100, 100 * std::numeric_limits<double>::epsilon
 
 // Each costs a compile of its derivative functions, at -O0 (report::Optimisation::checked: the same
 // numbers bit for bit as -O2, in seconds instead of a minute or two): a chain with
-// run-time directions under both policies, fixed directions, a floating base. (Trees and
-// constraint sets are covered by the reference's own test; the generated code is the same trace.)
+// run-time directions under both policies, fixed directions, a floating base, a set between two
+// links (L4, L5 in D8) and coupled <mimic> joints (q, q̇ columns of the independent joints only).
+// (Trees and sets on several links are covered by the reference's own test; the generated code is
+// the same trace.)
 struct Case {
   const char* scene;
   solver::DerivativeOutputs outputs;  // the Jacobians asked for
 };
 const Case kScenes[] = {{"panda/panda_nc6.yaml", {true, true, true}},
                         {"iiwa14/iiwa14_lean_nc6_fixed.yaml", {true, true, false}},
-                        {"mobile_panda/mobile_panda_hand.yaml", {true, false, true}}};
+                        {"mobile_panda/mobile_panda_hand.yaml", {true, false, true}},
+                        {"four_bar/four_bar_loop.yaml", {true, true, true}},
+                        {"parallel_gripper/parallel_gripper_pinch.yaml", {true, true, true}}};
 
 // What ctest lists beside the test's name (GetParam() = ...): the scene, not the struct's bytes.
 void PrintTo(const Case& c, std::ostream* out) { *out << c.scene; }
@@ -78,7 +82,7 @@ TEST_P(GeneratedDerivatives, MatchTheReferenceSolversDerivatives) {
   ASSERT_EQ(compiled.derivatives_f64_of.size(), policies.size());
 
   const std::size_t n = c.chain.dof(), nc = c.scene.layout.constraints;
-  const solver::DerivativeColumns columns{n, nc};
+  const auto columns = solver::DerivativeColumns::of(n, nc, c.chain.couplings);
   const std::size_t m = columns.count();
   solver::DerivativeSolver<double> reference(c.chain, c.scene.layout, c.scene.solver_options());
   // 50 states in every build, the sanitizer's too: the compile above is what costs, and the share

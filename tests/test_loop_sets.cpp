@@ -24,6 +24,7 @@
 #include "solver/quad_scalar.hpp"
 #include "solver/outward_sweep.hpp"
 #include "solver/shared_body_sets.hpp"
+#include "support/dense_rows.hpp"
 #include "support/non_orthogonality.hpp"
 #include "support/oracle_problem.hpp"
 #include "support/rk4.hpp"
@@ -48,46 +49,9 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 double tolerance(LongDouble cond) { return std::max(1e-10, 100 * kEps * static_cast<double>(cond)); }
 constexpr double kCeiling = 1e-5;
 
-// The oracle's frame for a set's frame A (or B): the transform link -> frame as R (frame -> link
-// coordinates) and p (its origin in the link's).
-template <class O = Oracle>
-typename O::AttachedFrame attached(const std::string& link, const model::Transform& X) {
-  using S = typename O::Vec::Scalar;
-  return {link, X.E.transpose().cast<S>(), X.r.cast<S>()};
-}
-
-// The dense rows of every set: α_k^T J_A (a world set: A's frame is its link's here) or α_k^T J_rel
-// (L2), right-hand side β_k − α_k^T c; in the oracle's scalar.
-template <class O>
-struct DenseRows {
-  typename O::Mat Jc;
-  typename O::Vec rhs;
-};
-template <class O>
-DenseRows<O> dense_rows(const O& o, const solver::DriverLayout& layout, const model::Chain& chain, const typename O::Vec& q,
-                        const typename O::Vec& qd, const typename O::Mat& alpha, const typename O::Vec& beta) {
-  const Eigen::Index n = static_cast<Eigen::Index>(chain.dof()), nc = alpha.cols();
-  DenseRows<O> rows{typename O::Mat(nc, n), typename O::Vec(nc)};
-  Eigen::Index k = 0;
-  for (const solver::ConstraintSet& set : layout.constraint_sets()) {
-    const typename O::Mat a = alpha.middleCols(k, static_cast<Eigen::Index>(set.count));
-    typename O::Jacobian J;
-    typename O::Six c;
-    if (set.relative()) {
-      const auto r = o.relative_motion(q, qd, attached<O>(set.link, set.at), attached<O>(set.relative_to, set.relative_at));
-      J = r.J;
-      c = r.drift;
-    } else {
-      EXPECT_TRUE(set.at.E.isIdentity() && set.at.r.isZero()) << "the oracle's world rows are at the link's frame";
-      J = o.jacobian(q, set.link_in(chain));
-      c = o.drift(q, qd, set.link_in(chain));
-    }
-    rows.Jc.middleRows(k, a.cols()) = a.transpose() * J;
-    rows.rhs.segment(k, a.cols()) = beta.segment(k, a.cols()) - a.transpose() * c;
-    k += a.cols();
-  }
-  return rows;
-}
+using test::attached;
+using test::dense_rows;
+using test::DenseRows;
 
 struct LoopCase {
   std::string name;
@@ -217,7 +181,7 @@ TEST(LoopSets, ReferenceSolverAgreesWithTheDenseRelativeRows) {
         std::size_t loop = 0;
         for (const solver::ConstraintSet& set : c.layout.constraint_sets()) {
           if (!set.relative()) continue;
-          const auto A = attached(set.link, set.at), B = attached(set.relative_to, set.relative_at);
+          const auto A = attached<Oracle>(set.link, set.at), B = attached<Oracle>(set.relative_to, set.relative_at);
           const auto& [pose, velocity] = sol.closure_error.at(loop++);
           EXPECT_LE(test::relative_error(test::to_six(pose), o.pose_error(q, A, B)), 1e-13) << where;
           EXPECT_LE(test::relative_error(test::to_six(velocity), o.relative_motion(q, qd, A, B).velocity), 1e-13) << where;
@@ -390,6 +354,11 @@ TEST(LoopSets, SceneKeysAndTheirMistakes) {
   EXPECT_EQ(s.layout.sets[0].at.r, model::Vec3(1, 0, 0));
   EXPECT_NEAR(s.layout.sets[0].relative_at.E(0, 1), std::sin(0.5), 1e-16);  // E = R^T: row 0, column 1 is sin
   EXPECT_NO_THROW(scene::load_scene_chain(s));
+  // Derivatives take a set between two links (D8's terms for it; tests/test_solve_derivatives.cpp).
+  const scene::Scene differentiated = scene::load_scene(dir.write(
+      "d.yaml", "sweepgen_scene: 1\nsolver: d\nurdf: four_bar.urdf\nroot: ground\ntips: [coupler, rocker]\nderivatives: true\n"
+                "drivers:\n  torques: [motor]\n  constraints:\n    - {link: coupler, relative_to: rocker, count: 2}\n"));
+  EXPECT_TRUE(differentiated.derivatives);
   EXPECT_NE(error_of("    - {link: coupler, relative_to: rocke, count: 2}\n").find("did you mean 'rocker'"), std::string::npos);
   EXPECT_NE(error_of("    - {link: coupler, relative_to: coupler_end, count: 2}\n").find("never move apart"), std::string::npos);
   EXPECT_NE(error_of("    - {link: ground, relative_to: rocker, count: 2}\n").find("as 'relative_to'"), std::string::npos);

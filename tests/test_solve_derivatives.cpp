@@ -83,31 +83,33 @@ Eigen::Matrix<Quad, Eigen::Dynamic, 1> referee_outputs(solver::ReferenceSolver<Q
                                                        const Quad& h, Policy policy) {
   solver::SolveInputs<Quad> in = base;
   const std::size_t n = static_cast<std::size_t>(in.q.size());
+  const auto columns = solver::DerivativeColumns::of(n, static_cast<std::size_t>(in.beta.size()), referee.model().couplings);
+  const std::size_t nv = columns.velocities();  // q, q̇ columns: the joints not coupled (D2)
   const std::size_t floating = referee.model().base_coordinates();
   const auto e = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
-  if (j < n) {
+  if (j < nv) {
     if (j < floating) {
       if (j < 3) in.base_rotation = rotated(in.base_rotation, static_cast<int>(j), h);  // δp: nothing reads it
     } else {
-      in.q[e(j)] += h;
+      in.q[e(columns.joint_of(j))] += h;
     }
-  } else if (j < 2 * n) {
-    in.qd[e(j - n)] += h;
-  } else if (j < 3 * n) {
-    in.torques[0][e(j - 2 * n)] += h;
+  } else if (j < 2 * nv) {
+    in.qd[e(columns.joint_of(j - nv))] += h;
+  } else if (j < 2 * nv + n) {
+    in.torques[0][e(j - 2 * nv)] += h;
   } else {
-    in.beta[e(j - 3 * n)] += h;
+    in.beta[e(j - 2 * nv - n)] += h;
   }
   const solver::Solution<Quad>& s = referee.run(in, policy);
-  Eigen::Matrix<Quad, Eigen::Dynamic, 1> y(s.qdd.size() + s.nu.size() + s.tau_cmd.size());
-  y << s.qdd, s.nu, s.tau_cmd;
+  const Eigen::Index sets = in.beta.size();  // ν: the sets' directions, not the couplings' torques (D2)
+  Eigen::Matrix<Quad, Eigen::Dynamic, 1> y(s.qdd.size() + sets + s.tau_cmd.size());
+  y << s.qdd, s.nu.head(sets), s.tau_cmd;
   return y;
 }
 
 // (a) on one bundled scene: every differentiable policy it lists, `states` random states.
 // `max_skipped`: the share of states that may be left unjudged (each call says why its value).
-void compare_with_differences(const std::string& relative, std::size_t states, double max_skipped = 0.1) {
-  const SceneCase c = load(relative);
+void compare_with_differences(const SceneCase& c, const std::string& relative, std::size_t states, double max_skipped = 0.1) {
   solver::DerivativeSolver<double> derivatives(c.chain, c.scene.layout, c.scene.solver_options());
   solver::ReferenceSolver<Quad> referee(c.chain, c.scene.layout, c.scene.solver_options());
   const std::vector<report::Problem> problems = report::random_problems(c.scene, c.chain, states, 31);
@@ -148,6 +150,10 @@ void compare_with_differences(const std::string& relative, std::size_t states, d
   }
 }
 
+void compare_with_differences(const std::string& relative, std::size_t states, double max_skipped = 0.1) {
+  compare_with_differences(load(relative), relative, states, max_skipped);
+}
+
 // Few states: each costs 2 (3N + Nc) binary128 solves.
 std::size_t difference_states() { return static_cast<std::size_t>(std::max(2, test::state_count(8))); }
 
@@ -186,6 +192,27 @@ TEST(SolveDerivatives, FloatingTreeWithPrismaticFingersMatchesBinary128Differenc
 }
 TEST(SolveDerivatives, FloatingBaseMatchesBinary128Differences) {
   compare_with_differences("mobile_panda/mobile_panda_hand.yaml", difference_states());
+}
+// Sets between two links (L1–L5): their rows in (D8) and the wrench on the other link, which turns
+// with the link that carries the set's frame, not with its own.
+TEST(SolveDerivatives, LoopSetsMatchBinary128Differences) {
+  compare_with_differences("four_bar/four_bar_loop.yaml", difference_states());
+  compare_with_differences("delta/delta_loops.yaml", difference_states());
+  compare_with_differences("dual_panda/dual_panda_box_loop.yaml", difference_states(), 0.5);
+  compare_with_differences("linkage_biped/linkage_biped_stance.yaml", difference_states());
+}
+
+// Coupled <mimic> joints (M1, M2): q and q̇ columns of the independent joints only, each source's
+// holding its followers' share (D8's columns folded), ν the sets' directions; on the gripper
+// (revolute, a mimic of a mimic with an offset) and on the mobile Panda's prismatic fingers, whose
+// floating base leads the columns.
+TEST(SolveDerivatives, CoupledJointsMatchBinary128Differences) {
+  compare_with_differences("parallel_gripper/parallel_gripper_pinch.yaml", difference_states());
+  SceneCase fingers = load("mobile_panda_gripper/mobile_panda_grasp.yaml");
+  fingers.scene.chain.couple_mimics = true;
+  fingers.chain = scene::load_scene_chain(fingers.scene);
+  ASSERT_EQ(fingers.chain.couplings.size(), 1u);
+  compare_with_differences(fingers, "mobile_panda_grasp.yaml, mimic: coupled", difference_states());
 }
 
 // (b) The dense oracle's closed forms, in long double, against the dual Jacobians: the inputs

@@ -9,9 +9,9 @@ namespace {
 
 // The arrays of a derivative function's Derivatives, in the order of its flat output: the values,
 // then the Jacobians the scene asks for (scene key derivatives).
-std::vector<std::pair<std::string, std::size_t>> derivative_arrays(std::size_t n, std::size_t nc,
+std::vector<std::pair<std::string, std::size_t>> derivative_arrays(const solver::DerivativeColumns& derivative_columns,
                                                                    const solver::DerivativeOutputs& outputs) {
-  const std::size_t columns = solver::DerivativeColumns{n, nc}.count();
+  const std::size_t n = derivative_columns.dof, nc = derivative_columns.constraints, columns = derivative_columns.count();
   std::vector<std::pair<std::string, std::size_t>> arrays = {
       {"qdd", n}, {"nu", nc}, {"tau_cmd", n}, {"d_qdd", outputs.qdd ? n * columns : 0},
       {"d_nu", outputs.nu ? nc * columns : 0}, {"d_tau_cmd", outputs.tau_cmd ? n * columns : 0}};
@@ -21,17 +21,17 @@ std::vector<std::pair<std::string, std::size_t>> derivative_arrays(std::size_t n
 
 }  // namespace
 
-std::string derivative_flat_out(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
+std::string derivative_flat_out(const solver::DerivativeColumns& columns, const solver::DerivativeOutputs& outputs) {
   std::string text;
-  for (const auto& [name, size] : derivative_arrays(n, nc, outputs))
+  for (const auto& [name, size] : derivative_arrays(columns, outputs))
     text += name + " (" + (name.rfind("d_", 0) == 0 ? std::string(name == "d_nu" ? "constraints" : "dof") + " x derivative_columns"
                                                      : std::string(name == "nu" ? "constraints" : "dof")) + "), ";
   return text + "status";
 }
 
-std::string pack_derivatives(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
+std::string pack_derivatives(const solver::DerivativeColumns& columns, const solver::DerivativeOutputs& outputs) {
   std::string text = "  S* cursor_out = out;\n";
-  for (const auto& [name, size] : derivative_arrays(n, nc, outputs))
+  for (const auto& [name, size] : derivative_arrays(columns, outputs))
     text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) *cursor_out++ = derivatives." + name + "[i];\n";
   return text + "  *cursor_out = Lanes<S>::value(derivatives.status);";
 }
@@ -48,9 +48,10 @@ std::string derivatives_line(const solver::DerivativeOutputs& outputs, std::size
          (left_out.empty() ? std::string(" (scene: derivatives)") : " (scene: derivatives); not computed: " + left_out);
 }
 
-std::string check_derivatives(std::size_t n, std::size_t nc, const solver::DerivativeOutputs& outputs) {
+std::string check_derivatives(const solver::DerivativeColumns& columns, const solver::DerivativeOutputs& outputs) {
   std::string text = "  S residue{};  // NaN/Inf among the results (scene: check_inputs; see outward())\n";
-  for (const auto& [name, size] : derivative_arrays(n, nc, outputs)) text += "  for (const S& x : out." + name + ") residue += x - x;\n";
+  for (const auto& [name, size] : derivative_arrays(columns, outputs))
+    text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) residue += out." + name + "[i] - out." + name + "[i];\n";
   return text + "  status |= Lanes<S>::status_if(residue != 0, status_not_finite);";
 }
 

@@ -179,7 +179,8 @@ data solve_values(const std::vector<std::pair<const FunctionPlan*, FunctionText>
 data derivative_values(const model::Chain& chain, const EmitRequest& request, const symbolic::TraceRequest& trace_request,
                        const std::string& scalar, data& variant, EmittedSolver& result, FileTally& tally,
                        std::size_t& vector_expressions) {
-  const std::size_t n = chain.dof(), nc = request.trace.layout.constraints;
+  const std::size_t n = chain.dof();
+  const auto columns = solver::DerivativeColumns::of(n, request.trace.layout.constraints, chain.couplings);
   const symbolic::Trace trace = symbolic::trace_derivatives(chain, trace_request, request.derivative_outputs);
   const Plan plan = make_single_pass_plan(trace, "derivatives_");
   check_constants_finite(trace, plan, chain, trace_request.options, scalar);
@@ -193,8 +194,8 @@ data derivative_values(const model::Chain& chain, const EmitRequest& request, co
     function.set("policy", f->group);
     function.set("doc", policy_doc(f->group));
     function.set("body", lanes_alias(text) + text.body);
-    function.set("check", check_derivatives(n, nc, request.derivative_outputs));
-    function.set("pack", pack_derivatives(n, nc, request.derivative_outputs));
+    function.set("check", check_derivatives(columns, request.derivative_outputs));
+    function.set("pack", pack_derivatives(columns, request.derivative_outputs));
     functions.push_back(function);
   }
   return functions;
@@ -397,10 +398,10 @@ data file_values(const model::Chain& chain, const EmitRequest& request, const Fi
                                        : "a pivot of E^A_cstr,0 fell below tolerance: some\n"
                                          "                                               // constraint directions were not enforced");
   values.set("has_derivatives", request.derivatives);
-  values.set("derivative_columns", std::to_string(solver::DerivativeColumns{n, nc}.count()));
-  values.set("derivative_flat_out", derivative_flat_out(n, nc, request.derivative_outputs));
-  values.set("derivative_flat_out_size",
-             std::to_string(request.derivative_outputs.flat_out_size(solver::DerivativeColumns{n, nc})));
+  const auto columns = solver::DerivativeColumns::of(n, nc, chain.couplings);
+  values.set("derivative_columns", std::to_string(columns.count()));
+  values.set("derivative_flat_out", derivative_flat_out(columns, request.derivative_outputs));
+  values.set("derivative_flat_out_size", std::to_string(request.derivative_outputs.flat_out_size(columns)));
   values.set("derivative_of_qdd", request.derivative_outputs.qdd ? "true" : "false");
   values.set("derivative_of_nu", request.derivative_outputs.nu ? "true" : "false");
   values.set("derivative_of_tau_cmd", request.derivative_outputs.tau_cmd ? "true" : "false");

@@ -719,13 +719,6 @@ Scene load_scene(const std::string& path) {
     } else {
       scene.derivatives = reader.choice(*item, {"true", "false"}, "derivatives value") == "true";
     }
-    if (scene.derivatives && std::any_of(scene.layout.sets.begin(), scene.layout.sets.end(),
-                                         [](const solver::ConstraintSet& set) { return set.relative(); }))
-      reader.fail(*item, "derivatives of a set between two links (relative_to) are not generated: the residual Jacobians "
-                         "(D8) cover sets on one link only");
-    if (scene.derivatives && scene.chain.couple_mimics)
-      reader.fail(*item, "derivatives with coupled <mimic> joints (mimic: coupled) are not generated: the residual "
-                         "Jacobians (D8) have no rows for a coupling");
     if (scene.derivatives && scene.layout.torques.empty())
       reader.fail(*item, "derivatives need a torque driver (drivers: torques), the columns of d/d tau_ff");
     if (scene.derivatives && std::none_of(scene.policies.begin(), scene.policies.end(), solver::differentiable))

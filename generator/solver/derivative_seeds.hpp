@@ -3,8 +3,10 @@
 // derivatives come from (symbolic/trace_derivatives.cpp): one numbering, one seeding.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <utility>
+#include <vector>
 
 #include "solver/dual_scalar.hpp"
 #include "solver/joint_transform_tangent.hpp"  // Transform<Dual<T>> (D6), seen before any use
@@ -13,15 +15,41 @@
 
 namespace sweepgen::solver {
 
-// (D2): q (dof), q̇ (dof), τff (dof), β (Nc), in this order.
+// (D2): q (nv), q̇ (nv), τff (dof), β (Nc), in this order. nv counts the joints but the coupled
+// <mimic> ones (M1: their q and q̇ are their sources', no input of their own), so the q and q̇ columns
+// are the generated code's inputs; Nc the sets' directions (a coupling's setpoint is 0, no input).
 struct DerivativeColumns {
   std::size_t dof = 0, constraints = 0;
+  std::vector<bool> coupled;  // per joint (0-based), whether it is a coupled <mimic> joint; empty: none
 
-  std::size_t count() const { return 3 * dof + constraints; }
-  std::size_t q(std::size_t i) const { return i; }
-  std::size_t qd(std::size_t i) const { return dof + i; }
-  std::size_t tau_ff(std::size_t i) const { return 2 * dof + i; }
-  std::size_t beta(std::size_t k) const { return 3 * dof + k; }
+  // `couplings`: the coupled joints (each with `joint`, 1-based), as model::Chain or SolverModel holds them.
+  template <class Couplings>
+  static DerivativeColumns of(std::size_t dof, std::size_t constraints, const Couplings& couplings) {
+    DerivativeColumns columns{dof, constraints, {}};
+    if (!couplings.empty()) columns.coupled.assign(dof, false);
+    for (const auto& c : couplings) columns.coupled[c.joint - 1] = true;
+    return columns;
+  }
+
+  bool is_coupled(std::size_t joint) const { return !coupled.empty() && coupled[joint]; }
+  std::size_t velocities() const { return dof - static_cast<std::size_t>(std::count(coupled.begin(), coupled.end(), true)); }
+  // Joint `joint`'s (0-based, not coupled) place among the q and q̇ columns, and the joint of a place.
+  std::size_t independent(std::size_t joint) const {
+    std::size_t place = 0;
+    for (std::size_t j = 0; j < joint; ++j) place += is_coupled(j) ? 0 : 1;
+    return place;
+  }
+  std::size_t joint_of(std::size_t place) const {
+    std::size_t joint = 0;
+    for (std::size_t seen = 0;; ++joint)
+      if (!is_coupled(joint) && seen++ == place) return joint;
+  }
+
+  std::size_t count() const { return 2 * velocities() + dof + constraints; }
+  std::size_t q(std::size_t place) const { return place; }
+  std::size_t qd(std::size_t place) const { return velocities() + place; }
+  std::size_t tau_ff(std::size_t i) const { return 2 * velocities() + i; }
+  std::size_t beta(std::size_t k) const { return 2 * velocities() + dof + k; }
 };
 
 // The outputs of the solve whose Jacobians a derivatives_<policy> function returns (scene key
@@ -84,7 +112,7 @@ spatial::Mat3<Dual<T>> seeded_base_rotation(const spatial::Mat3<T>& R, const Der
   return seeded_R;
 }
 
-// The outward sweep's inputs seeded along (D2)'s columns: q (a floating base's six not seeded:
+// The outward sweep's inputs seeded along (D2)'s columns: q (a coupled joint's not seeded; a floating base's six not seeded:
 // its q columns are world_R_base's rotation vector and its position), q̇, and world_R_base (seeded
 // for a floating base, `base` = 6; read as a constant otherwise).
 template <class T>
@@ -101,8 +129,14 @@ SeededKinematics<T> seeded_kinematics(const JointVector<T>& q, const JointVector
                                    : spatial::Mat3<D>(base_rotation.template cast<D>())};
   for (std::size_t i = 0; i < columns.dof; ++i) {
     const auto e = static_cast<Eigen::Index>(i);
-    out.q[e] = i < base ? D(q[e]) : seeded(q[e], columns.q(i), columns);
-    out.qd[e] = seeded(qd[e], columns.qd(i), columns);
+    if (columns.is_coupled(i)) {  // read from its source's (joint_couplings.hpp): no column of its own
+      out.q[e] = D(q[e]);
+      out.qd[e] = D(qd[e]);
+      continue;
+    }
+    const std::size_t place = columns.independent(i);
+    out.q[e] = i < base ? D(q[e]) : seeded(q[e], columns.q(place), columns);
+    out.qd[e] = seeded(qd[e], columns.qd(place), columns);
   }
   return out;
 }

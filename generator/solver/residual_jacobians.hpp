@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "solver/decomposition_sweep.hpp"
+#include "solver/joint_couplings.hpp"
 #include "solver/solver_model.hpp"
 #include "solver/state.hpp"
 
@@ -60,7 +61,7 @@ struct ResidualJacobians {
   std::vector<Motion<Scalar>> acceleration_along_q, acceleration_along_qd;  // a_i, ψ_i (joint i)
   std::vector<Force<Scalar>> inertia_on_axis, coriolis_on_axis;  // g_i, k_i (joint i's rows)
   std::vector<Force<Scalar>> force_along_q, force_along_qd;      // U_i, V_i (joint i's column)
-  Matrix rho_q, rho_qd;  // ∂ρ/∂q, ∂ρ/∂q̇ (N × N): rows the joints' residuals, columns (D2)'s q, q̇
+  Matrix rho_q, rho_qd;  // ∂ρ/∂q, ∂ρ/∂q̇ (N × N): rows the joints' residuals, columns the joints (a coupled one's 0)
   Matrix r_q, r_qd;      // ∂r/∂q, ∂r/∂q̇ (Nc × N)
 };
 
@@ -108,9 +109,10 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
     const std::size_t p = model.parent[i];
     if (!(i == 1 && body_1_carries_all)) X[i] = kin.body[i].X * X[p];
     S[i] = X[i].apply_inverse(model.joints[i].S);
-    v[i] = v[p] + S[i] * qd[i - 1];
+    const Scalar qd_i = joint_velocity(model, qd, i);  // a coupled joint's from its source's (M1)
+    v[i] = v[p] + S[i] * qd_i;
     if (i > base) S_dot[i] = cross_motion(v[group_parent(i)], S[i]);  // 0 for the free joint (F5)
-    a[i] = a[p] + S[i] * held.qdd[i - 1] + S_dot[i] * qd[i - 1];
+    a[i] = a[p] + S[i] * held.qdd[i - 1] + S_dot[i] * qd_i;
     Y[i] = model.inertia[i].rigid_transformed_to_parent(X[i]);
     H[i] = Y[i] * v[i];
     Q[i] = CoriolisComposite<Scalar>::of(Y[i], v[i]);
@@ -149,9 +151,18 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
     V[m] = Y[G] * psi[m] - QS + S_H;
   }
 
-  // Each constraint set's link frame from the coordinates c, ^link X_c, where its α_k are given.
+  // Each constraint set's frame A from the coordinates c, ^A X_c, where its α_k are given; and for a set
+  // between two links, the wrench its multipliers put on the other link, w = (^A X_c)ᵀ Σ α_k ν_k in c
+  // (what F holds of it at body b: L4), which is fixed in A, not in b.
   std::vector<Transform<Scalar>> to_link;
-  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) to_link.push_back(set.frame * X[set.body]);
+  std::vector<Force<Scalar>> other_wrench;
+  for (const ConstraintSetModel<Scalar>& set : model.constraint_sets) {
+    to_link.push_back(set.frame * X[set.body]);
+    Force<Scalar> alpha_nu;
+    for (std::size_t k = set.first; set.relative && k < set.first + set.count; ++k)
+      alpha_nu += inputs.constraint_directions[k] * held.nu[k];
+    other_wrench.push_back(to_link.back().apply_transpose(alpha_nu));
+  }
 
   J.rho_q.setZero(n, n);
   J.rho_qd.setZero(n, n);
@@ -164,6 +175,7 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
     // ρ_j = τff_j − d_j q̈_j − S_jᵀ F_j
     for (std::size_t j = 1; j <= n; ++j) {
       Scalar d_q(0), d_qd(0);
+      bool related = true;
       if (carries(group_body(m), group_body(j))) {  // S_j turns with q_m: the turn cancels in S_jᵀ F_j
         d_q = dot(g[j], dAdq[m]) - dot(k[j], S_dot[m]);
         d_qd = dot(g[j], psi[m]) - dot(k[j], S[m]);
@@ -171,24 +183,66 @@ ResidualJacobians<Scalar> residual_jacobians(const SolverModel<Scalar>& model, c
         d_q = dot(U[m], S[j]);
         d_qd = dot(V[m], S[j]);
       } else {
-        continue;
+        related = false;
       }
+      // A set between two links puts w on its other link b, fixed in A: it turns with q_m where m's
+      // group carries a, where the sums above turned it where m's group carries b (L4).
+      for (std::size_t c = 0; c < model.constraint_sets.size(); ++c) {
+        const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
+        if (!set.relative || set.other_body == 0 || !carries(group_body(j), set.other_body)) continue;
+        const bool turns = carries(group_body(m), set.body), turned = carries(group_body(m), set.other_body);
+        if (turns == turned) continue;
+        const Scalar share = dot(cross_force(S[m], other_wrench[c]), S[j]);
+        d_q += turns ? share : -share;
+        related = true;
+      }
+      if (!related) continue;
       if (q_column) J.rho_q(index(j - 1), index(m - 1)) = -d_q;
       J.rho_qd(index(j - 1), index(m - 1)) = -d_qd;
     }
     // r_k = E_cstr,k − α_kᵀ Ẍ_link: Ẍ_b moves past q_m by its turn, which α_k's cancels, and by
     // Ṡ_m × Ẋ_b + a_m; along q̇_m by S_m × Ẋ_b + ψ_m: taken to the set's link frame.
+    // A set between links a and b reads α_kᵀ ^AX_c Z, Z = Ẍ_a − Ẍ_b + Ẋ_a × Ẋ_b (L1 in c); where m's
+    // group carries both, Z turns with the row (the Jacobi identity): nothing moves; where it carries
+    // one of them, what is left of ∂Z beyond the row's turn (δ_a S_m × Z) is below.
     for (std::size_t c = 0; c < model.constraint_sets.size(); ++c) {
       const ConstraintSetModel<Scalar>& set = model.constraint_sets[c];
-      if (!carries(group_body(m), set.body)) continue;
-      const Motion<Scalar> along_q = to_link[c].apply(dAdq[m] + cross_motion(S_dot[m], v[set.body]));
-      const Motion<Scalar> along_qd = to_link[c].apply(cross_motion(S[m], v[set.body]) + psi[m]);
+      const bool carries_a = carries(group_body(m), set.body);
+      const bool carries_b = set.relative && set.other_body != 0 && carries(group_body(m), set.other_body);
+      if (carries_a == carries_b) continue;
+      Motion<Scalar> along_q, along_qd;
+      if (!set.relative) {
+        along_q = dAdq[m] + cross_motion(S_dot[m], v[set.body]);
+        along_qd = cross_motion(S[m], v[set.body]) + psi[m];
+      } else {
+        const Motion<Scalar>&va = v[set.body], &vb = v[set.other_body], &ab = a[set.other_body];
+        const Motion<Scalar> S_vb = cross_motion(S[m], vb);
+        if (carries_a) {  // a_m + S_m × Ẍ_b − Ẋ_a × (S_m × Ẋ_b) + Ṡ_m × (Ẋ_a + Ẋ_b);  ψ_m + S_m × (Ẋ_a + Ẋ_b)
+          along_q = dAdq[m] + cross_motion(S[m], ab) - cross_motion(va, S_vb) + cross_motion(S_dot[m], va + vb);
+          along_qd = psi[m] + cross_motion(S[m], va + vb);
+        } else {  // −(a_m + S_m × Ẍ_b + Ṡ_m × Ẋ_b) + Ẋ_a × (S_m × Ẋ_b + Ṡ_m);  −ψ_m − S_m × (Ẋ_a + Ẋ_b)
+          along_q = cross_motion(va, S_vb + S_dot[m]) - dAdq[m] - cross_motion(S[m], ab) - cross_motion(S_dot[m], vb);
+          along_qd = Motion<Scalar>{} - psi[m] - cross_motion(S[m], va + vb);
+        }
+      }
+      along_q = to_link[c].apply(along_q);
+      along_qd = to_link[c].apply(along_qd);
       for (std::size_t k = set.first; k < set.first + set.count; ++k) {
         if (q_column) J.r_q(index(k), index(m - 1)) = -dot(inputs.constraint_directions[k], along_q);
         J.r_qd(index(k), index(m - 1)) = -dot(inputs.constraint_directions[k], along_qd);
       }
     }
   }
+  // A coupled joint's q and q̇ follow its source's (M1): its columns join the source's, times the
+  // multiplier, and are no columns of their own (the chain rule; a coupling's row of r has no q, q̇).
+  for (const JointCouplingModel<Scalar>& coupling : model.couplings)
+    for (auto* columns : {&J.rho_q, &J.rho_qd, &J.r_q, &J.r_qd}) {
+      for (Eigen::Index row = 0; row < columns->rows(); ++row) {
+        Scalar& joint = (*columns)(row, index(coupling.joint - 1));
+        (*columns)(row, index(coupling.source - 1)) += coupling.multiplier * joint;
+        joint = Scalar(0);
+      }
+    }
   return J;
 }
 

@@ -43,6 +43,7 @@ Dual<T> through_residuals(const Dual<T>& y, const ResidualJacobians<Dual<T>>& re
   const auto index = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
   for (std::size_t x = 0; x < columns.dof; ++x)
     for (const bool velocity : {false, true}) {
+      if (columns.is_coupled(x)) continue;  // its columns are its source's (D8)
       const auto& rho = velocity ? residuals.rho_qd : residuals.rho_q;
       const auto& r = velocity ? residuals.r_qd : residuals.r_q;
       T sum(0);
@@ -50,7 +51,7 @@ Dual<T> through_residuals(const Dual<T>& y, const ResidualJacobians<Dual<T>>& re
         sum = sum + y.derivative(columns.tau_ff(j)) * rho(index(j), index(x)).value();
       for (std::size_t k = 0; k < columns.constraints; ++k)
         sum = sum + y.derivative(columns.beta(k)) * r(index(k), index(x)).value();
-      tangent[velocity ? columns.qd(x) : columns.q(x)] = sum;
+      tangent[velocity ? columns.qd(columns.independent(x)) : columns.q(columns.independent(x))] = sum;
     }
   return Dual<T>(y.value(), std::move(tangent));
 }
@@ -63,7 +64,7 @@ template <class T>
 ResidualJacobians<Dual<T>> complete_by_residuals(const SolverModel<Dual<T>>& model, const KinematicsState<Dual<T>>& kin_values,
                            const JointVector<Dual<T>>& qd_values, const KinematicsState<Dual<T>>& kin,
                            const DriverInputs<Dual<T>>& inputs, Solution<Dual<T>>& sol) {
-  const DerivativeColumns columns{model.dof(), model.constraints()};
+  const auto columns = DerivativeColumns::of(model.dof(), model.set_directions(), model.couplings);
   Solution<Dual<T>> held = sol;  // (q̈, ν) held fixed: values only
   held.qdd = values_of<T>(sol.qdd);
   held.nu = values_of<T>(sol.nu);

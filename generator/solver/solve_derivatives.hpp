@@ -5,13 +5,15 @@
 // residuals. The equations are the solver's own; nothing here restates them.
 //
 // Coordinates (D2), the columns of each Jacobian:
-//   q   dof columns: the joints' positions; a floating base's six leading columns are its tangent
-//       coordinates [δθ; δp], δθ the body-frame rotation vector of world_R_base
+//   q   nv columns: the joints' positions but the coupled <mimic> joints' (M1: theirs follow their
+//       sources', whose columns hold the whole derivative); a floating base's six leading columns
+//       are its tangent coordinates [δθ; δp], δθ the body-frame rotation vector of world_R_base
 //       (world_R_base exp([δθ]×)), δp its position, which nothing depends on (zero columns);
-//   q̇   dof columns (a floating base's twist [ω; v] first);
+//   q̇   nv columns (a floating base's twist [ω; v] first);
 //   τff dof columns, a joint torque added to every torque driver's sum (seeded on the first
 //       instance: the instances enter every policy as one sum);
-//   β   Nc columns.
+//   β   Nc columns, the sets' directions (a coupling's setpoint is 0, not an input).
+// Rows: q̈ and τcmd every joint's, ν the sets' directions (not the couplings' torques).
 // Policies: original and prioritize_external. The saturating ones are refused (their clamp is
 // a kink of the solution: no derivative there, and a one-sided one elsewhere).
 // Where the factorisation drops a direction or a joint is locked (J1), the derivative is that of
@@ -57,7 +59,7 @@ class DerivativeSolver {
   }
 
   std::size_t dof() const { return solver_.dof(); }
-  std::size_t constraints() const { return solver_.model().constraints(); }
+  std::size_t constraints() const { return solver_.model().set_directions(); }
 
   // The solve of `in` under `policy` and its Jacobians. Throws std::invalid_argument for a
   // saturating policy.
@@ -66,7 +68,7 @@ class DerivativeSolver {
       throw std::invalid_argument(std::string("policy ") + name(policy) +
                                   " has no derivative (its clamp is a kink); differentiable: original, prioritize_external");
     const std::size_t n = dof(), nc = constraints();
-    const DerivativeColumns columns{n, nc};
+    const DerivativeColumns columns = this->columns();
     const SolverModel<D>& model = solver_.model();
     const std::size_t base = model.base_coordinates();
     const SeededKinematics<Scalar> seeds = seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
@@ -102,27 +104,30 @@ class DerivativeSolver {
     out.status = solver_.status();
     split(s.qdd, out.qdd, out.d_qdd);
     split(s.tau_cmd, out.tau_cmd, out.d_tau_cmd);
-    split(s.nu, out.nu, out.d_nu);
+    split(ConstraintVector<D>(s.nu.head(static_cast<Eigen::Index>(nc))), out.nu, out.d_nu);
     return out;
   }
 
  private:
+  DerivativeColumns columns() const { return DerivativeColumns::of(dof(), constraints(), solver_.model().couplings); }
+
   // Values and the four column blocks of the tangents (D2's order: q, q̇, τff, β).
   template <class In, class Out>
   void split(const In& y, Out& value, Jacobians<Scalar>& d) const {
-    const DerivativeColumns columns{dof(), constraints()};
+    const DerivativeColumns columns = this->columns();
     const Eigen::Index rows = y.size();
+    const auto size = [](std::size_t s) { return static_cast<Eigen::Index>(s); };
     value.resize(rows);
-    for (auto* block : {&d.q, &d.qd, &d.tau_ff}) block->resize(rows, static_cast<Eigen::Index>(columns.dof));
-    d.beta.resize(rows, static_cast<Eigen::Index>(columns.constraints));
+    for (auto* block : {&d.q, &d.qd}) block->resize(rows, size(columns.velocities()));
+    d.tau_ff.resize(rows, size(columns.dof));
+    d.beta.resize(rows, size(columns.constraints));
     for (Eigen::Index r = 0; r < rows; ++r) {
       value[r] = y[r].value();
-      for (std::size_t j = 0; j < columns.dof; ++j) {
-        const auto c = static_cast<Eigen::Index>(j);
-        d.q(r, c) = y[r].derivative(columns.q(j));
-        d.qd(r, c) = y[r].derivative(columns.qd(j));
-        d.tau_ff(r, c) = y[r].derivative(columns.tau_ff(j));
+      for (std::size_t j = 0; j < columns.velocities(); ++j) {
+        d.q(r, size(j)) = y[r].derivative(columns.q(j));
+        d.qd(r, size(j)) = y[r].derivative(columns.qd(j));
       }
+      for (std::size_t j = 0; j < columns.dof; ++j) d.tau_ff(r, size(j)) = y[r].derivative(columns.tau_ff(j));
       for (std::size_t k = 0; k < columns.constraints; ++k)
         d.beta(r, static_cast<Eigen::Index>(k)) = y[r].derivative(columns.beta(k));
     }

@@ -33,8 +33,9 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
   TraceScope scope(trace.graph);
   const solver::DriverLayout& layout = request.layout;
   const solver::SolverModel<D> model(chain, layout, request.options, request.epsilon);
-  const std::size_t n = model.dof(), nc = model.constraints(), base = model.base_coordinates();
-  const solver::DerivativeColumns columns{n, nc};
+  // nc: every direction, the couplings' among them; sets: the β inputs (D2).
+  const std::size_t n = model.dof(), nc = model.constraints(), sets = model.set_directions(), base = model.base_coordinates();
+  const auto columns = solver::DerivativeColumns::of(n, sets, model.couplings);
   trace.layout = layout;
   trace.dof = n;
   trace.constraints = nc;
@@ -62,7 +63,7 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
       drivers.torques[t][i] = t == 0 ? solver::seeded(symbols.torques[t][i], columns.tau_ff(i), columns) : D(symbols.torques[t][i]);
   for (std::size_t e = 0; e < layout.external_forces.size(); ++e)
     drivers.external_forces[e] = {symbols.external_forces[e].moment.cast<D>(), symbols.external_forces[e].force.cast<D>()};
-  for (std::size_t k = 0; k < nc; ++k)
+  for (std::size_t k = 0; k < sets; ++k)
     drivers.constraint_directions[k] = {symbols.constraint_directions[k].moment.cast<D>(),
                                         symbols.constraint_directions[k].force.cast<D>()};
   const auto decomposed = [&](const solver::KinematicsState<D>& sweep_kin) {
@@ -72,9 +73,9 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
   };
   const auto art = decomposed(kin);
 
-  const solver::ConstraintVector<Symbol> beta_symbols = traced_setpoints(trace, nc);
-  solver::ConstraintVector<D> beta(nc);
-  for (std::size_t k = 0; k < nc; ++k) beta[k] = solver::seeded(beta_symbols[k], columns.beta(k), columns);
+  const solver::ConstraintVector<Symbol> beta_symbols = traced_setpoints(trace, sets);
+  solver::ConstraintVector<D> beta(sets);
+  for (std::size_t k = 0; k < sets; ++k) beta[k] = solver::seeded(beta_symbols[k], columns.beta(k), columns);
 
   // The sweeps' values, as in the solve's trace: they name and anchor (banner) what the
   // derivative functions compute; they are not stored.
@@ -86,7 +87,7 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
   solver::visit_fields(kin, record("kinematics"));
   solver::visit_fields(art, layout, record("articulated"));
   for (solver::Policy policy : trace.policies) {
-    auto solution = solver::Solution<D>::sized(n, nc, layout.listed_sets());
+    auto solution = solver::Solution<D>::sized(n, nc, layout.listed_sets(), 0, model.couplings.size());
     const bool by_residuals = solver::differentiates_by_residuals(model, policy);
     if (by_residuals)
       solver::solver_sweep_base_to_tip(model, kin_values, decomposed(kin_values), drivers, beta, policy, solution);
@@ -98,7 +99,8 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
                            record(solver::name(policy)));
     const std::string group = solver::name(policy);
     record_output(trace, group, "qdd", solution.qdd, columns, outputs.qdd);
-    record_output(trace, group, "nu", solution.nu, columns, outputs.nu);
+    record_output(trace, group, "nu", solver::ConstraintVector<D>(solution.nu.head(static_cast<Eigen::Index>(sets))), columns,
+                  outputs.nu);  // the sets' (D2): no coupling torque
     record_output(trace, group, "tau_cmd", solution.tau_cmd, columns, outputs.tau_cmd);
     trace.fields.push_back({group, "dropped_pivots", solver::kBodyless, 0, solution.dropped_pivots.value().id(), true});
     trace.fields.push_back({group, "locked_joints", solver::kBodyless, 0, solution.locked_joints.value().id(), true});

@@ -2,8 +2,9 @@
 
 Run by ctest (tests/python/CMakeLists.txt, python_torch) with PYTHONPATH the directory of the modules:
   - panda_lean_nc6_fixed_derivatives, panda_lean_nc0_derivatives (the bundled scenes that list
-    derivatives) and planar_floating_derivatives (a floating base with f32 derivatives, this
-    directory's scene): torch.autograd.gradcheck with its own tolerances, the judge of a
+    derivatives), planar_floating_derivatives (a floating base with f32 derivatives) and
+    gripper_coupled_derivatives (coupled <mimic> joints: q, qd of the independent joint), this
+    directory's scenes: torch.autograd.gradcheck with its own tolerances, the judge of a
     backward; gradgradcheck raises (no second derivatives are generated); the forward equals the
     module's solve_flat bit for bit (one generated code path), with and without a gradient asked;
   - a floating base's rotation: its gradient against a central difference along R exp(e [w]x);
@@ -27,17 +28,22 @@ SEED = 2026
 STATES = 3  # gradcheck's numerical Jacobian takes 2 solves per input value: 3 states x 27 values x 2
 
 
-def random_state(module, generator, batch=(STATES,), dtype=torch.float64):
+def floating(module):
+    """Whether q holds world_R_base (9 values) and its position for the base's 6 velocities."""
+    return module.nq != module.nv
+
+
+def random_state(module, generator, batch=(STATES,), dtype=torch.float64, driver_scale=10):
     """q, qd, drivers (a dict by name), beta of `batch` random states: joint angles in [-2, 2] rad,
-    velocities ~N(0, 1), torques and wrenches ~N(0, 10^2), setpoints ~N(0, 1); a floating base's
-    rotation a random rotation (exp of a N(0, 1) rotation vector)."""
+    velocities ~N(0, 1), torques and wrenches ~N(0, driver_scale^2), setpoints ~N(0, 1); a floating
+    base's rotation a random rotation (exp of a N(0, 1) rotation vector)."""
     variant = module.f64
-    joints = module.nq - (9 if module.nq != module.dof else 0)
+    joints = module.nq - (9 if floating(module) else 0)
     q = 4 * torch.rand(*batch, joints, generator=generator, dtype=torch.float64) - 2
-    if module.nq != module.dof:
+    if floating(module):
         q = torch.cat([rotation(torch.randn(*batch, 3, generator=generator, dtype=torch.float64)).flatten(-2), q], -1)
-    qd = torch.randn(*batch, module.dof, generator=generator, dtype=torch.float64)
-    drivers_flat = 10 * torch.randn(*batch, variant.drivers_size, generator=generator, dtype=torch.float64)
+    qd = torch.randn(*batch, module.nv, generator=generator, dtype=torch.float64)
+    drivers_flat = driver_scale * torch.randn(*batch, variant.drivers_size, generator=generator, dtype=torch.float64)
     beta = torch.randn(*batch, module.constraints, generator=generator, dtype=torch.float64)
     return [t.to(dtype) for t in (q, qd, drivers_flat, beta)]
 
@@ -75,6 +81,7 @@ class DerivativeSceneTest:
     """A module whose scene lists derivatives; subclassed per module below (STEM)."""
 
     STEM = None
+    DRIVER_SCALE = 10  # random_state's torques and wrenches
 
     @classmethod
     def setUpClass(cls):
@@ -97,12 +104,11 @@ class DerivativeSceneTest:
         return f, names
 
     def inputs(self, batch=(STATES,)):
-        q, qd, drivers, beta = random_state(self.m, self.generator, batch)
+        q, qd, drivers, beta = random_state(self.m, self.generator, batch, driver_scale=self.DRIVER_SCALE)
         template = split_drivers(self.m, drivers)
         names = [n for n, _, torque in self.m.torch.drivers if torque]
         torques = [template[n].clone().requires_grad_() for n in names]
-        floating = self.m.nq != self.m.dof
-        q_arg = (q[..., 9:] if floating else q).clone().requires_grad_()
+        q_arg = (q[..., 9:] if floating(self.m) else q).clone().requires_grad_()
         return q, q_arg, qd.requires_grad_(), beta.requires_grad_(), template, torques
 
     def test_gradcheck(self):
@@ -110,7 +116,7 @@ class DerivativeSceneTest:
         over q (a floating base's joints), qd, beta and each torque driver; once with every
         argument (STATES,) rows and once with q shared by the rows (1-D: its gradient the sum)."""
         q, q_arg, qd, beta, template, torques = self.inputs()
-        f, _ = self.function(template, q if self.m.nq != self.m.dof else None)
+        f, _ = self.function(template, q if floating(self.m) else None)
         beta_arg = beta if self.m.constraints else beta.detach()
         self.assertTrue(torch.autograd.gradcheck(f, (q_arg, qd, beta_arg, *torques)))
         shared = q_arg[0].detach().clone().requires_grad_()
@@ -118,14 +124,14 @@ class DerivativeSceneTest:
 
     def test_second_derivatives_raise(self):
         q, q_arg, qd, beta, template, torques = self.inputs()
-        f, _ = self.function(template, q if self.m.nq != self.m.dof else None)
+        f, _ = self.function(template, q if floating(self.m) else None)
         with self.assertRaisesRegex(RuntimeError, rf"{self.STEM}\.torch\.solve: second derivatives are not generated"):
             torch.autograd.gradgradcheck(f, (q_arg, qd, beta, *torques))
 
     def test_forward_is_solve_flat(self):
         """Without a gradient the layer runs solve_flat; with one, derivatives(): both the same
         generated values bit for bit (the derivative functions' values are the solve's trace)."""
-        q, qd, drivers, beta = random_state(self.m, self.generator, (5,))
+        q, qd, drivers, beta = random_state(self.m, self.generator, (5,), driver_scale=self.DRIVER_SCALE)
         want = solve_flat(self.m, "f64", q, qd, drivers, beta, "original")
         beta_arg = beta if self.m.constraints else None
         for grad in (False, True):
@@ -137,7 +143,7 @@ class DerivativeSceneTest:
 
     def test_what_has_no_gradient_says_why(self):
         m = self.m
-        q, qd, drivers, beta = random_state(m, self.generator, (2,))
+        q, qd, drivers, beta = random_state(m, self.generator, (2,), driver_scale=self.DRIVER_SCALE)
         beta_arg = beta if m.constraints else None
         not_listed = [y for y in ("qdd", "nu", "tau_cmd") if y not in m.f64.derivative_outputs
                       and (y != "nu" or m.constraints)]
@@ -162,6 +168,17 @@ class PandaNc6Fixed(DerivativeSceneTest, unittest.TestCase):
 
 class PandaNc0(DerivativeSceneTest, unittest.TestCase):
     STEM = "panda_lean_nc0_derivatives"
+
+
+class CoupledJoints(DerivativeSceneTest, unittest.TestCase):
+    """q and qd hold finger_joint alone; its columns carry the five coupled joints' shares (D8).
+    The hand's links weigh 10 to 30 g: torques of 10 N m drive q̈ to ~1e4 rad/s², whose rounding
+    (ε κ |q̈| ~ 1e-12 at the E of five couplings) over gradcheck's step of 2e-6 reaches its atol of
+    1e-5 where the true derivative is about 0 (the fingers' linkages keep the hand's inertia about
+    finger_joint nearly constant, so q̈ hardly depends on q̇); the hand's own torques are tenths of
+    a N m."""
+    STEM = "gripper_coupled_derivatives"
+    DRIVER_SCALE = 0.1
 
 
 class FloatingBase(DerivativeSceneTest, unittest.TestCase):

@@ -11,6 +11,7 @@
 #include "report/measure.hpp"
 #include "scene/scene.hpp"
 #include "solver/solve_derivatives.hpp"
+#include "support/dense_rows.hpp"
 
 namespace sweepgen::test {
 
@@ -33,8 +34,9 @@ inline Eigen::MatrixXd stacked(const solver::Jacobians<double>& d) {
   return m;
 }
 
-// κ = cond_s(M) · max(1, cond_s(E^A_cstr,0)) at the state of `p`, from the dense oracle (long
-// double): the condition of the solve (E) times that of the M⁻¹ its derivatives in q and q̇
+// κ = cond_s(M) · max(1, cond_s(E^A_cstr,0)) at the state of `p`, E = J M⁻¹ Jᵀ with every set's and
+// coupling's rows (test::dense_rows), from the dense oracle (long double): the condition of the
+// solve (E) times that of the M⁻¹ its derivatives in q and q̇
 // differentiate (‖δ(M⁻¹)‖/‖M⁻¹‖ <= cond(M) ‖δM‖/‖M‖ to first order). Both scaled
 // (oracle::scaled_condition_number: cond₂ of the Jacobi-scaled matrix), so independent of the
 // units of each coordinate: a floating base's kilograms against its joints' kg m² would otherwise
@@ -47,11 +49,12 @@ inline double derivative_condition(const SceneCase& c, const report::Problem& p)
   const Oracle::Mat M = o.mass_matrix(q);
   double kappa = oracle::scaled_condition_number(M);
   const std::size_t nc = c.scene.layout.constraints;
-  if (nc > 0) {
+  if (nc + c.chain.couplings.size() > 0) {
     Oracle::Mat alpha(6, static_cast<Eigen::Index>(nc));
     for (std::size_t k = 0; k < nc; ++k)
       alpha.col(static_cast<Eigen::Index>(k)) << p.alpha[k].moment.cast<long double>(), p.alpha[k].force.cast<long double>();
-    const Oracle::Mat J = o.constraint_jacobian(q, solver::direction_links(c.scene.layout, c.chain), alpha);
+    const Oracle::Mat J = dense_rows(o, c.scene.layout, c.chain, q, Oracle::Vec(p.qd.cast<long double>()), alpha,
+                                     Oracle::Vec::Zero(static_cast<Eigen::Index>(nc))).Jc;
     kappa *= std::max(1.0, oracle::scaled_condition_number(Oracle::Mat(J * M.ldlt().solve(J.transpose()))));
   }
   return kappa;
