@@ -364,6 +364,13 @@ TEST(LoopSets, SceneKeysAndTheirMistakes) {
   EXPECT_NE(error_of("    - {link: ground, relative_to: rocker, count: 2}\n").find("as 'relative_to'"), std::string::npos);
   EXPECT_NE(error_of("    - {link: coupler, relative_at: {xyz: [1, 0, 0]}, count: 2}\n").find("give relative_to"), std::string::npos);
   EXPECT_NE(error_of("    - {link: coupler, at: {xyz: [1, 0]}, count: 2}\n").find("expected 3 numbers"), std::string::npos);
+  EXPECT_NE(error_of("    - {link: coupler, relative_to: coupler, count: 2}\n").find("never move apart"), std::string::npos);
+  EXPECT_NE(error_of("    - {link: coupler, at: {xyz: [.nan, 0, 0]}, relative_to: rocker, count: 2}\n")
+                .find("at.xyz[0]: number is not finite"),
+            std::string::npos);
+  EXPECT_NE(error_of("    - {link: coupler, relative_to: rocker, relative_at: {rpy: [0, .inf, 0]}, count: 2}\n")
+                .find("relative_at.rpy[1]: number is not finite"),
+            std::string::npos);
   EXPECT_NE(error_of("    - {link: coupler, at: {xzy: [1, 0, 0]}, count: 2}\n").find("unknown key"), std::string::npos);
   // Redundant directions of a set between two links are the rule, not an error (a planar loop
   // closed by a 6-D set): the scene loads, and the warning counts the joints between the links
