@@ -11,7 +11,8 @@ namespace {
 // then the Jacobians the scene asks for (scene key derivatives).
 std::vector<std::pair<std::string, std::size_t>> derivative_arrays(const solver::DerivativeColumns& derivative_columns,
                                                                    const solver::DerivativeOutputs& outputs) {
-  const std::size_t n = derivative_columns.dof, nc = derivative_columns.constraints, columns = derivative_columns.count();
+  const std::size_t n = derivative_columns.dof, nc = derivative_columns.constraints;
+  const std::size_t columns = derivative_columns.count();
   std::vector<std::pair<std::string, std::size_t>> arrays = {
       {"qdd", n}, {"nu", nc}, {"tau_cmd", n}, {"d_qdd", outputs.qdd ? n * columns : 0},
       {"d_nu", outputs.nu ? nc * columns : 0}, {"d_tau_cmd", outputs.tau_cmd ? n * columns : 0}};
@@ -51,7 +52,8 @@ std::string derivatives_line(const solver::DerivativeOutputs& outputs, std::size
 std::string check_derivatives(const solver::DerivativeColumns& columns, const solver::DerivativeOutputs& outputs) {
   std::string text = "  S residue{};  // NaN/Inf among the results (scene: check_inputs; see outward())\n";
   for (const auto& [name, size] : derivative_arrays(columns, outputs))
-    text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) residue += out." + name + "[i] - out." + name + "[i];\n";
+    text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) residue += out." + name + "[i] - out." + name +
+            "[i];\n";
   return text + "  status |= Lanes<S>::status_if(residue != 0, status_not_finite);";
 }
 

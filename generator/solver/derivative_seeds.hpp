@@ -32,7 +32,9 @@ struct DerivativeColumns {
   }
 
   bool is_coupled(std::size_t joint) const { return !coupled.empty() && coupled[joint]; }
-  std::size_t velocities() const { return dof - static_cast<std::size_t>(std::count(coupled.begin(), coupled.end(), true)); }
+  std::size_t velocities() const {
+    return dof - static_cast<std::size_t>(std::count(coupled.begin(), coupled.end(), true));
+  }
   // Joint `joint`'s (0-based, not coupled) place among the q and q̇ columns, and the joint of a place.
   std::size_t independent(std::size_t joint) const {
     std::size_t place = 0;
@@ -112,9 +114,10 @@ spatial::Mat3<Dual<T>> seeded_base_rotation(const spatial::Mat3<T>& R, const Der
   return seeded_R;
 }
 
-// The outward sweep's inputs seeded along (D2)'s columns: q (a coupled joint's not seeded; a floating base's six not seeded:
-// its q columns are world_R_base's rotation vector and its position), q̇, and world_R_base (seeded
-// for a floating base, `base` = 6; read as a constant otherwise).
+// The outward sweep's inputs seeded along (D2)'s columns: q (a coupled joint's not seeded, nor a
+// floating base's six: its q columns are world_R_base's rotation vector and its position), q̇ (a
+// coupled joint's not seeded), and world_R_base (seeded for a floating base, `base` = 6; read as a
+// constant otherwise).
 template <class T>
 struct SeededKinematics {
   JointVector<Dual<T>> q, qd;

@@ -61,7 +61,9 @@ struct ResidualJacobians {
   std::vector<Motion<Scalar>> acceleration_along_q, acceleration_along_qd;  // a_i, ψ_i (joint i)
   std::vector<Force<Scalar>> inertia_on_axis, coriolis_on_axis;  // g_i, k_i (joint i's rows)
   std::vector<Force<Scalar>> force_along_q, force_along_qd;      // U_i, V_i (joint i's column)
-  Matrix rho_q, rho_qd;  // ∂ρ/∂q, ∂ρ/∂q̇ (N × N): rows the joints' residuals, columns the joints (a coupled one's 0)
+  // ∂ρ/∂q, ∂ρ/∂q̇ (N × N): rows the joints' residuals, columns the joints (a coupled one's 0: its
+  // source's holds it)
+  Matrix rho_q, rho_qd;
   Matrix r_q, r_qd;      // ∂r/∂q, ∂r/∂q̇ (Nc × N)
 };
 

@@ -34,7 +34,8 @@ Trace trace_derivatives(const model::Chain& chain, const TraceRequest& request, 
   const solver::DriverLayout& layout = request.layout;
   const solver::SolverModel<D> model(chain, layout, request.options, request.epsilon);
   // nc: every direction, the couplings' among them; sets: the β inputs (D2).
-  const std::size_t n = model.dof(), nc = model.constraints(), sets = model.set_directions(), base = model.base_coordinates();
+  const std::size_t n = model.dof(), nc = model.constraints(), sets = model.set_directions();
+  const std::size_t base = model.base_coordinates();
   const auto columns = solver::DerivativeColumns::of(n, sets, model.couplings);
   trace.layout = layout;
   trace.dof = n;
