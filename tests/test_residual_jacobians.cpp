@@ -6,8 +6,8 @@
 // the formulas, not their rounding, are under test here (the derivatives' rounding end to end is
 // tests/test_solve_derivatives.cpp's). On every kind of bundled scene: a chain with
 // external forces and run-time directions, constraint sets, a tree, prismatic joints, floating
-// bases (where the q columns are the base's rotation vector's, (D2)); and random chains, trees and
-// floating trees with joints about random axes.
+// bases (where the q columns are the base's rotation vector's, (D2)), sets between two links; and
+// random chains, trees and floating trees with joints about random axes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -214,6 +214,10 @@ TEST(ResidualJacobians, PrismaticJoint) { check_scene("planar/planar_nc2.yaml", 
 TEST(ResidualJacobians, FloatingBase) { check_scene("mobile_panda/mobile_panda_hand.yaml", 10); }
 TEST(ResidualJacobians, FloatingTreeWithPrismaticFingers) { check_scene("mobile_panda_gripper/mobile_panda_grasp.yaml", 10); }
 TEST(ResidualJacobians, QuadrupedStance) { check_scene("quadruped/quadruped_stance.yaml", 10); }
+// Sets between two links (L1, L4): the relative rows and the other link's wrench, fixed in A.
+TEST(ResidualJacobians, LoopSets) { check_scene("four_bar/four_bar_loop.yaml", 20); }
+TEST(ResidualJacobians, LoopSetsBesideWorldSetsOnAFloatingBase) { check_scene("linkage_biped/linkage_biped_stance.yaml", 10); }
+TEST(ResidualJacobians, ThreeLoopsOnOnePlatform) { check_scene("delta/delta_loops.yaml", 10); }
 TEST(ResidualJacobians, RandomChains) { check_random(false, false); }
 TEST(ResidualJacobians, RandomTrees) { check_random(true, false); }
 TEST(ResidualJacobians, RandomFloatingTrees) { check_random(false, true); }
