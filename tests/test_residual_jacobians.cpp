@@ -6,7 +6,8 @@
 // the formulas, not their rounding, are under test here (the derivatives' rounding end to end is
 // tests/test_solve_derivatives.cpp's). On every kind of bundled scene: a chain with
 // external forces and run-time directions, constraint sets, a tree, prismatic joints, floating
-// bases (where the q columns are the base's rotation vector's, (D2)), sets between two links; and
+// bases (where the q columns are the base's rotation vector's, (D2)), sets between two links,
+// coupled <mimic> joints; and
 // random chains, trees and floating trees with joints about random axes.
 #include <gtest/gtest.h>
 
@@ -62,7 +63,8 @@ Matrix<Quad> forward_mode(const Case& c, const solver::SolveInputs<Quad>& in) {
   const solver::Solution<Quad>& solved = values.run(in, solver::Policy::original);
   const solver::SolverModel<D> model(c.chain, c.layout, c.options, 1e-16);
   const std::size_t n = model.dof(), nc = model.constraints(), base = model.base_coordinates();
-  const solver::DerivativeColumns columns{n, nc};
+  // A coupled joint has no column (D2): its q and q̇ follow its source's, whose tangent carries it.
+  const auto columns = solver::DerivativeColumns::of(n, model.set_directions(), model.couplings);
   const solver::SeededKinematics<Quad> seeds = solver::seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
   auto kin = solver::KinematicsState<D>::sized(n);
   solver::outward_sweep_base_to_tip(model, seeds.q, seeds.qd, kin, seeds.base_rotation);
@@ -73,7 +75,7 @@ Matrix<Quad> forward_mode(const Case& c, const solver::SolveInputs<Quad>& in) {
   };
   for (std::size_t e = 0; e < in.wrenches.size(); ++e) drivers.external_forces[e] = force(in.wrenches[e]);
   for (std::size_t k = 0; k < in.alpha.size(); ++k) drivers.constraint_directions[k] = force(in.alpha[k]);
-  auto held = solver::Solution<D>::sized(n, nc, c.layout.listed_sets());
+  auto held = solver::Solution<D>::sized(n, nc, c.layout.listed_sets(), 0, model.couplings.size());
   held.qdd = solved.qdd.template cast<D>();
   held.nu = solved.nu.template cast<D>();
   solver::accelerations_of_motion(model, kin, held);
@@ -85,14 +87,17 @@ Matrix<Quad> forward_mode(const Case& c, const solver::SolveInputs<Quad>& in) {
   const solver::JointVector<D> rho = held.tau_cmd - needed;
   Matrix<Quad> m(n + nc, 2 * n);
   const auto e = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
+  m.setZero();
   for (std::size_t x = 0; x < n; ++x) {
+    if (columns.is_coupled(x)) continue;  // (D8) folds its column into its source's
+    const std::size_t place = columns.independent(x);
     for (std::size_t j = 0; j < n; ++j) {
-      m(e(j), e(x)) = rho[e(j)].derivative(columns.q(x));
-      m(e(j), e(n + x)) = rho[e(j)].derivative(columns.qd(x));
+      m(e(j), e(x)) = rho[e(j)].derivative(columns.q(place));
+      m(e(j), e(n + x)) = rho[e(j)].derivative(columns.qd(place));
     }
     for (std::size_t k = 0; k < nc; ++k) {
-      m(e(n + k), e(x)) = r[e(k)].derivative(columns.q(x));
-      m(e(n + k), e(n + x)) = r[e(k)].derivative(columns.qd(x));
+      m(e(n + k), e(x)) = r[e(k)].derivative(columns.q(place));
+      m(e(n + k), e(n + x)) = r[e(k)].derivative(columns.qd(place));
     }
   }
   return m;
@@ -218,6 +223,9 @@ TEST(ResidualJacobians, QuadrupedStance) { check_scene("quadruped/quadruped_stan
 TEST(ResidualJacobians, LoopSets) { check_scene("four_bar/four_bar_loop.yaml", 20); }
 TEST(ResidualJacobians, LoopSetsBesideWorldSetsOnAFloatingBase) { check_scene("linkage_biped/linkage_biped_stance.yaml", 10); }
 TEST(ResidualJacobians, ThreeLoopsOnOnePlatform) { check_scene("delta/delta_loops.yaml", 10); }
+// Coupled <mimic> joints (M1): a coupled joint's columns folded into its source's, a mimic of a mimic
+// with an offset among them.
+TEST(ResidualJacobians, CoupledJoints) { check_scene("parallel_gripper/parallel_gripper_pinch.yaml", 10); }
 TEST(ResidualJacobians, RandomChains) { check_random(false, false); }
 TEST(ResidualJacobians, RandomTrees) { check_random(true, false); }
 TEST(ResidualJacobians, RandomFloatingTrees) { check_random(false, true); }
