@@ -6,4 +6,4 @@ target_include_directories(mobile_panda_grasp PUBLIC ${CMAKE_CURRENT_LIST_DIR})
 target_compile_features(mobile_panda_grasp PUBLIC cxx_std_17)
 # The identity of the set of files this snippet came with, which the source checks: files of two
 # `sweepgen generate` runs mixed in one directory do not build.
-target_compile_definitions(mobile_panda_grasp PRIVATE SWEEPGEN_OUTPUT_SET=0xbc8f8a8bed472bcfull)
+target_compile_definitions(mobile_panda_grasp PRIVATE SWEEPGEN_OUTPUT_SET=0xc71d0e58b4f8b3a9ull)

@@ -6,4 +6,4 @@ target_include_directories(panda_composed PUBLIC ${CMAKE_CURRENT_LIST_DIR})
 target_compile_features(panda_composed PUBLIC cxx_std_17)
 # The identity of the set of files this snippet came with, which the source checks: files of two
 # `sweepgen generate` runs mixed in one directory do not build.
-target_compile_definitions(panda_composed PRIVATE SWEEPGEN_OUTPUT_SET=0xa26b296626a3105aull)
+target_compile_definitions(panda_composed PRIVATE SWEEPGEN_OUTPUT_SET=0x39a4b2e99ff34777ull)

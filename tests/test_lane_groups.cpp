@@ -177,7 +177,12 @@ TEST(LaneGroups, ScalarFallbackAgreesBitForBit) {
   {
     std::ifstream source(vector_dir.path() / "lanes_fallback.cpp");
     const std::string text((std::istreambuf_iterator<char>(source)), std::istreambuf_iterator<char>());
-    ASSERT_NE(text.find("const Lanes2 "), std::string::npos) << "no lanes to compare";
+    ASSERT_NE(text.find("  Lanes2 lanes"), std::string::npos) << "no lanes to compare";
+    // A batch's group is LaneArray<Batch>, an aggregate: declared const, GCC's scalar replacement
+    // passes it over and, where dead-store elimination gives up in a long function, each stays in a
+    // stack slot of its own (Baxter's batch decompose: a 136 KiB frame, batch 1.29x the flat loop
+    // instead of 2.33x; bench/README.md, "Lane groups in batches").
+    EXPECT_EQ(text.find("const Lanes2 "), std::string::npos) << "a lane group declared const";
   }
   const std::filesystem::path compiler = scalar_dir.path() / "cxx-scalar-lanes";
   {

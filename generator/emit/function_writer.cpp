@@ -444,7 +444,10 @@ class Writer {
       }
       flush_loads();
       const std::string name = "lanes" + std::to_string(next_vector_++);
-      text_ << indent_ << "const Lanes" << LaneGroups::kWidth << " " << name << " = " << value << ";\n";
+      // Not const: in a batch a group is LaneArray<Batch>, an aggregate, and GCC's scalar replacement
+      // of aggregates passes over a const one that is assigned ("store to a read-only decl"): each
+      // then stays in memory, a stack slot of its own (bench/README.md, "Lane groups in batches").
+      text_ << indent_ << "Lanes" << LaneGroups::kWidth << " " << name << " = " << value << ";\n";
       if (recording_) declaring_.push_back({name, "Lanes" + std::to_string(LaneGroups::kWidth), std::vector<NodeId>(begin, end)});
       for (auto m = begin; m != end; ++m) {
         if (*m == kNoLane) continue;
