@@ -17,9 +17,11 @@
 #   Builds the extension module <name> (`import <name>`) of a scene's generated solver: with SCENE
 #   from a new sweepgen_add_solver(<name>_solver ...) library, with SOLVER from an existing one.
 #   The library is made position-independent and linked into the module, so the generated source is
-#   compiled once for C++ and Python alike. The binding is one source for all scenes
-#   (python/module.cpp); the scene's namespace, scalars and flat layout are read from the generated
-#   header at build time into <binary dir>/sweepgen_python/<name>/sweepgen_module_scene.hpp.
+#   compiled once for C++ and Python alike. The binding is one library for all modules of a build
+#   (python/binding.cpp, target sweepgen_python_binding), each module's own source one for all
+#   scenes (python/module.cpp), which describes the scene to it; the scene's namespace, scalars and
+#   flat layout are read from the generated header at build time into
+#   <binary dir>/sweepgen_python/<name>/sweepgen_module_scene.hpp.
 #   The module lands in the target's LIBRARY_OUTPUT_DIRECTORY (set it to collect several).
 
 # The first of `python3` on PATH and /usr/bin/python3 that imports NumPy (or ""), and in
@@ -139,17 +141,27 @@ function(sweepgen_add_python_module name)
     COMMENT "sweepgen: reading the scene of Python module ${name} from ${solver}.hpp"
     VERBATIM)
 
+  # The binding (python/binding.cpp: pybind11's templates, ~10 s of g++) is compiled once per build
+  # and linked into every module; a module's own source only describes its scene.
+  if(NOT TARGET sweepgen_python_binding)
+    add_library(sweepgen_python_binding STATIC "${python_dir}/binding.cpp" "${python_dir}/module_api.hpp")
+    target_include_directories(sweepgen_python_binding PUBLIC "${python_dir}")
+    target_link_libraries(sweepgen_python_binding PRIVATE pybind11::module)
+    set_target_properties(sweepgen_python_binding PROPERTIES POSITION_INDEPENDENT_CODE ON CXX_VISIBILITY_PRESET hidden
+                                                             VISIBILITY_INLINES_HIDDEN ON)
+    target_compile_features(sweepgen_python_binding PRIVATE cxx_std_17)
+    # -O1 where the build optimises: the binding checks arguments and copies rows, and the solver
+    # it calls is the generated library, compiled as that library is (bench/README.md, "Python":
+    # the same per-call overhead as at -O2).
+    target_compile_options(sweepgen_python_binding PRIVATE $<$<CONFIG:Release,RelWithDebInfo,MinSizeRel>:-O1>)
+  endif()
   # NO_EXTRAS: without pybind11's link-time optimisation (the generated library is compiled
   # without it; LTO took as long, 6.9 s against 6.5 s per module here, for no measured gain).
   pybind11_add_module(${name} MODULE NO_EXTRAS "${source}" "${scene_dir}/sweepgen_module_scene.hpp")
   target_include_directories(${name} PRIVATE "${scene_dir}")
   target_compile_definitions(${name} PRIVATE SWEEPGEN_MODULE_NAME=${name})
   target_compile_features(${name} PRIVATE cxx_std_17)
-  # The binding layer at -O1 where the build optimises: it checks arguments and copies rows, and the
-  # solver it calls is the generated library, compiled as that library is (bench/README.md, "Python":
-  # g++ -O1 cuts the module's compile by a quarter at the same per-call overhead).
-  target_compile_options(${name} PRIVATE $<$<CONFIG:Release,RelWithDebInfo,MinSizeRel>:-O1>)
-  target_link_libraries(${name} PRIVATE ${solver})
+  target_link_libraries(${name} PRIVATE sweepgen_python_binding ${solver})
 endfunction()
 
 # Script mode (the custom command above): reads the generated header SWEEPGEN_SCENE_HEADER and
