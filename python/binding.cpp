@@ -156,25 +156,29 @@ class Results {
         saturated_(array_of<bool>(batch, v.saturated.width)),
         dropped_pivots_(batch.rows),
         locked_joints_(batch.rows),
-        status_(batch.rows) {
+        status_(batch.rows),
+        members_{v.qdd, v.tau_cmd, v.tau_ctrl, v.nu, v.tip_acceleration, v.set_acceleration, v.closure_error,
+                 v.coupling_torque},
+        saturated_to_(saturated_.mutable_data()),
+        dropped_pivots_to_(dropped_pivots_.mutable_data()),
+        locked_joints_to_(locked_joints_.mutable_data()),
+        status_to_(status_.mutable_data()) {
     for (std::size_t a = 0; a < kArrays; ++a) to_[a] = arrays_[a].mutable_data();
   }
 
-  // Row k from a Solution's bytes.
+  // Row k from a Solution's bytes (without the GIL: raw pointers only).
   void write(py::ssize_t k, const unsigned char* solution) {
-    const Member* members[kArrays] = {&v_.qdd, &v_.tau_cmd, &v_.tau_ctrl, &v_.nu, &v_.tip_acceleration,
-                                      &v_.set_acceleration, &v_.closure_error, &v_.coupling_torque};
     for (std::size_t a = 0; a < kArrays; ++a)
-      if (const int width = members[a]->width; width > 0)
-        std::memcpy(to_[a] + k * width, solution + members[a]->offset, sizeof(Scalar) * static_cast<std::size_t>(width));
-    std::memcpy(saturated_.mutable_data() + k * v_.saturated.width, solution + v_.saturated.offset,
+      if (const int width = members_[a].width; width > 0)
+        std::memcpy(to_[a] + k * width, solution + members_[a].offset, sizeof(Scalar) * static_cast<std::size_t>(width));
+    std::memcpy(saturated_to_ + k * v_.saturated.width, solution + v_.saturated.offset,
                 sizeof(bool) * static_cast<std::size_t>(v_.saturated.width));
-    std::memcpy(dropped_pivots_.mutable_data() + k, solution + v_.dropped_pivots, sizeof(std::int32_t));
-    std::memcpy(locked_joints_.mutable_data() + k, solution + v_.locked_joints, sizeof(std::int32_t));
-    std::memcpy(status_.mutable_data() + k, solution + v_.status, sizeof(std::uint32_t));
+    std::memcpy(dropped_pivots_to_ + k, solution + v_.dropped_pivots, sizeof(std::int32_t));
+    std::memcpy(locked_joints_to_ + k, solution + v_.locked_joints, sizeof(std::int32_t));
+    std::memcpy(status_to_ + k, solution + v_.status, sizeof(std::uint32_t));
   }
 
-  unsigned status(py::ssize_t k) const { return status_.at(k); }
+  unsigned status(py::ssize_t k) const { return status_to_[k]; }
 
   // {qdd, tau_cmd, tau_ctrl, nu, tip_acceleration, (set_acceleration,) (closure_error,) (coupling_torque,) saturated, dropped_pivots,
   // locked_joints, status}: (K, ...) arrays when batched, else 1-D arrays and Python ints.
@@ -208,6 +212,10 @@ class Results {
   py::array_t<bool> saturated_;
   py::array_t<std::int32_t> dropped_pivots_, locked_joints_;
   py::array_t<std::uint32_t> status_;
+  Member members_[kArrays];  // where each of arrays_' values lies in a Solution
+  bool* saturated_to_;
+  std::int32_t *dropped_pivots_to_, *locked_joints_to_;
+  std::uint32_t* status_to_;
 };
 
 // Bytes for `count` of a generated struct of `size` bytes (State, Solution, Derivatives): rows of
