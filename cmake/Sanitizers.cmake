@@ -11,5 +11,6 @@ endif()
 # The suite's references (the oracles, the reference solver in long double and over the dual
 # scalar), the report and its measurement code: instrumented too unless this is OFF, as the
 # sanitize-ci preset sets it (generator/CMakeLists.txt). Under the sanitizers they took about 230
-# of that stage's 620 job-seconds, for code that checks the generator rather than being it.
+# of that stage's 620 job-seconds, for code that checks the generator rather than being it; OFF,
+# sanitize-ci links the release build's instead of compiling them again (cmake/References.cmake).
 option(SWEEPGEN_SANITIZE_ORACLES "With SWEEPGEN_SANITIZE: instrument the oracles, the report and its measurement code too" ON)
