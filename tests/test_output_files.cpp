@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "support/run_command.hpp"
+#include "support/state_count.hpp"
 #include "support/temp_dir.hpp"
 
 namespace sweepgen {
@@ -283,7 +284,8 @@ void expect_builds_only_unmixed(const fs::path& dir, const Origins& origins) {
 }
 
 // Two runs A and B (the same solver and file stem, URDFs differing only in one mass, so that a
-// mixed set would otherwise compile) into one --out, 100 times at once: every file is whole, one
+// mixed set would otherwise compile) into one --out, 100 times at once (10 in the sanitizer build,
+// support/state_count.hpp: there 37 s with 100, 8.6 s with 10): every file is whole, one
 // run's or the other's, and each way of building the set succeeds exactly when the files it reads
 // come from one run. Mixed sets
 // are also assembled on purpose, since concurrent runs rarely interleave their renames; each
@@ -319,7 +321,7 @@ TEST(OutputFiles, ASetMixedFromTwoRunsDoesNotBuild) {
   for (const char* origins : {"AAAA", "BAAA", "ABAA", "AABA", "AAAB"}) check(origins);
 
   const std::string pair = test::shell_command(args(urdf_a)) + " & " + test::shell_command(args(urdf_b)) + " & wait";
-  for (int k = 0; k < 100; ++k) {
+  for (int k = 0; k < test::state_count(100); ++k) {
     const CommandResult r = test::run_command(pair);
     ASSERT_EQ(r.exit_code, 0) << describe(r);
     Origins origins;

@@ -1,7 +1,7 @@
-// How many random states a statistical test draws. The sanitizer build (SWEEPGEN_SANITIZE, the
-// second pass of .ci/run) draws a tenth: its job is to run every code path under AddressSanitizer
-// and UndefinedBehaviorSanitizer, which a tenth of the states still does, at several times the
-// cost per state. The release build draws them all.
+// How many random states a statistical test draws (or how many times a test repeats a race). The
+// sanitizer build (SWEEPGEN_SANITIZE, the second pass of .ci/run) takes a tenth: its job is to run
+// every code path under AddressSanitizer and UndefinedBehaviorSanitizer, which a tenth of the
+// states still does, at several times the cost per state. The release build takes them all.
 #pragma once
 
 namespace sweepgen::test {
