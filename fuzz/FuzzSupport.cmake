@@ -3,8 +3,6 @@
 # and their seed inputs, so that both run the same code on the same seeds.
 
 if(NOT TARGET sweepgen_fuzz_entries)
-  # The solve-line reader (cli/json_problem.cpp) is part of the sweepgen executable, not of
-  # sweepgen_core, so it is compiled in here.
   # The bundled URDFs are compiled in (fuzz_entries.hpp: bundled_urdfs), so that a fuzzer runs
   # wherever its build is moved or mounted.
   file(GLOB bundled_urdfs CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.urdf)
@@ -17,10 +15,10 @@ if(NOT TARGET sweepgen_fuzz_entries)
     COMMENT "Embedding robots/*/*.urdf for the fuzzers")
   add_library(sweepgen_fuzz_entries STATIC
     ${PROJECT_SOURCE_DIR}/fuzz/fuzz_entries.cpp
-    ${CMAKE_CURRENT_BINARY_DIR}/embedded_robots.cpp
-    ${PROJECT_SOURCE_DIR}/generator/cli/json_problem.cpp)
+    ${CMAKE_CURRENT_BINARY_DIR}/embedded_robots.cpp)
   target_include_directories(sweepgen_fuzz_entries PUBLIC ${PROJECT_SOURCE_DIR}/fuzz)
-  target_link_libraries(sweepgen_fuzz_entries PUBLIC sweepgen_core nlohmann_json::nlohmann_json)
+  # The solve-line reader is the sweepgen program's (generator/CMakeLists.txt).
+  target_link_libraries(sweepgen_fuzz_entries PUBLIC sweepgen_core sweepgen_solve_line nlohmann_json::nlohmann_json)
   target_compile_options(sweepgen_fuzz_entries PRIVATE -Wall -Wextra -Wpedantic)
   if(SWEEPGEN_FUZZ)
     target_compile_options(sweepgen_fuzz_entries PRIVATE -fsanitize=fuzzer-no-link)  # coverage feedback
