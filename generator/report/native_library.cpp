@@ -114,6 +114,7 @@ std::vector<std::string> compile_command(const std::string& compiler, const std:
   else
     argv.push_back("-O2");
   argv.insert(argv.end(), {"-shared", "-fPIC", "-I" + include_dir});
+  argv.push_back("-DSWEEPGEN_BATCH_STATE_BY_STATE");  // templates/lanes.mustache
   argv.insert(argv.end(), sources.begin(), sources.end());
   argv.push_back("-o");
   argv.push_back(output);

@@ -47,8 +47,10 @@ bool cpu_supports(Isa isa);
 // functions: 4.2 s against 110 s at -O2).
 enum class Optimisation { deployed, checked };
 
-// The compile command for `sources` into the shared library `output`. Throws std::invalid_argument
-// for `checked` code for v3, whose contractions differ by -O.
+// The compile command for `sources` into the shared library `output`, whose callers call only the
+// flat solves: the batch entry points state by state (SWEEPGEN_BATCH_STATE_BY_STATE), so that the
+// batch lanes are not compiled. Throws std::invalid_argument for `checked` code for v3, whose
+// contractions differ by -O.
 std::vector<std::string> compile_command(const std::string& compiler, const std::vector<std::string>& sources,
                                          const std::string& include_dir, const std::string& output, Isa isa,
                                          Optimisation optimisation = Optimisation::deployed);
