@@ -25,7 +25,7 @@
     static constexpr const auto& batch_solves = ns::batch_solves;                 \
     static constexpr int flat_in_size = ns::flat_in_size;                         \
     static constexpr int flat_out_size = ns::flat_out_size;                       \
-    static constexpr bool outward_rows = ns::outward_constraint_rows;             \
+    [[maybe_unused]] static constexpr bool outward_rows = ns::outward_constraint_rows; \
     static void outward(const Scalar* q, const Scalar* qd, State& s) { ns::outward(q, qd, s); } \
     static void decompose(const Scalar* drivers_in, State& s) { ns::decompose(ns::drivers_from_flat(drivers_in), s); } \
   }
