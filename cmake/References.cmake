@@ -27,16 +27,16 @@ if(SWEEPGEN_REFERENCES_FROM)
   endif()
   # Public usage requirements of an imported target are INTERFACE ones.
   set(SWEEPGEN_REFERENCE_USAGE INTERFACE)
-  set(references_programs_dir ${SWEEPGEN_REFERENCES_FROM}/generator)
+  # Where that build makes them (generator/), and the libraries among them.
+  set(references_dir ${SWEEPGEN_REFERENCES_FROM}/generator)
+  set(reference_libraries sweepgen_oracle sweepgen_test_oracle sweepgen_test_solvers sweepgen_measure)
+  list(TRANSFORM reference_libraries PREPEND ${references_dir}/lib OUTPUT_VARIABLE reference_archives)
+  list(TRANSFORM reference_archives APPEND .a)
   add_custom_target(sweepgen_references_from_release
-    COMMAND ${CMAKE_COMMAND} --build ${SWEEPGEN_REFERENCES_FROM} --target
-            sweepgen_oracle sweepgen_test_oracle sweepgen_test_solvers sweepgen_measure sweepgen-report
+    COMMAND ${CMAKE_COMMAND} --build ${SWEEPGEN_REFERENCES_FROM} --target ${reference_libraries} sweepgen-report
     # `sweepgen report` runs the sweepgen-report beside it (cli/report_program.hpp).
-    COMMAND ${CMAKE_COMMAND} -E copy_if_different ${references_programs_dir}/sweepgen-report
-            ${CMAKE_CURRENT_BINARY_DIR}/sweepgen-report
-    BYPRODUCTS ${references_programs_dir}/libsweepgen_oracle.a ${references_programs_dir}/libsweepgen_test_oracle.a
-               ${references_programs_dir}/libsweepgen_test_solvers.a ${references_programs_dir}/libsweepgen_measure.a
-               ${CMAKE_CURRENT_BINARY_DIR}/sweepgen-report
+    COMMAND ${CMAKE_COMMAND} -E copy_if_different ${references_dir}/sweepgen-report ${CMAKE_CURRENT_BINARY_DIR}/sweepgen-report
+    BYPRODUCTS ${reference_archives} ${CMAKE_CURRENT_BINARY_DIR}/sweepgen-report
     COMMENT "The references from the release build ${SWEEPGEN_REFERENCES_FROM}"
     USES_TERMINAL)
 else()
@@ -50,7 +50,7 @@ endif()
 function(sweepgen_reference name kind)
   if(SWEEPGEN_REFERENCES_FROM AND kind STREQUAL "LIBRARY")
     add_library(${name} STATIC IMPORTED GLOBAL)
-    set_target_properties(${name} PROPERTIES IMPORTED_LOCATION ${SWEEPGEN_REFERENCES_FROM}/generator/lib${name}.a)
+    set_target_properties(${name} PROPERTIES IMPORTED_LOCATION ${references_dir}/lib${name}.a)
     add_dependencies(${name} sweepgen_references_from_release)
   elseif(SWEEPGEN_REFERENCES_FROM)
     add_executable(${name} IMPORTED GLOBAL)
