@@ -2,7 +2,8 @@
 # The batch entry point against the flat loop on any scene, a user's robot included, built as a
 # default build builds it (bench/README.md, "The default build"):
 #
-#   bash bench/batch_scene.sh [SCENE.yaml]      (default: robots/quadruped/quadruped_stance.yaml)
+#   bash bench/batch_scene.sh [SCENE.yaml] [STATES]   (default: robots/quadruped/quadruped_stance.yaml,
+#                                                     16 384 states a batch call)
 #
 # Compiles the scene's generated solver per object with bench/compile_time.sh (the baseline, which
 # hands each batch call to the widest ISA object the CPU runs, and one object per ISA of ISAS,
@@ -30,4 +31,4 @@ for isa in $ISAS; do objects+=("$work/${isa#x86-64-}.o"); done
 # shellcheck disable=SC2086
 "$cxx" $flags -std=c++17 -DSWEEPGEN_SCENE="$namespace" -I"$work" "$here/support/batch_scene_driver.cpp" "${objects[@]}" \
   -o "$work/driver"
-"$work/driver"
+"$work/driver" "${2:-16384}"

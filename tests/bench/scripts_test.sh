@@ -37,12 +37,12 @@ echo "$out"
 awk '$1 == "baseline" { found = 1; if (!($2 > 0) || NF < 5) exit 1 } END { exit !found }' <<<"$out" ||
   fail "compile_time: no baseline object line with a CPU time and a function"
 
-# batch_scene: the flat loop and the batch entry point of a default build's objects, each with a
-# positive time per state.
-out=$(SWEEPGEN=$sweepgen bash "$root/bench/batch_scene.sh" "$root/robots/planar/planar_nc2.yaml")
+# batch_scene: the flat loop and the batch entry point of a default build's objects on the states
+# asked for, each with a positive time per state.
+out=$(SWEEPGEN=$sweepgen bash "$root/bench/batch_scene.sh" "$root/robots/planar/planar_nc2.yaml" 1001)
 echo "$out"
-tail -1 <<<"$out" | grep -qE '^[a-z_]+: [0-9]+ states a vector, flat [0-9.]+ ns, batch [0-9.]+ ns a state, flat / batch [0-9.]+$' ||
-  fail "batch_scene: no line with the flat and the batch time"
-tail -1 <<<"$out" | awk '{ if (!($7 > 0) || !($10 > 0)) exit 1 }' || fail "batch_scene: a time is not positive"
+tail -1 <<<"$out" | grep -qE '^[a-z_]+: 1001 states, [0-9]+ a vector, flat [0-9.]+ ns, batch [0-9.]+ ns a state, flat / batch [0-9.]+$' ||
+  fail "batch_scene: no line with the states asked for, the flat and the batch time"
+tail -1 <<<"$out" | awk '{ if (!($8 > 0) || !($11 > 0)) exit 1 }' || fail "batch_scene: a time is not positive"
 
 echo "bench scripts test: ok"
