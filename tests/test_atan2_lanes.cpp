@@ -6,36 +6,22 @@
 // same bits in a scalar call and a batch's lanes; float through double, rounded once.
 #include <gtest/gtest.h>
 
-#include <quadmath.h>
-
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
 #include <cstring>
 #include <iostream>
 #include <random>
-#include <type_traits>
 #include <vector>
 
+#include "support/lanes_runtime.hpp"
 #include "support/state_count.hpp"
-
-namespace sweepgen::generated_lanes {
-#include "../templates/lanes.mustache"
-}  // namespace sweepgen::generated_lanes
 
 namespace sweepgen {
 namespace {
 namespace SWEEPGEN_TEST_FILE {
 
 using namespace generated_lanes;
-
-// |got - exact| in units of the last place of the exact value rounded to T (the gap above it).
-template <class T>
-double ulps(T got, __float128 exact) {
-  const T rounded = static_cast<T>(exact);
-  const T gap = std::nextafter(std::fabs(rounded), std::numeric_limits<T>::infinity()) - std::fabs(rounded);
-  return static_cast<double>(fabsq(static_cast<__float128>(got) - exact) / gap);
-}
+using test::ulps;
 
 // The requirement on generated code's atan2 (it replaces the C library's in the closure errors):
 // at most 1 ulp from the exact value: the last rounding's half, P's 0.05 from atan and the
@@ -46,7 +32,7 @@ constexpr double kMaxUlps = 1.0;
 struct Worst {
   double ulps = 0, y = 0, x = 0;
   void add(double y_value, double x_value, double got) {
-    const double e = SWEEPGEN_TEST_FILE::ulps(got, atan2q(y_value, x_value));
+    const double e = test::ulps(got, atan2q(y_value, x_value));
     if (e > ulps) ulps = e, y = y_value, x = x_value;
   }
 };

@@ -6,34 +6,20 @@
 // batch's; float through double, rounded once.
 #include <gtest/gtest.h>
 
-#include <quadmath.h>
-
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
 #include <cstring>
 #include <random>
-#include <type_traits>
 
+#include "support/lanes_runtime.hpp"
 #include "support/state_count.hpp"
-
-namespace sweepgen::generated_lanes {
-#include "../templates/lanes.mustache"
-}  // namespace sweepgen::generated_lanes
 
 namespace sweepgen {
 namespace {
 namespace SWEEPGEN_TEST_FILE {
 
 using namespace generated_lanes;
-
-// |got - exact| in units of the last place of the exact value rounded to T (the gap above it).
-template <class T>
-double ulps(T got, __float128 exact) {
-  const T rounded = static_cast<T>(exact);
-  const T gap = std::nextafter(std::fabs(rounded), std::numeric_limits<T>::infinity()) - std::fabs(rounded);
-  return static_cast<double>(fabsq(static_cast<__float128>(got) - exact) / gap);
-}
+using test::ulps;
 
 // The worst error over values x, the angles taken seven at a time (a 7-joint arm's sincos_each).
 struct Worst {
