@@ -228,6 +228,29 @@ TEST(Report, PlanarSceneEndToEnd) {
   EXPECT_EQ(line.find("generated double original:"), std::string::npos) << line;
 }
 
+// A scene that returns fewer results than the report judges (the lean peer-comparison scenes:
+// `outputs: [qdd]`, no input checks): the report compiles every result (report_scene), so the
+// generated rows must be read in that layout, not the scene's own. Read in the scene's, each
+// state's q̈ came from the wrong offset, and the solve wrote past the report's buffer.
+TEST(Report, ASceneWithFewerOutputsIsReadInTheLayoutItWasCompiledWith) {
+  TempDir dir;
+  const std::filesystem::path out = dir.path() / "report";
+  const test::CommandResult result = run_command(
+      shell_command({SWEEPGEN_EXECUTABLE, "report", "--scene", std::string(SWEEPGEN_SOURCE_DIR) + "/robots/iiwa14/iiwa14_lean_nc0.yaml",
+                     "--quick", "--states", "8", "--repetitions", "1", "--seed", "3", "--out", out.string()}));
+  ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
+  std::map<std::string, double> err_max;
+  for (const CsvRow& row : read_csv(out / "report.csv"))
+    if (row.at("family") == "all" && row.at("note").empty() && !row.at("err_max").empty())
+      err_max[row.at("variant")] = number(row.at("err_max"));
+  ASSERT_EQ(err_max.count("generated double original"), 1u);
+  ASSERT_EQ(err_max.count("reference double"), 1u);
+  // The generated solve and the reference run the same equations in double: within a few times
+  // each other's rounding (the referee's error of each, relative, is ~1e-13 on these states); a
+  // q̈ read from another state's row is off by O(1).
+  EXPECT_LE(err_max["generated double original"], 100 * err_max["reference double"] + 1e-12);
+}
+
 // The summary table of report.md gives the reason for a large err_max or max_residual in the row
 // itself: such a number (above √ε of the row's scalar, where study_reasons starts to speak) carries
 // a marker [k], and note k stands right under the table, before the per-family tables.

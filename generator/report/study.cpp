@@ -244,7 +244,8 @@ SceneStudy study_scene(const scene::Scene& s, const model::Chain& chain, const S
   study.dof = chain.dof();
   study.constraints = s.layout.constraints;
   const std::size_t nc = study.constraints;
-  const solver::FlatLayout flat = s.flat_layout(chain);
+  // The layout of what is compiled (report_scene: every result), not of the scene's own outputs.
+  const solver::FlatLayout flat = report_scene(s).flat_layout(chain);
 
   say("states");
   const std::vector<LabelledProblem> states = study_states(s, chain, options, study.singular_note);
