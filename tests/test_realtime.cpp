@@ -475,17 +475,17 @@ TEST(GeneratedSources, TheRuntimeIsTheTemplatesAndBoundsItsLoops) {
   // Its loops run over the lanes of a vector (width, a compile-time constant of its type; by
   // chunks of a vector's width over n values), over the n angles of sincos_each or the in_size and
   // out_size values of a flat row (template arguments), or, in the batch entry points alone, over
-  // the groups of a tile and its states by lines (constants of the vector type) and the states
-  // given (rows by tiles of a constant size, and a group's count): a batch call takes time linear
-  // in its states, each state's solve is bounded like the scalar one (own_lines checks that every
-  // source holds this text verbatim). No loop body writes its counter but the `+=` of its header.
+  // the groups of a tile (a constant of the vector type) and the states given (rows by tiles of a
+  // constant size, and a group's count): a batch call takes time linear in its states, each
+  // state's solve is bounded like the scalar one (own_lines checks that every source holds this
+  // text verbatim). No loop body writes its counter but the `+=` of its header.
   // The only string literals: the CPU features batch_isa() asks __builtin_cpu_supports for (its
   // argument must be one), blanked before the checks below.
   static const std::regex cpu_feature(R"re(__builtin_cpu_supports\("[a-z0-9]+"\))re");
   const auto lines = code_lines_of(std::regex_replace(runtime_text(), cpu_feature, "__builtin_cpu_supports()"), true);
   static const std::regex any_for(R"(\bfor\b)");
   static const std::regex loop(
-      R"(^ *(?:else )?for \((?:int|std::ptrdiff_t) (\w+) = (?:0|1|first); (\w+) < (width|groups|tile|n|in_size|out_size|count|Lanes<\w+>::width|rows|first \+ count)(?: && first \+ \w+ < n)?; (?:\+\+(\w+)|(\w+) \+= (?:width|tile|line))\))");
+      R"(^ *(?:else )?for \((?:int|std::ptrdiff_t) (\w+) = (?:0|1|first); (\w+) < (width|groups|n|in_size|out_size|count|Lanes<\w+>::width|rows|first \+ count)(?: && first \+ \w+ < n)?; (?:\+\+(\w+)|(\w+) \+= (?:width|tile))\))");
   long loops = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (!std::regex_search(lines[i], any_for)) continue;
