@@ -3,7 +3,8 @@
 // (libquadmath): within 1 ulp at random points of every octant over magnitudes from 2^-1000 to
 // 2^1000, next to the octants' edges (|y| = |x|, |y| = tan(pi/8) |x|, the axes), for ratios from
 // the subnormals up and at the largest doubles; the C library's for two zeros, Inf and NaN; the
-// same bits in a scalar call and a batch's lanes; float through double, rounded once.
+// same bits in a scalar call and a batch's lanes; float through double, rounded once. And the
+// square root of a batch's lanes (sqrt_lanes, the lanes' ISA's instruction): the C library's bits.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -133,6 +134,39 @@ TEST(Atan2Lanes, FloatIsTheDoubleRoundedOnce) {
   std::cout << "float: worst " << worst << " ulp\n";
   EXPECT_LE(worst, 0.5 + kMaxUlps * std::ldexp(1.0, -29));
 }
+
+#if defined(SWEEPGEN_BATCH_BYTES)
+// Every lane of sqrt_of(Batch) holds the bits of the C library's root of that lane (what a flat
+// call computes): zeros of both signs, subnormals, random magnitudes over the whole range, the
+// largest values, Inf, and the NaN of a negative value, of -Inf and of a NaN.
+template <class T, class B>
+void expect_lanes_as_the_c_library(std::mt19937_64& rng) {
+  constexpr int width = Lanes<B>::width;
+  const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
+  std::vector<T> values{T(0), -T(0), std::numeric_limits<T>::denorm_min(), std::numeric_limits<T>::min(),
+                        std::numeric_limits<T>::max(), T(1), T(2), T(4), inf, -inf, nan, -nan, T(-1),
+                        -std::numeric_limits<T>::denorm_min()};
+  std::uniform_real_distribution<T> mantissa(T(1), T(2));
+  std::uniform_int_distribution<int> exponent(std::numeric_limits<T>::min_exponent - std::numeric_limits<T>::digits,
+                                              std::numeric_limits<T>::max_exponent - 1);
+  for (int draw = 0; draw < test::state_count(20000); ++draw) values.push_back(std::ldexp(mantissa(rng), exponent(rng)));
+  for (std::size_t first = 0; first < values.size(); first += width) {
+    B x{};
+    for (int l = 0; l < width; ++l) x[l] = values[(first + l) % values.size()];
+    const B root = sqrt_of(x);
+    for (int l = 0; l < width; ++l) {
+      const T lane = root[l], scalar = std::sqrt(x[l]);
+      ASSERT_EQ(std::memcmp(&lane, &scalar, sizeof lane), 0) << "x = " << x[l] << ": " << lane << " against " << scalar;
+    }
+  }
+}
+
+TEST(SqrtLanes, EveryLaneTheCLibrarysBits) {
+  std::mt19937_64 rng(11);
+  expect_lanes_as_the_c_library<double, BatchF64>(rng);
+  expect_lanes_as_the_c_library<float, BatchF32>(rng);
+}
+#endif
 
 }  // namespace SWEEPGEN_TEST_FILE
 }  // namespace

@@ -33,7 +33,7 @@ std::string derivative_flat_out(const solver::DerivativeColumns& columns, const 
 std::string pack_derivatives(const solver::DerivativeColumns& columns, const solver::DerivativeOutputs& outputs) {
   std::string text = "  S* cursor_out = out;\n";
   for (const auto& [name, size] : derivative_arrays(columns, outputs))
-    text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) *cursor_out++ = derivatives." + name + "[i];\n";
+    text += "  SWEEPGEN_UNROLLED for (int i = 0; i < " + std::to_string(size) + "; ++i) *cursor_out++ = derivatives." + name + "[i];\n";
   return text + "  *cursor_out = Lanes<S>::value(derivatives.status);";
 }
 
@@ -52,7 +52,7 @@ std::string derivatives_line(const solver::DerivativeOutputs& outputs, std::size
 std::string check_derivatives(const solver::DerivativeColumns& columns, const solver::DerivativeOutputs& outputs) {
   std::string text = "  S residue{};  // NaN/Inf among the results (scene: check_inputs; see outward())\n";
   for (const auto& [name, size] : derivative_arrays(columns, outputs))
-    text += "  for (int i = 0; i < " + std::to_string(size) + "; ++i) residue += out." + name + "[i] - out." + name +
+    text += "  SWEEPGEN_UNROLLED for (int i = 0; i < " + std::to_string(size) + "; ++i) residue += out." + name + "[i] - out." + name +
             "[i];\n";
   return text + "  status |= Lanes<S>::status_if(residue != 0, status_not_finite);";
 }

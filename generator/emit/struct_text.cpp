@@ -73,6 +73,16 @@ std::vector<SolutionArray> solution_arrays(const solver::SolveOutputs& outputs, 
   return arrays;
 }
 
+// Loop headers whose body moves or checks one value, each marked to be unrolled (SWEEPGEN_UNROLLED,
+// templates/lanes.mustache: a Batch's values then stay in registers).
+std::string unrolled(const std::string& loops) {
+  std::string text;
+  std::size_t from = 0;
+  for (std::size_t at = loops.find("for ("); at != std::string::npos; from = at, at = loops.find("for (", at + 1))
+    text += loops.substr(from, at - from) + "SWEEPGEN_UNROLLED ";
+  return text + loops.substr(from);
+}
+
 }  // namespace
 
 std::string array_members(const symbolic::Trace& trace, const std::vector<std::size_t>& fields, std::size_t bodies,
@@ -136,7 +146,7 @@ std::string unpack_drivers(const symbolic::TraceRequest& request) {
 std::string check_drivers(const symbolic::TraceRequest& request) {
   std::string text = "  S residue{};  // NaN/Inf among the drivers (scene: check_inputs; see outward())\n";
   for (const auto& a : driver_arrays(request))
-    text += "  " + a.loops + " residue += drivers." + a.element + " - drivers." + a.element + ";\n";
+    text += "  " + unrolled(a.loops) + " residue += drivers." + a.element + " - drivers." + a.element + ";\n";
   return text + "  state.drivers_input_status = Lanes<S>::status_if(residue != 0, status_not_finite);";
 }
 
@@ -161,7 +171,7 @@ std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, s
                           std::size_t couplings) {
   std::string text = "  S* cursor_out = out;\n";
   for (const SolutionArray& a : solution_arrays(outputs, sets, loops, couplings))
-    if (nc > 0 || a.name != "nu") text += "  " + a.loop + " *cursor_out++ = solution." + a.element + ";\n";
+    if (nc > 0 || a.name != "nu") text += "  " + unrolled(a.loop) + " *cursor_out++ = solution." + a.element + ";\n";
   text += "  *cursor_out = Lanes<S>::value(solution.status);";
   return text;
 }
@@ -169,9 +179,9 @@ std::string pack_solution(const solver::SolveOutputs& outputs, std::size_t nc, s
 std::string check_solution(const solver::SolveOutputs& outputs, std::size_t nc, std::size_t sets, std::size_t loops,
                            std::size_t couplings) {
   std::string text = "  S residue{};  // NaN/Inf among beta and the results (scene: check_inputs; see outward())\n";
-  if (nc > 0) text += "  for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
+  if (nc > 0) text += "  SWEEPGEN_UNROLLED for (int k = 0; k < constraints; ++k) residue += beta[k] - beta[k];\n";
   for (const SolutionArray& a : solution_arrays(outputs, sets, loops, couplings))
-    if (nc > 0 || a.name != "nu") text += "  " + a.loop + " residue += out." + a.element + " - out." + a.element + ";\n";
+    if (nc > 0 || a.name != "nu") text += "  " + unrolled(a.loop) + " residue += out." + a.element + " - out." + a.element + ";\n";
   text.pop_back();  // the template ends the line
   return text;
 }
