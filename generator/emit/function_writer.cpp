@@ -589,10 +589,9 @@ class Writer {
     worst_extra_ += cost[cost[1].total() > cost[0].total() ? 1 : 0];
   }
 
-  // The body of a path block's other arm as a lambda that is not inlined (SWEEPGEN_COLD, templates/
-  // lanes.mustache: noinline and cold where the compiler has them), called where the arm was: the
-  // compiler optimises it apart from the function around it, whose cost grows faster than its
-  // size. It copies the values it reads (only when it runs), takes the function's reference
+  // The body of a path block's other arm as a lambda the compiler optimises for size
+  // (SWEEPGEN_COLD, templates/lanes.mustache: cold where the compiler has it), called where the arm
+  // was. It copies the values it reads (only when it runs), takes the function's reference
   // parameters it uses by reference, and returns `outputs` (the block's results and the values it
   // hands on to later blocks), which it declares itself.
   void cold_path(const std::string& path, const std::string& body, const std::vector<NodeId>& outputs) {
