@@ -40,7 +40,7 @@ echo "scene: $scene ($(grep -c '' "$tmp/solver.cpp") lines of generated source)"
 grep -m1 -F '//   f64: outward + decompose + solve_' "$tmp/solver.hpp" | sed 's|^//  *|operations: |' || true
 fused=$(grep -m1 -o '[0-9]* operations in this file, at most [0-9]* fused' "$tmp/solver.cpp" || true)
 echo "solve_<policy>_flat: ${fused:+fused (}${fused:-not fused: calls outward, decompose and the solve}${fused:+)}"
-echo "parts (noinline lambdas) of long functions: $(grep -c 'SWEEPGEN_PART {' "$tmp/solver.cpp" || true); cold paths of (C4): $(grep -c 'SWEEPGEN_COLD {' "$tmp/solver.cpp" || true)"
+echo "parts (noinline lambdas) of long functions: $(grep -c 'SWEEPGEN_PART {' "$tmp/solver.cpp" || true); pivoted paths of (C4): $(grep -c 'pivoted = \[' "$tmp/solver.cpp" || true)"
 
 # The defines a default build gives the baseline object: the ISA objects it dispatches to.
 dispatch=()

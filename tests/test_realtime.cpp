@@ -539,8 +539,8 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   //     } else {
   //       if (Lanes<S>::any(path_N)) return false;   (lanes on both paths: never for a scalar;
   //                                                   in a part `return Part_M{};`, its ok false)
-  //       straight-line code, or the pivoted path as a cold lambda called there:
-  //       struct Pivoted_M { ... };  const Pivoted_M pivoted = [...]() SWEEPGEN_COLD {
+  //       straight-line code, or the pivoted path as a lambda called there:
+  //       struct Pivoted_M { ... };  const Pivoted_M pivoted = [...]() {
   //         straight-line code  return Pivoted_M{...};  }();  then its values read
   //     }
   // a flat solve's test of its stages' results, `if (!<stage>_of<S>(...)) return false;`
@@ -697,8 +697,8 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
   // batch entry's lambda, which its lanes' solve is inlined into, counts as the entry);
   // a name may hold "{anonymous}" (the template's helper in its unnamed namespace).
   static const std::regex su_line(R"(^[^\t]*:\d+:\d+:(?:[^\t(]* )?([\w:{}]+)(?:\([^\t]*?\)(?:::<lambda\([^\t]*\)>)?)?(?: \[with (?:S = ([^;\]\t]*))?[^\t]*\])?\t(\d+)\t(\S+)$)");
-  // A cold path's or a part's lambda (SWEEPGEN_COLD, SWEEPGEN_PART), called from its function (a
-  // cold path in a part: from the part): "file:line:column:function<template arguments>(parameters)
+  // A part's lambda (SWEEPGEN_PART), called from its function, or a pivoted path's where the
+  // compiler did not inline it (one in a part: called from the part): "file:line:column:function<template arguments>(parameters)
   // ::<lambda()>[::<lambda()>]<TAB>bytes<TAB>qualifier".
   static const std::regex lambda_line(R"(^[^\t]*:\d+:\d+:([\w:{}]+)(?:<((?:__vector\(\d+\) )?\w+)[^\t]*)?\([^\t]*\)((?:::<lambda\(\)>)+)\t(\d+)\t(\S+)$)");
   long worst_frame = 0, worst_chain = 0, worst_batch = 0;

@@ -589,11 +589,12 @@ class Writer {
     worst_extra_ += cost[cost[1].total() > cost[0].total() ? 1 : 0];
   }
 
-  // The body of a path block's other arm as a lambda the compiler optimises for size
-  // (SWEEPGEN_COLD, templates/lanes.mustache: cold where the compiler has it), called where the arm
-  // was. It copies the values it reads (only when it runs), takes the function's reference
-  // parameters it uses by reference, and returns `outputs` (the block's results and the values it
-  // hands on to later blocks), which it declares itself.
+  // The body of a path block's other arm as a lambda called where the arm was, which the compiler
+  // inlines (marked noinline and cold, it kept the lean scenes' values in memory: 5-7 % more
+  // instructions a solve, and bought no compile time once long functions went in parts; bench/
+  // README.md, "Compile time of big robots"). It copies the values it reads (only when it runs),
+  // takes the function's reference parameters it uses by reference, and returns `outputs` (the
+  // block's results and the values it hands on to later blocks), which it declares itself.
   void cold_path(const std::string& path, const std::string& body, const std::vector<NodeId>& outputs) {
     const std::string type = "Pivoted" + path.substr(path.find('_'));
     if (!outputs.empty()) {
@@ -602,7 +603,7 @@ class Writer {
       text_ << " };\n";
     }
     text_ << indent_ << (outputs.empty() ? "" : "const " + type + " pivoted = ") << "[" << captures(body, false)
-          << "]() SWEEPGEN_COLD {\n";
+          << "]() {\n";
     if (!outputs.empty()) {
       text_ << indent_ << " ";
       for (NodeId id : outputs) text_ << " " << kValueType << " " << local_.at(id) << ";";
