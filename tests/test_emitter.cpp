@@ -242,7 +242,7 @@ TEST(Emitter, DerivativesLeftOutAreNotComputed) {
   EXPECT_EQ(without_tau_cmd_header.find("Scalar d_tau_cmd["), std::string::npos);
   EXPECT_NE(without_tau_cmd_header.find("Scalar d_nu["), std::string::npos);
   EXPECT_EQ(qdd_only_header.find("Scalar d_nu["), std::string::npos);
-  const solver::DerivativeColumns columns{n, nc};
+  const solver::DerivativeColumns columns{n, nc, {}};
   for (const auto& [outputs, header] : {std::pair{solver::DerivativeOutputs{true, true, true}, all_header},
                                         {solver::DerivativeOutputs{true, false, false}, qdd_only_header}})
     EXPECT_NE(header.find("constexpr int derivative_flat_out_size = " + std::to_string(outputs.flat_out_size(columns)) + ";"),
@@ -647,7 +647,7 @@ TEST(Emitter, OptimisationDoesNotChangeTheNumbers) {
 
   const std::size_t n = chain.dof(), nc = s.layout.constraints;
   const std::size_t out_size = s.flat_layout(chain).out_size();
-  const std::size_t derivative_out_size = s.derivative_outputs.flat_out_size(solver::DerivativeColumns{n, nc});
+  const std::size_t derivative_out_size = s.derivative_outputs.flat_out_size(solver::DerivativeColumns{n, nc, {}});
   using test::flat_output;
   using test::same_bits;
   std::size_t differing = 0;

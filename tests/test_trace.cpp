@@ -252,7 +252,7 @@ TEST(Trace, TangentsAlongOutboardJointsFoldToZero) {
   symbolic::TraceScope scope(graph);
   const solver::SolverModel<D> model(chain, layout, {}, std::numeric_limits<double>::epsilon());
   const std::size_t n = model.dof();
-  const solver::DerivativeColumns columns{n, 0};
+  const solver::DerivativeColumns columns{n, 0, {}};
   solver::JointVector<D> q(n), qd(n);
   for (std::size_t i = 0; i < n; ++i) {
     q[i] = solver::seeded(symbolic::Symbol::from_node(graph.input()), columns.q(i), columns);
