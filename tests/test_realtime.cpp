@@ -698,8 +698,8 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
   // a name may hold "{anonymous}" (the template's helper in its unnamed namespace).
   static const std::regex su_line(R"(^[^\t]*:\d+:\d+:(?:[^\t(]* )?([\w:{}]+)(?:\([^\t]*?\)(?:::<lambda\([^\t]*\)>)?)?(?: \[with (?:S = ([^;\]\t]*))?[^\t]*\])?\t(\d+)\t(\S+)$)");
   // A part's lambda (SWEEPGEN_PART), called from its function, or a pivoted path's where the
-  // compiler did not inline it (one in a part: called from the part): "file:line:column:function<template arguments>(parameters)
-  // ::<lambda()>[::<lambda()>]<TAB>bytes<TAB>qualifier".
+  // compiler did not inline it (one in a part: called from the part):
+  // "file:line:column:function<template arguments>(parameters)::<lambda()>[::<lambda()>]<TAB>bytes<TAB>qualifier".
   static const std::regex lambda_line(R"(^[^\t]*:\d+:\d+:([\w:{}]+)(?:<((?:__vector\(\d+\) )?\w+)[^\t]*)?\([^\t]*\)((?:::<lambda\(\)>)+)\t(\d+)\t(\S+)$)");
   long worst_frame = 0, worst_chain = 0, worst_batch = 0;
   std::string worst_frame_name, worst_chain_name, worst_batch_name;
