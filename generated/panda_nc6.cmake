@@ -6,4 +6,4 @@ target_include_directories(panda_nc6 PUBLIC ${CMAKE_CURRENT_LIST_DIR})
 target_compile_features(panda_nc6 PUBLIC cxx_std_17)
 # The identity of the set of files this snippet came with, which the source checks: files of two
 # `sweepgen generate` runs mixed in one directory do not build.
-target_compile_definitions(panda_nc6 PRIVATE SWEEPGEN_OUTPUT_SET=0x2a551b8ef3a186a3ull)
+target_compile_definitions(panda_nc6 PRIVATE SWEEPGEN_OUTPUT_SET=0x301f3cd885cfd341ull)

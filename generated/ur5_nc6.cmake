@@ -6,4 +6,4 @@ target_include_directories(ur5_nc6 PUBLIC ${CMAKE_CURRENT_LIST_DIR})
 target_compile_features(ur5_nc6 PUBLIC cxx_std_17)
 # The identity of the set of files this snippet came with, which the source checks: files of two
 # `sweepgen generate` runs mixed in one directory do not build.
-target_compile_definitions(ur5_nc6 PRIVATE SWEEPGEN_OUTPUT_SET=0xb91e40975943a8edull)
+target_compile_definitions(ur5_nc6 PRIVATE SWEEPGEN_OUTPUT_SET=0x838487907539807dull)

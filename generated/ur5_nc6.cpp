@@ -4,10 +4,10 @@
 // Each stored array names its quantity and the tags of the equations there that define it.
 #include "ur5_nc6.hpp"
 
-static_assert(ur5_nc6::output_set == 0xb91e40975943a8edull,
+static_assert(ur5_nc6::output_set == 0x838487907539807dull,
               "this .cpp and its .hpp come from different `sweepgen generate` runs: generate them again");
 #if defined(SWEEPGEN_OUTPUT_SET)  // the .cmake snippet's
-static_assert(SWEEPGEN_OUTPUT_SET == 0xb91e40975943a8edull,
+static_assert(SWEEPGEN_OUTPUT_SET == 0x838487907539807dull,
               "this .cpp and its .cmake come from different `sweepgen generate` runs: generate them again");
 #endif
 
@@ -681,7 +681,7 @@ struct FlatDrivers {
 };
 template <class S>
 SWEEPGEN_HD SWEEPGEN_INLINE FlatDrivers<S> flat_drivers_of([[maybe_unused]] const S* drivers_in) noexcept {
-  return {drivers_in, drivers_in + dof, drivers_in + dof + dof};
+  return {drivers_in, drivers_in + dof, drivers_in + 2 * dof};
 }
 }  // namespace
 namespace f64 {

@@ -298,7 +298,14 @@ TEST(HostileInputs, ManyInstancesNeedNoDeepStack) {
   const CommandResult r = test::run_command(
       "ulimit -s 512 && " + test::shell_command({SWEEPGEN_EXECUTABLE, "generate", "--scene", path, "--out",
                                                   (dir.path() / "out").string()}));
-  EXPECT_EQ(r.exit_code, 0) << describe(r);
+  ASSERT_EQ(r.exit_code, 0) << describe(r);
+  // And the source grows with the instances, not with their square: 1 196 bytes per instance
+  // measured (each instance's member, its unpacking, its not-finite check, its view and its term of
+  // the force sum); flat_drivers_of once spelled each offset as a sum of every earlier instance's
+  // six (`drivers_in + 6 + 6 + ...`), one line of 200 MB here (21 186 bytes per instance). 2 KiB
+  // per instance leaves room for a longer name per instance or a line more, and is a tenth of that.
+  const auto bytes = std::filesystem::file_size(dir.path() / "out" / "many.cpp");
+  EXPECT_LT(bytes, 2048 * kMaxInstances) << bytes << " bytes for " << kMaxInstances << " instances";
 }
 
 // ... and past the limit, refused before anything is traced.

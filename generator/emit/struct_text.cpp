@@ -13,10 +13,11 @@ namespace {
 
 // One array of the Drivers struct: its declarator, the loop header(s) over its values, the
 // element those loops reach and what it holds; its name, how many values of the flat input it
-// takes, and whether it is rows of six (α).
+// takes (`dof_values` times dof, plus `fixed_values`), and whether it is rows of six (α).
 struct DriverArray {
   std::string declarator, loops, element, doc;
-  std::string name, values;
+  std::string name;
+  std::size_t dof_values = 0, fixed_values = 0;
   bool rows = false;
 };
 
@@ -29,10 +30,10 @@ std::string alpha_extent(const solver::DriverLayout& layout) {
 std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
   std::vector<DriverArray> arrays;
   for (const auto& name : request.layout.torques)
-    arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques", name, "dof"});
+    arrays.push_back({name + "[dof]", "for (int i = 0; i < dof; ++i)", name + "[i]", "feed-forward joint torques", name, 1, 0});
   for (const auto& ext : request.layout.external_forces)
     arrays.push_back({ext.name + "[6]", "for (int i = 0; i < 6; ++i)", ext.name + "[i]",
-                      "wrench [moment; force] on link " + inert_text(ext.link) + ", in its frame", ext.name, "6"});
+                      "wrench [moment; force] on link " + inert_text(ext.link) + ", in its frame", ext.name, 0, 6});
   const solver::DriverLayout& layout = request.layout;
   if (layout.run_time_directions() > 0) {
     const std::string extent = alpha_extent(layout);
@@ -41,7 +42,7 @@ std::vector<DriverArray> driver_arrays(const symbolic::TraceRequest& request) {
                       layout.listed_sets() == 0 ? "constraint directions [moment; force], tip frame, unit norm"
                                           : "run-time constraint directions [moment; force], each in its set's link frame, "
                                             "unit norm (sets: see the file header)",
-                      "alpha", "6 * " + extent, true});
+                      "alpha", 0, 6 * layout.run_time_directions(), true});
   }
   return arrays;
 }
@@ -120,12 +121,18 @@ std::string flat_drivers_members(const symbolic::TraceRequest& request) {
   return text;
 }
 
+// Each array's start in the flat input: `drivers_in + 2 * dof + 12` (its offset summed, not
+// spelled term by term: a scene with 10 000 instances would otherwise write a quadratic line).
 std::string flat_drivers_init(const symbolic::TraceRequest& request) {
-  std::string text, offset;
+  std::string text;
+  std::size_t dof_values = 0, fixed_values = 0;
   for (const auto& a : driver_arrays(request)) {
-    const std::string at = offset.empty() ? "drivers_in" : "drivers_in + " + offset;
+    std::string at = "drivers_in";
+    if (dof_values > 0) at += dof_values == 1 ? " + dof" : " + " + std::to_string(dof_values) + " * dof";
+    if (fixed_values > 0) at += " + " + std::to_string(fixed_values);
     text += (text.empty() ? "" : ", ") + (a.rows ? "SixRows<S>{" + at + "}" : at);
-    offset += (offset.empty() ? "" : " + ") + a.values;
+    dof_values += a.dof_values;
+    fixed_values += a.fixed_values;
   }
   return "{" + text + "}";
 }
