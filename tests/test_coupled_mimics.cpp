@@ -285,7 +285,7 @@ TEST(CoupledMimics, ReferenceSolverAgreesWithTheDenseCoupledRows) {
           alpha.col(static_cast<Eigen::Index>(k)) << in.alpha[k].moment.cast<LongDouble>(), in.alpha[k].force.cast<LongDouble>();
         const auto [Jc, rhs] = dense_rows(o, c.layout, c.chain, q, qd, alpha, test::to_long(p.beta));
         const OracleMat M = o.mass_matrix(q);
-        const OracleMat E = Jc * M.ldlt().solve(Jc.transpose());
+        const OracleMat E = Oracle::constraint_energy(M, Jc);
         const std::string where = c.name + " state " + std::to_string(state) +
                                   (rows == solver::ConstraintRows::outward_rows ? " (I6)" : " (I2)");
         // E^A_cstr,0 = J M^-1 J^T with the coupling rows (M2).
@@ -302,7 +302,7 @@ TEST(CoupledMimics, ReferenceSolverAgreesWithTheDenseCoupledRows) {
           rk[static_cast<Eigen::Index>(j)] = rhs[kept[j]];
         }
         const Oracle::KktSolution kkt = o.solve_rows(q, qd, tau, Jk, rk);
-        const LongDouble cond = Oracle::condition(Jk * M.ldlt().solve(Jk.transpose()));
+        const LongDouble cond = Oracle::condition(Oracle::constraint_energy(M, Jk));
         if (skips.skip(tolerance(cond) > kCeiling, "cond(E) > 1e9")) continue;
         OracleVec nu = OracleVec::Zero(static_cast<Eigen::Index>(total));
         for (std::size_t j = 0; j < kept.size(); ++j) nu[kept[j]] = kkt.nu[static_cast<Eigen::Index>(j)];
@@ -363,7 +363,7 @@ TEST(CoupledMimics, TheBundledGripperAgreesWithTheDenseSolveInBinary128) {
       alpha.col(static_cast<Eigen::Index>(k)) << in.alpha[k].moment.cast<Q>(), in.alpha[k].force.cast<Q>();
     const auto [Jc, rhs] = dense_rows(o, s.layout, chain, q, qd, alpha, QOracle::Vec(p.beta.cast<Q>()));
     const QOracle::Mat M = o.mass_matrix(q);
-    const QOracle::Mat E = Jc * M.ldlt().solve(Jc.transpose());
+    const QOracle::Mat E = QOracle::constraint_energy(M, Jc);
     const auto kept = QOracle::kept_constraints(E, reference.model().pivot_tolerance);
     const std::string where = "parallel gripper state " + std::to_string(state);
     ASSERT_EQ(kept.size(), total) << where;  // no direction is redundant here

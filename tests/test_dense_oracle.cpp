@@ -234,9 +234,7 @@ void compare_state(const test::OracleCase& c, solver::ReferenceSolver<double>& r
 
   // E^A_cstr,0 = Jc M^-1 Jc^T, Jc = (α_k^T J_link(k))_k.
   const OracleMat Jc = o.constraint_jacobian(q, links, alpha);
-  // (No solve for Nc = 0: Eigen 3.4's triangular solve of an empty right-hand side is
-  // undefined behaviour, reported by UBSan.)
-  const OracleMat E = nc > 0 ? OracleMat(Jc * o.mass_matrix(q).ldlt().solve(Jc.transpose())) : OracleMat(0, 0);
+  const OracleMat E = Oracle::constraint_energy(o.mass_matrix(q), Jc);
   if (nc > 0) {
     const Eigen::MatrixXd& E_solver = reference.articulated().body[0].constraint_energy;
     const double e = static_cast<double>((E_solver.cast<LongDouble>() - E).cwiseAbs().maxCoeff() /

@@ -139,7 +139,7 @@ TEST(LoopSets, ReferenceSolverAgreesWithTheDenseRelativeRows) {
         const OracleMat alpha = p.alpha(nc);
         const DenseRows<Oracle> dense = dense_rows(o, c.layout, c.chain, q, qd, alpha, test::to_long(p.beta));
         const OracleMat M = o.mass_matrix(q);
-        const OracleMat E = dense.Jc * M.ldlt().solve(dense.Jc.transpose());
+        const OracleMat E = Oracle::constraint_energy(M, dense.Jc);
         const std::string where = c.name + " state " + std::to_string(s) +
                                   (rows == solver::ConstraintRows::outward_rows ? " (I6)" : " (I2)");
         // E^A_cstr,0 = J M^-1 J^T with the relative rows (why E stays J M^-1 J^T: L4).
@@ -157,7 +157,7 @@ TEST(LoopSets, ReferenceSolverAgreesWithTheDenseRelativeRows) {
           rk[static_cast<Eigen::Index>(j)] = dense.rhs[kept[j]];
         }
         const Oracle::KktSolution kkt = o.solve_rows(q, qd, tau, Jk, rk);
-        const LongDouble cond = Oracle::condition(Jk * M.ldlt().solve(Jk.transpose()));
+        const LongDouble cond = Oracle::condition(Oracle::constraint_energy(M, Jk));
         if (skips.skip(tolerance(cond) > kCeiling, "cond(E) > 1e9")) continue;
         OracleVec nu = OracleVec::Zero(static_cast<Eigen::Index>(nc));
         for (std::size_t j = 0; j < kept.size(); ++j) nu[kept[j]] = kkt.nu[static_cast<Eigen::Index>(j)];
@@ -238,7 +238,7 @@ TEST(LoopSets, TheBundledLoopScenesAgreeWithTheDenseSolveInBinary128) {
         alpha.col(static_cast<Eigen::Index>(k)) << in.alpha[k].moment.cast<Q>(), in.alpha[k].force.cast<Q>();
       const DenseRows<QOracle> dense = dense_rows(o, s.layout, chain, q, qd, alpha, QOracle::Vec(p.beta.cast<Q>()));
       const QOracle::Mat M = o.mass_matrix(q);
-      const QOracle::Mat E = dense.Jc * M.ldlt().solve(dense.Jc.transpose());
+      const QOracle::Mat E = QOracle::constraint_energy(M, dense.Jc);
       const auto kept = QOracle::kept_constraints(E, reference.model().pivot_tolerance);
       const std::string where = std::string(path) + " state " + std::to_string(state);
       EXPECT_EQ(static_cast<double>(sol.dropped_pivots), static_cast<double>(nc - kept.size())) << where;
@@ -248,7 +248,7 @@ TEST(LoopSets, TheBundledLoopScenesAgreeWithTheDenseSolveInBinary128) {
         Jk.row(static_cast<Eigen::Index>(j)) = dense.Jc.row(kept[j]);
         rk[static_cast<Eigen::Index>(j)] = dense.rhs[kept[j]];
       }
-      const double kappa = std::max(1.0, static_cast<double>(QOracle::condition(Jk * M.ldlt().solve(Jk.transpose()))));
+      const double kappa = std::max(1.0, static_cast<double>(QOracle::condition(QOracle::constraint_energy(M, Jk))));
       const double tolerance = 100 * (eps + delta) * kappa;
       if (skips.skip(tolerance > 1e-6, "tolerance beyond 1e-6")) continue;
       const QOracle::KktSolution kkt = o.solve_rows(q, qd, tau, Jk, rk);

@@ -170,6 +170,11 @@ class DenseDynamics {
   // λmax/λmin of a symmetric PSD matrix (1 if empty, +inf if singular).
   static Scalar condition(const Mat& E);
 
+  // E^A_cstr,0 = J M⁻¹ Jᵀ, what the inward sweep accumulates ((I3) down to the root), by LDLᵀ of
+  // M; 0 × 0 for no rows (Eigen 3.4's triangular solve of an empty right-hand side is undefined
+  // behaviour, reported by UBSan).
+  static Mat constraint_energy(const Mat& M, const Mat& J);
+
  private:
   struct JointData {
     bool revolute = true;

@@ -237,9 +237,7 @@ auto DenseDynamics<Scalar>::kkt(const Vec& q, const Vec& qd, const Vec& tau, con
                 const std::vector<std::string>& links, const Mat& alpha, const Vec& beta) const -> KktSolution {
   KktSolution s = solve_kkt(q, qd, tau, ext, links, alpha, beta);
   const Mat Jc = constraint_jacobian(q, links, alpha);
-  // (Eigen 3.4's triangular solve binds a reference to the null data of an empty right-hand
-  // side, undefined behaviour that UBSan reports: no solve for Nc = 0.)
-  s.E = alpha.cols() > 0 ? Mat(Jc * mass_matrix(q).ldlt().solve(Jc.transpose())) : Mat(0, 0);
+  s.E = constraint_energy(mass_matrix(q), Jc);
   s.cond = condition(s.E);
   return s;
 }
@@ -394,6 +392,12 @@ auto DenseDynamics<Scalar>::kept_constraints(const Mat& E, Scalar tolerance) -> 
     if (best_pivot > tolerance * E(best, best)) kept.push_back(best);
   }
   return kept;
+}
+
+template <class Scalar>
+auto DenseDynamics<Scalar>::constraint_energy(const Mat& M, const Mat& J) -> Mat {
+  if (J.rows() == 0) return Mat(0, 0);
+  return J * M.ldlt().solve(J.transpose());
 }
 
 template <class Scalar>

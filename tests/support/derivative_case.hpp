@@ -55,7 +55,7 @@ inline double derivative_condition(const SceneCase& c, const report::Problem& p)
       alpha.col(static_cast<Eigen::Index>(k)) << p.alpha[k].moment.cast<long double>(), p.alpha[k].force.cast<long double>();
     const Oracle::Mat J = dense_rows(o, c.scene.layout, c.chain, q, Oracle::Vec(p.qd.cast<long double>()), alpha,
                                      Oracle::Vec::Zero(static_cast<Eigen::Index>(nc))).Jc;
-    kappa *= std::max(1.0, oracle::scaled_condition_number(Oracle::Mat(J * M.ldlt().solve(J.transpose()))));
+    kappa *= std::max(1.0, oracle::scaled_condition_number(Oracle::constraint_energy(M, J)));
   }
   return kappa;
 }
