@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <fstream>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,20 @@ double multiplier_error(const Matrix& E, const Vector& nu, const Vector& truth) 
 double residual(const Matrix& E, const Vector& nu, const Vector& r) {
   const Eigen::VectorXd d = E.diagonal().cwiseSqrt().cwiseInverse();
   return d.cwiseProduct(E * nu - r).cwiseAbs().maxCoeff() / d.cwiseProduct(r).cwiseAbs().maxCoeff();
+}
+
+// The oracle's condition numbers: cond_2 = σmax/σmin of a square matrix (its SVD has no QR
+// preconditioner, which only a non-square matrix would need), and a non-square one refused.
+TEST(ConstraintFactorisation, ConditionNumbersOfSquareMatricesOnly) {
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(3, 3);
+  E.diagonal() << 4, 1, 0.5;  // symmetric, eigenvalues 4, 1, 0.5
+  EXPECT_DOUBLE_EQ(oracle::condition_number(E), 8);
+  EXPECT_DOUBLE_EQ(oracle::scaled_condition_number(E), 1);  // diagonal: equilibrated to the identity
+  Eigen::MatrixXd rotated = Eigen::MatrixXd::Zero(2, 2);
+  rotated << 0, 3, -1, 0;  // singular values 3 and 1
+  EXPECT_DOUBLE_EQ(oracle::condition_number(rotated), 3);
+  EXPECT_THROW(oracle::condition_number(Eigen::MatrixXd::Ones(2, 3)), std::invalid_argument);
+  EXPECT_THROW(oracle::condition_number(Eigen::MatrixXd::Ones(3, 2)), std::invalid_argument);
 }
 
 TEST(ConstraintFactorisation, FullRankPivotedIsExactAndDampedIsBiasedByItsDamping) {

@@ -12,7 +12,8 @@ namespace sweepgen::oracle {
 template <class Scalar>
 using DenseMatrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
 
-// cond_2(E): 1 for an empty matrix, infinite for a singular one.
+// cond_2(E) of a square E (std::invalid_argument otherwise): 1 for an empty matrix, infinite for a
+// singular one.
 template <class Scalar>
 double condition_number_of(const DenseMatrix<Scalar>& E);
 
