@@ -518,7 +518,7 @@ TEST(GeneratedSources, HaveNoUnboundedOrHiddenControlFlow) {
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
-      if (std::regex_search(lines[i], any_else)) {
+      if (lines[i].find("else") != std::string::npos && std::regex_search(lines[i], any_else)) {
         EXPECT_TRUE(std::regex_match(lines[i], path_else)) << file << ":" << i + 1 << ": " << lines[i];
       }
       std::smatch m;
@@ -565,20 +565,22 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
     const auto lines = own_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
       selects += std::count(lines[i].begin(), lines[i].end(), '?');
-      if (std::regex_search(lines[i], isa_choice)) {
+      // (Each regex only where the words it needs are on the line: the same answers, faster.)
+      const bool has_return = lines[i].find("return") != std::string::npos;
+      if (lines[i].find("batch_isa") != std::string::npos && std::regex_search(lines[i], isa_choice)) {
         ++isa_choices;
         continue;
       }
-      if (std::regex_search(lines[i], handed_back)) {
+      if (has_return && std::regex_search(lines[i], handed_back)) {
         ++returns;
         continue;
       }
-      if (std::regex_search(lines[i], any_return)) {
+      if (has_return && std::regex_search(lines[i], any_return)) {
         EXPECT_TRUE(std::regex_search(lines[i], allowed_return)) << file << ":" << i + 1 << ": '" << lines[i] << "'";
         ++returns;
       }
       std::smatch m;
-      if (std::regex_search(lines[i], m, path_condition)) {
+      if (lines[i].find("path_") != std::string::npos && std::regex_search(lines[i], m, path_condition)) {
         ++path_blocks;
         const std::string indent = m[1], path = m[2];
         ASSERT_LT(i + 1, lines.size());
@@ -597,7 +599,7 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
         i = j + 1;
         continue;
       }
-      if (!std::regex_search(lines[i], any_if)) continue;
+      if (lines[i].find("if") == std::string::npos || !std::regex_search(lines[i], any_if)) continue;
       EXPECT_TRUE(std::regex_search(lines[i], stage_test)) << file << ":" << i + 1 << ": " << lines[i];
       ++stage_tests;
     }
@@ -632,6 +634,7 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
     for (const auto& f : fs) {
       auto& out = callees[f.name];
       for (std::size_t i = f.first + 1; i <= f.last; ++i) {
+        if (lines[i].find('(') == std::string::npos) continue;  // no call (the regex needs one), faster
         for (std::sregex_iterator it(lines[i].begin(), lines[i].end(), call), end; it != end; ++it) {
           const std::string name = std::regex_replace((*it)[1].str(), template_arguments, "");
           if (name == "for" || name == "if" || name == "operator") continue;
