@@ -1,7 +1,7 @@
 // Condition numbers of the constraint-space matrix E^A_cstr,0 (docs/stability.md, "Errors and
 // condition numbers"), computed in the matrix's own scalar: binary128 measures them up to ~1e30,
 // double up to ~1e15. The SVD behind them is compiled once per scalar the report and the tests
-// use: binary128 (solver::Quad) in condition_number_quad.cpp, double and long double in
+// use: binary128 (solver::Quad) and long double in condition_number_quad.cpp, double in
 // condition_number_double.cpp.
 #pragma once
 

@@ -1,7 +1,7 @@
 // The condition numbers of oracle/condition_number.hpp, included only by the files that instantiate
-// them: condition_number_quad.cpp (binary128: the report, the tests) and condition_number_double.cpp
-// (double and long double: the tests). Apart, the two compile side by side, and the report's build
-// compiles only the first.
+// them: condition_number_quad.cpp (binary128 and long double: the report, the tests) and
+// condition_number_double.cpp (double: the tests). Apart, the two compile side by side, and the
+// report's build compiles only the first.
 #pragma once
 
 #include "oracle/condition_number.hpp"

@@ -1,12 +1,10 @@
-// The condition numbers in double and long double, compiled once for the tests
+// The condition numbers in double, compiled once for the tests
 // (condition_number_definitions.hpp).
 #include "oracle/condition_number_definitions.hpp"
 
 namespace sweepgen::oracle {
 
 template double condition_number_of<double>(const DenseMatrix<double>&);
-template double condition_number_of<long double>(const DenseMatrix<long double>&);
 template double scaled_condition_number_of<double>(const DenseMatrix<double>&);
-template double scaled_condition_number_of<long double>(const DenseMatrix<long double>&);
 
 }  // namespace sweepgen::oracle

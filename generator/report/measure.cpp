@@ -1,7 +1,6 @@
 #include "report/measure.hpp"
 
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -98,11 +97,7 @@ double inertia_condition_number(const model::Chain& chain, const solver::JointVe
   Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic> M_inv(n, n);
   for (Eigen::Index j = 0; j < n; ++j)
     M_inv.col(j) = (qdd(solver::JointVector<Precise>::Unit(n, j)).first - qdd_unforced).cast<long double>();
-  // Square: no QR preconditioner, the same singular values (oracle/condition_number_definitions.hpp).
-  const Eigen::Matrix<long double, Eigen::Dynamic, 1> sv =
-      Eigen::JacobiSVD<Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>, Eigen::NoQRPreconditioner>(M_inv)
-          .singularValues();
-  return sv(n - 1) > 0 ? static_cast<double>(sv(0) / sv(n - 1)) : std::numeric_limits<double>::infinity();
+  return oracle::condition_number(M_inv);
 }
 
 void pack_flat(const scene::Scene& s, const model::Chain& chain, Problem& p) {
