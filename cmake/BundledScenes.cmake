@@ -41,19 +41,10 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_FLOAT ${scene} "^scalars:.*float")
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_DERIVATIVES ${scene} "^derivatives:[ ]*(true|\\[)")
   if(SWEEPGEN_BUNDLED_FROM_GENERATED)
-    # The committed files are named after the scene's solver namespace; the library's header keeps
-    # the name sweepgen_add_solver gives it, <target>.hpp, and forwards to theirs.
+    # The committed files are named after the scene's solver namespace.
     string(REPLACE "::" "_" committed_stem "${SWEEPGEN_SCENE_${stem}_NAMESPACE}")
-    set(forward_dir ${CMAKE_CURRENT_BINARY_DIR}/sweepgen/${stem}_solver)
-    file(CONFIGURE OUTPUT ${forward_dir}/${stem}_solver.hpp
-         CONTENT "// Forwards to the committed generated/${committed_stem}.hpp (SWEEPGEN_BUNDLED_FROM_GENERATED).\n#pragma once\n#include \"${committed_stem}.hpp\"\n")
-    sweepgen_solver_library(${stem}_solver ARCH "${SWEEPGEN_SOLVER_ARCH}"
-                            SOURCES ${PROJECT_SOURCE_DIR}/generated/${committed_stem}.cpp
-                            INCLUDE_DIRS ${forward_dir} ${PROJECT_SOURCE_DIR}/generated)
-    if(sweepgen_cuda)
-      sweepgen_cuda_library(${stem}_solver_cuda SOURCE ${PROJECT_SOURCE_DIR}/generated/${committed_stem}.cu
-                            INCLUDE_DIRS ${forward_dir} ${PROJECT_SOURCE_DIR}/generated)
-    endif()
+    sweepgen_committed_solver(${stem}_solver GENERATED ${PROJECT_SOURCE_DIR}/generated/${committed_stem}
+                              ARCH "${SWEEPGEN_SOLVER_ARCH}" ${sweepgen_cuda})
   else()
     sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}" ${sweepgen_cuda})
   endif()

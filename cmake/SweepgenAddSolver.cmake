@@ -14,6 +14,13 @@
 # (<solve>_cuda, <solve>_cuda_host) beside every host function, so a program links it instead of
 # <target>. It needs the CUDA language enabled first (project(... LANGUAGES CXX CUDA) or
 # enable_language(CUDA)); without it configure says so and builds the rest.
+
+# ARCH "" (no ISA) is passed on as an empty value, which CMake 3.31 and later warn about unless
+# cmake_parse_arguments keeps it (CMP0174 NEW): the functions below read it as no ARCH either way.
+if(POLICY CMP0174)
+  cmake_policy(SET CMP0174 NEW)
+endif()
+
 function(sweepgen_add_solver target)
   cmake_parse_arguments(PARSE_ARGV 1 arg "CUDA" "SCENE;OUTPUT_DIR;EXPOSE;ARCH" "")
   if(NOT arg_SCENE)
@@ -49,6 +56,30 @@ function(sweepgen_add_solver target)
                           INCLUDE_DIRS "${out}")
   if(arg_CUDA)
     sweepgen_cuda_library(${target}_cuda SOURCE "${out}/${target}.cu" INCLUDE_DIRS "${out}")
+  endif()
+endfunction()
+
+# sweepgen_committed_solver(<target> GENERATED <dir>/<stem> [ARCH <isa>] [CUDA])
+# The library sweepgen_add_solver would make, from files `sweepgen generate` wrote earlier
+# (<dir>/<stem>.hpp, .cpp, .cu; the bundled scenes' committed generated/ files), without running the
+# generator: <target>.hpp forwards to <stem>.hpp, so that the library looks like
+# sweepgen_add_solver's (sweepgen_add_python_module reads it); CUDA: <target>_cuda too.
+function(sweepgen_committed_solver target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "CUDA" "GENERATED;ARCH" "")
+  get_filename_component(arg_GENERATED "${arg_GENERATED}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+  get_filename_component(dir "${arg_GENERATED}" DIRECTORY)
+  get_filename_component(stem "${arg_GENERATED}" NAME)
+  if(NOT EXISTS "${arg_GENERATED}.hpp" OR NOT EXISTS "${arg_GENERATED}.cpp")
+    message(FATAL_ERROR "sweepgen_committed_solver(${target}): no ${arg_GENERATED}.hpp and .cpp (sweepgen generate writes them)")
+  endif()
+  set(forward_dir ${CMAKE_CURRENT_BINARY_DIR}/sweepgen/${target})
+  file(CONFIGURE OUTPUT ${forward_dir}/${target}.hpp
+       CONTENT "// Forwards to ${arg_GENERATED}.hpp (sweepgen_committed_solver).\n#pragma once\n#include \"${stem}.hpp\"\n")
+  sweepgen_solver_library(${target} ARCH "${arg_ARCH}" SOURCES ${arg_GENERATED}.cpp INCLUDE_DIRS ${forward_dir} ${dir})
+  # The generated header itself, for sweepgen_add_python_module (which reads the scene from it).
+  set_target_properties(${target} PROPERTIES SWEEPGEN_HEADER "${arg_GENERATED}.hpp")
+  if(arg_CUDA)
+    sweepgen_cuda_library(${target}_cuda SOURCE ${arg_GENERATED}.cu INCLUDE_DIRS ${forward_dir} ${dir})
   endif()
 endfunction()
 
