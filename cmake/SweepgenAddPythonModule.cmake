@@ -12,10 +12,13 @@
 #   pybind11-dev python3-dev python3-numpy. A macro: call it at directory scope, before
 #   sweepgen_add_python_module().
 #
-# sweepgen_add_python_module(<name> SCENE <scene.yaml> [OUTPUT_DIR <dir>] [EXPOSE all|outputs])
+# sweepgen_add_python_module(<name> SCENE <scene.yaml> [OUTPUT_DIR <dir>] [EXPOSE all|outputs] [CUDA])
 # sweepgen_add_python_module(<name> SOLVER <target>)
 #   Builds the extension module <name> (`import <name>`) of a scene's generated solver: with SCENE
-#   from a new sweepgen_add_solver(<name>_solver ...) library, with SOLVER from an existing one.
+#   from a new sweepgen_add_solver(<name>_solver ...) library (CUDA: with its CUDA library), with
+#   SOLVER from an existing one. Where the solver has its CUDA library (<target>_cuda), the module
+#   gets the kernels too (<name>.cuda; its PyTorch layer runs CUDA tensors on them): nvcc compiles
+#   python/module_cuda.cu with the generated .cu into lib<name>_cuda.so, which the module links.
 #   The library is made position-independent and linked into the module, so the generated source is
 #   compiled once for C++ and Python alike. The binding is one library for all modules of a build
 #   (python/binding.cpp, target sweepgen_python_binding), each module's own source one for all
@@ -85,7 +88,7 @@ macro(sweepgen_find_python)
 endmacro()
 
 function(sweepgen_add_python_module name)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SCENE;SOLVER;OUTPUT_DIR;EXPOSE" "")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "CUDA" "SCENE;SOLVER;OUTPUT_DIR;EXPOSE" "")
   if(arg_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "sweepgen_add_python_module(${name}): unknown arguments ${arg_UNPARSED_ARGUMENTS}")
   endif()
@@ -109,20 +112,27 @@ function(sweepgen_add_python_module name)
     if(arg_EXPOSE)
       list(APPEND forwarded EXPOSE ${arg_EXPOSE})
     endif()
+    if(arg_CUDA)
+      list(APPEND forwarded CUDA)
+    endif()
     sweepgen_add_solver(${solver} ${forwarded})
-  elseif(arg_SOLVER AND NOT arg_SCENE AND NOT arg_OUTPUT_DIR AND NOT arg_EXPOSE)
+  elseif(arg_SOLVER AND NOT arg_SCENE AND NOT arg_OUTPUT_DIR AND NOT arg_EXPOSE AND NOT arg_CUDA)
     set(solver ${arg_SOLVER})
   else()
-    message(FATAL_ERROR "sweepgen_add_python_module(${name}): give SCENE (with optional OUTPUT_DIR, EXPOSE) "
-                        "or SOLVER")
+    message(FATAL_ERROR "sweepgen_add_python_module(${name}): give SCENE (with optional OUTPUT_DIR, EXPOSE, CUDA) "
+                        "or SOLVER (with its CUDA library where <target>_cuda exists)")
   endif()
   # The generated library goes into a shared object: position-independent code.
   set_property(TARGET ${solver} PROPERTY POSITION_INDEPENDENT_CODE ON)
 
-  # sweepgen_add_solver() puts <target>.hpp in the library's include directory.
-  get_target_property(solver_include ${solver} INTERFACE_INCLUDE_DIRECTORIES)
-  list(GET solver_include 0 solver_include)
-  set(header "${solver_include}/${solver}.hpp")
+  # sweepgen_add_solver() puts <target>.hpp in the library's include directory;
+  # sweepgen_committed_solver() names the generated header it forwards to.
+  get_target_property(header ${solver} SWEEPGEN_HEADER)
+  if(NOT header)
+    get_target_property(solver_include ${solver} INTERFACE_INCLUDE_DIRECTORIES)
+    list(GET solver_include 0 solver_include)
+    set(header "${solver_include}/${solver}.hpp")
+  endif()
   set(scene_dir "${CMAKE_CURRENT_BINARY_DIR}/sweepgen_python/${name}")
   # The binding and its PyTorch layer: installed next to this file (python/), or in the source tree.
   get_filename_component(here "${CMAKE_CURRENT_FUNCTION_LIST_FILE}" DIRECTORY)
@@ -162,6 +172,27 @@ function(sweepgen_add_python_module name)
   target_compile_definitions(${name} PRIVATE SWEEPGEN_MODULE_NAME=${name})
   target_compile_features(${name} PRIVATE cxx_std_17)
   target_link_libraries(${name} PRIVATE sweepgen_python_binding ${solver})
+
+  # The kernels (python/module_cuda.cu), where the solver has its CUDA library: the generated .cu
+  # compiled once more, into a shared library whose symbols are hidden but the table it hands the
+  # module, so that its host copy of the solver's functions does not meet the module's (the static
+  # solver library's, which has the batch entry points nvcc does not compile).
+  if(TARGET ${solver}_cuda)
+    get_target_property(cuda_source ${solver}_cuda SOURCES)
+    list(FILTER cuda_source INCLUDE REGEX "\\.cu$")
+    get_target_property(cuda_include ${solver}_cuda INTERFACE_INCLUDE_DIRECTORIES)
+    add_library(${name}_cuda SHARED "${python_dir}/module_cuda.cu" "${scene_dir}/sweepgen_module_scene.hpp")
+    target_include_directories(${name}_cuda PRIVATE "${scene_dir}" "${python_dir}" ${cuda_include})
+    target_compile_definitions(${name}_cuda PRIVATE SWEEPGEN_MODULE_NAME=${name}
+                               "SWEEPGEN_MODULE_CUDA_SOURCE=\"${cuda_source}\"")
+    target_compile_features(${name}_cuda PRIVATE cxx_std_17 cuda_std_17)
+    target_link_libraries(${name}_cuda PRIVATE Python3::Module)
+    # cudart_static's symbols hidden too: the process's other CUDA runtimes (PyTorch's) are not overridden.
+    target_link_options(${name}_cuda PRIVATE "LINKER:--exclude-libs,ALL")
+    set_target_properties(${name}_cuda PROPERTIES CUDA_VISIBILITY_PRESET hidden CXX_VISIBILITY_PRESET hidden)
+    target_compile_definitions(${name} PRIVATE SWEEPGEN_MODULE_HAS_CUDA=1)
+    target_link_libraries(${name} PRIVATE ${name}_cuda)
+  endif()
 endfunction()
 
 # Script mode (the custom command above): reads the generated header SWEEPGEN_SCENE_HEADER and

@@ -362,6 +362,7 @@ void bind_derivatives(py::module_& m, const Scene& scene, const Variant<Scalar>&
   for (const auto& entry : v.derivative_solves) policies.append(entry.policy);
   m.attr("derivative_policies") = py::tuple(policies);
   m.attr("derivative_columns") = v.derivative_columns;
+  m.attr("derivative_flat_out_size") = v.derivative_flat_out_size;  // values a state, derivatives()' flat layout
   // Per output y: its name, its rows and whether its Jacobian is returned (the header's derivative_of_*).
   const std::vector<std::tuple<const char*, py::ssize_t, bool>> kOutputs = {
       {"qdd", dof, v.d_jacobians[0].width > 0}, {"nu", constraints, v.d_jacobians[1].width > 0},
@@ -466,6 +467,37 @@ void bind_derivatives(py::module_& m, const Scene& scene, const Variant<Scalar>&
       "tau_cmd and, for each y of derivative_outputs, d_y_dq, d_y_dqd (rows, nv), d_y_dtau_ff (rows, dof) and d_y_dbeta (rows, constraints) "
       "(K, rows, columns) when batched: a floating base's first six q columns are its rotation vector in its own "
       "frame and its position (docs/derivation.md, D2); status.");
+}
+
+// `<name>(n, in, out, stream, *, policy)`: a CUDA table's kernels (module.cuda) on n states already
+// in device memory, in the batch layout (value k of state s at [k * n + s]): in and out device
+// addresses (a tensor's data_ptr()), `stream` a cudaStream_t's address (torch.cuda's cuda_stream),
+// out holding out_size rows. Queues the launch and returns; a CUDA error raises RuntimeError. The
+// PyTorch layer's path for CUDA tensors: an address is not checked, so the layer checks the tensors.
+template <class Scalar>
+void bind_cuda(py::module_& m, const char* name, const std::vector<typename Variant<Scalar>::CudaSolve>& table,
+               const std::string& prefix, int out_size) {
+  if (table.empty()) return;
+  m.def(
+      name,
+      [&table, prefix, name](py::ssize_t n, std::uintptr_t in, std::uintptr_t out, std::uintptr_t stream,
+                             const std::string& policy) {
+        const std::size_t index = policy_index(table, policy);
+        if (n < 0 || n > std::numeric_limits<int>::max()) throw py::value_error(prefix + name + ": n = " + std::to_string(n) + " states is not within 0 .. 2^31 - 1");
+        if (n > 0 && (in == 0 || out == 0)) throw py::value_error(prefix + name + ": a null device address");
+        const char* error = nullptr;
+        {
+          py::gil_scoped_release release;
+          error = table[index].solve(static_cast<int>(n), reinterpret_cast<const Scalar*>(in),
+                                     reinterpret_cast<Scalar*>(out), reinterpret_cast<void*>(stream));
+        }
+        if (error) throw std::runtime_error(prefix + name + " (policy " + policy + "): CUDA: " + error);
+      },
+      py::arg("n"), py::arg("in_address"), py::arg("out_address"), py::arg("stream"), py::kw_only(),
+      py::arg("policy") = table.at(0).policy,
+      ("The generated CUDA kernels on n states in device memory, in the batch layout (value k of state s at "
+       "[k * n + s]; " + std::to_string(out_size) + " output rows): addresses as ints, queued on the "
+       "cudaStream_t `stream`. The PyTorch layer's path for CUDA tensors.").c_str());
 }
 
 // outward() and decompose() results of one state or of K (a batched outward()): K States' bytes.
@@ -637,6 +669,21 @@ void bind_variant(py::module_& module, const Scene& scene, const Variant<Scalar>
       "flat_out_size), solve_flat()'s layout. What the PyTorch layer's forward calls.");
 }
 
+// Submodule f64 or f32 of a scalar variant: its solves, derivatives and CUDA kernels; whether it
+// has CUDA kernels.
+template <class Scalar>
+bool bind_scalar(py::module_& m, const Scene& scene, const Variant<Scalar>& v, const char* doc, py::list& scalars) {
+  bind_variant(m, scene, v, doc);
+  scalars.append(v.name);
+  py::module_ sub = m.attr(v.name);
+  const std::string prefix = m.attr("__name__").cast<std::string>() + "." + v.name + ".";
+  if (!v.derivative_solves.empty())
+    bind_derivatives(sub, scene, v, prefix, v.flat_in_size - scene.nq - scene.nv - scene.constraints);
+  bind_cuda<Scalar>(sub, "_solve_cuda", v.cuda_solves, prefix, v.flat_out_size);
+  bind_cuda<Scalar>(sub, "_derivatives_cuda", v.derivative_cuda_solves, prefix, v.derivative_flat_out_size);
+  return !v.cuda_solves.empty();
+}
+
 // The module's attributes and submodules (PYBIND11_MODULE's body, for the scene described).
 void bind_module(py::module_& m, const Scene& scene) {
   const std::string name = scene.module_name;
@@ -669,25 +716,12 @@ void bind_module(py::module_& m, const Scene& scene) {
   status_error = error.release();  // lives as long as the process, like the module
 
   py::list scalars;
-  if (scene.f64) {
-    bind_variant(m, scene, *scene.f64, "double arithmetic");
-    scalars.append("f64");
-    if (!scene.f64->derivative_solves.empty()) {
-      py::module_ sub = m.attr("f64");
-      bind_derivatives(sub, scene, *scene.f64, name + ".f64.",
-                       scene.f64->flat_in_size - scene.nq - scene.nv - scene.constraints);
-    }
-  }
-  if (scene.f32) {
-    bind_variant(m, scene, *scene.f32, "float arithmetic");
-    scalars.append("f32");
-    if (!scene.f32->derivative_solves.empty()) {
-      py::module_ sub = m.attr("f32");
-      bind_derivatives(sub, scene, *scene.f32, name + ".f32.",
-                       scene.f32->flat_in_size - scene.nq - scene.nv - scene.constraints);
-    }
-  }
+  bool cuda = false;
+  if (scene.f64) cuda = bind_scalar(m, scene, *scene.f64, "double arithmetic", scalars) || cuda;
+  if (scene.f32) cuda = bind_scalar(m, scene, *scene.f32, "float arithmetic", scalars) || cuda;
   m.attr("scalars") = py::tuple(scalars);
+  // Whether the module has CUDA kernels (built with its solver's CUDA library: README, "PyTorch").
+  m.attr("cuda") = cuda;
 
   // <module>.torch: the PyTorch layer (python/torch_layer.py), run on first use (a module-level
   // __getattr__, PEP 562), so that importing the module never imports torch.
@@ -724,6 +758,7 @@ PyObject* make_module(const Scene& scene) noexcept {
     return m.ptr();
   }
   PYBIND11_CATCH_INIT_EXCEPTIONS
+  return nullptr;  // the Python error is set (pybind11 3's catch clauses do not return)
 }
 
 }  // namespace sweepgen_python

@@ -7,6 +7,8 @@
 //   SWEEPGEN_MODULE_HAS_F64/32 whether the header has namespace f64 / f32 (the scene's `scalars:`)
 //   SWEEPGEN_MODULE_FLAT_IN/OUT the flat layout as the header's comment states it
 //   SWEEPGEN_MODULE_HAS_DERIVATIVES whether the header has the derivative functions (scene key derivatives)
+// and, from the CMake function, SWEEPGEN_MODULE_HAS_CUDA where the module is built with its
+// solver's CUDA kernels (python/module_cuda.cu, a shared library beside the module).
 //   sweepgen_module_torch_layer python/torch_layer.py's text (`<module>.torch`)
 #include <cstddef>
 #include <iterator>
@@ -17,6 +19,11 @@
 #include "sweepgen_module_scene.hpp"
 
 namespace scene = SWEEPGEN_MODULE_SCENE;
+
+#if SWEEPGEN_MODULE_HAS_CUDA
+// python/module_cuda.cu's one exported function.
+extern "C" void SWEEPGEN_MODULE_CUDA_TABLES(SWEEPGEN_MODULE_NAME)(sweepgen_python::CudaTables* tables);
+#endif
 
 namespace {
 
@@ -170,12 +177,33 @@ void add_derivatives(sweepgen_python::Variant<typename V::Scalar>& v) {
 #define SWEEPGEN_MODULE_VARIANT_DERIVATIVES(tag)
 #endif
 
+#if SWEEPGEN_MODULE_HAS_CUDA
+// The kernels of a variant (its scalar's table from the module's CUDA library).
+template <class Scalar>
+void add_cuda(sweepgen_python::Variant<Scalar>& v) {
+  static const sweepgen_python::CudaTables tables = [] {
+    sweepgen_python::CudaTables t;
+    SWEEPGEN_MODULE_CUDA_TABLES(SWEEPGEN_MODULE_NAME)(&t);
+    return t;
+  }();
+  const sweepgen_python::CudaTable<Scalar>& table = [&]() -> const sweepgen_python::CudaTable<Scalar>& {
+    if constexpr (std::is_same_v<Scalar, double>) return tables.f64;
+    else return tables.f32;
+  }();
+  v.cuda_solves.assign(table.solves, table.solves + table.solve_count);
+  v.derivative_cuda_solves.assign(table.derivative_solves, table.derivative_solves + table.derivative_count);
+}
+#endif
+
 template <class V>
 const sweepgen_python::Variant<typename V::Scalar>* described() {
   static const sweepgen_python::Variant<typename V::Scalar> v = [] {
     auto variant = variant_of<V>();
 #if SWEEPGEN_MODULE_HAS_DERIVATIVES
     add_derivatives<V>(variant);
+#endif
+#if SWEEPGEN_MODULE_HAS_CUDA
+    add_cuda(variant);
 #endif
     return variant;
   }();

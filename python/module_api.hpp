@@ -58,7 +58,37 @@ struct Variant {
   // Derivatives' members: the values, their Jacobians (width 0 where not returned), the status.
   Member d_values[3], d_jacobians[3];  // qdd, nu, tau_cmd
   std::size_t d_status = 0;
+
+  // The CUDA kernels (python/module_cuda.cu; none: the module is built without CUDA): n states in
+  // device memory in the batch layout, launched on `stream` (a cudaStream_t); the CUDA error's
+  // text, or null once queued.
+  struct CudaSolve {
+    const char* policy;
+    const char* (*solve)(int n, const Scalar* in, Scalar* out, void* stream);
+  };
+  std::vector<CudaSolve> cuda_solves, derivative_cuda_solves;
 };
+
+// What a module's CUDA library (python/module_cuda.cu, compiled by nvcc into a shared library of
+// its own) hands the module: its kernels' launchers by policy, per scalar (null where the scene
+// lacks the scalar). A shared library, so that the nvcc-compiled copy of the generated host
+// functions stays hidden in it beside the module's own (the static solver library's, with the
+// batch entry points that nvcc does not compile).
+template <class Scalar>
+struct CudaTable {
+  const typename Variant<Scalar>::CudaSolve* solves = nullptr;
+  int solve_count = 0;
+  const typename Variant<Scalar>::CudaSolve* derivative_solves = nullptr;
+  int derivative_count = 0;
+};
+struct CudaTables {
+  CudaTable<double> f64;
+  CudaTable<float> f32;
+};
+// The module's CUDA library's one exported function, named after the module (two modules' libraries
+// in one process do not meet): fills a CudaTables.
+#define SWEEPGEN_MODULE_CUDA_TABLES(name) SWEEPGEN_MODULE_CUDA_TABLES_(name)
+#define SWEEPGEN_MODULE_CUDA_TABLES_(name) sweepgen_cuda_tables_##name
 
 struct Scene {
   const char* module_name = "";  // SWEEPGEN_MODULE_NAME

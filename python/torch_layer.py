@@ -11,17 +11,23 @@ a `torch.autograd.Function` over the module's generated code:
     drivers (..., drivers_size) the flat drivers, or a dict of the drivers by name (the names of
     the module's flat_in_layout, e.g. {"tau_ff": ..., "push": ...}), so that each has a gradient
     of its own; leading batch shapes broadcast; float64 tensors go to the module's f64 variant,
-    float32 to f32; CPU tensors (the module has no CUDA kernels);
-  - forward: the generated batch entry points (`solve_batch` on the rows; with a gradient asked
-    for, `derivatives`, which returns the values and their Jacobians in one pass); a contiguous
-    tensor of the batch's shape reaches the module without a copy (a NumPy view, from which the
-    module gathers each state's values into the batch's lanes), others are copied once;
+    float32 to f32; every argument on one device: the CPU, or a CUDA device where the module has
+    CUDA kernels (`<module>.cuda`: built with its solver's CUDA library);
+  - forward on the CPU: the generated batch entry points (`solve_batch` on the rows; with a
+    gradient asked for, `derivatives`, which returns the values and their Jacobians in one pass); a
+    contiguous tensor of the batch's shape reaches the module without a copy (a NumPy view, from
+    which the module gathers each state's values into the batch's lanes), others are copied once;
+  - forward on a GPU: the generated kernels (`<solve>_cuda`, `derivatives_<policy>_cuda`: a thread
+    per state) on the tensors' device, queued on torch's current stream: the arguments copied once
+    into the kernels' layout (value k of state s at [k * K + s]), the results returned as views of
+    the kernels' output, nothing copied to or from the host (but a status to raise on, where
+    raise_on_status asks);
   - backward: vector-Jacobian products with the generated Jacobians (docs/derivation.md, D2, D3):
     the columns of q, qd, the torque drivers (each receives the tau_ff columns: the torque drivers
     are summed, D2) and beta. A floating base's q holds world_R_base (9, row-major): its gradient
     is R [g/2]x with g the gradient of the rotation-vector columns (D2: R -> R exp([dtheta]x)),
     the gradient in R's tangent space, which a step along the rotations sees and a step off them
-    does not.
+    does not. On a GPU the products are torch's batched matrix products on the device.
 
 What cannot be differentiated raises at backward, naming why: a scene without the key
 `derivatives`, a policy that clamps (saturate), an output whose Jacobian the scene's list leaves
@@ -76,17 +82,24 @@ def bind(module):
         raise RuntimeError(f"{name}.torch: flat_in_layout '{module.flat_in_layout}' does not add up to drivers_size "
                            f"{drivers_size}")
 
-    def check(argument, value, width, dtype):
-        """value: a tensor (..., width) on the CPU of dtype, or None where width is 0."""
+    def check(argument, value, width, dtype, device):
+        """value: a tensor (..., width) of dtype on device (q's), or None where width is 0."""
         if value is None:
             if width == 0:
                 return None
             raise ValueError(f"{name}.torch.solve: {argument} is None, but this scene has {width} values of it")
         if not isinstance(value, torch.Tensor):
             raise TypeError(f"{name}.torch.solve: {argument} must be a torch.Tensor, not {type(value).__name__}")
-        if value.device.type != "cpu":
+        if value.device.type == "cuda" and not module.cuda:
+            raise ValueError(f"{name}.torch.solve: {argument} is on {value.device}; this module has no CUDA kernels "
+                             f"(built without its solver's CUDA library: README, \"PyTorch\"): move it with .cpu()")
+        if value.device.type not in ("cpu", "cuda"):
             raise ValueError(f"{name}.torch.solve: {argument} is on {value.device}; this module runs on the CPU "
-                             f"(built without CUDA kernels): move it with .cpu()")
+                             + ("or a CUDA device" if module.cuda else "(built without CUDA kernels)")
+                             + ": move it with .cpu()")
+        if value.device != device:
+            raise ValueError(f"{name}.torch.solve: {argument} is on {value.device}, q on {device}: give every "
+                             f"argument one device")
         if value.dtype != dtype:
             raise TypeError(f"{name}.torch.solve: {argument} is {value.dtype}, q is {dtype}: give every argument "
                             f"one dtype")
@@ -94,7 +107,7 @@ def bind(module):
             raise ValueError(f"{name}.torch.solve: {argument} has shape {tuple(value.shape)}; it needs (..., {width})")
         return value
 
-    def driver_parts(drivers, dtype):
+    def driver_parts(drivers, dtype, device):
         """The drivers as given, [(tensor, [(name, width, is_torque)] it holds)]."""
         if isinstance(drivers, dict):
             unknown = sorted(set(drivers) - {part for part, _, _ in layout})
@@ -104,9 +117,9 @@ def bind(module):
                                  + (f"not drivers of this scene: {', '.join(unknown)}; " if unknown else "")
                                  + (f"missing: {', '.join(missing)}; " if missing else "")
                                  + f"the scene's: {', '.join(part for part, _, _ in layout)}")
-            return [(check(f"drivers['{part}']", drivers[part], width, dtype), [(part, width, torque)])
+            return [(check(f"drivers['{part}']", drivers[part], width, dtype, device), [(part, width, torque)])
                     for part, width, torque in layout]
-        value = check("drivers", drivers, drivers_size, dtype)
+        value = check("drivers", drivers, drivers_size, dtype, device)
         return [(value, layout)] if value is not None else []
 
     def rows(value, batch, width):
@@ -116,9 +129,77 @@ def bind(module):
             return value.detach().numpy().reshape(-1, width)
         return value.detach().expand(batch + (width,)).reshape(-1, width).contiguous().numpy()
 
-    def tensor(values, batch):
-        """A tensor over NumPy values (K, width) (no copy), shaped batch + (width,)."""
-        return torch.from_numpy(values.reshape(batch + values.shape[1:]))
+    def on_cpu(ctx, variant, policy, mask, q, qd, beta, drivers, batch, differentiate):
+        """The forward on the CPU (the module's batch entry points): qdd, nu, tau_cmd (K, rows) and
+        status (K,) tensors; with differentiate, ctx.jacobians too."""
+        q_rows, qd_rows = rows(q, batch, nq), rows(qd, batch, nv)
+        b_rows = rows(beta, batch, nc) if beta is not None else None
+        d_rows = [rows(d, batch, d.shape[-1]) for d in drivers]
+        d_rows = None if not d_rows else d_rows[0] if len(d_rows) == 1 else np.concatenate(d_rows, 1)
+        if differentiate:
+            result = variant.derivatives(q_rows, qd_rows, d_rows, b_rows, policy=policy, raise_on_status=mask)
+            ctx.jacobians = {y: [torch.from_numpy(result[f"d_{y}_{b}"]) for b in _BLOCKS]
+                             for y in variant.derivative_outputs}
+            if floating:
+                ctx.base_rotation = torch.from_numpy(q_rows[:, :9]).reshape(-1, 3, 3)
+            return [torch.from_numpy(result[y]) for y in _OUTPUTS], torch.from_numpy(result["status"].astype(np.int64))
+        out = torch.from_numpy(variant.solve_batch(q_rows, qd_rows, d_rows, b_rows, policy=policy,
+                                                   raise_on_status=mask))
+        # flat_out_layout: qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip (6), status
+        return [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]], out[:, -1].to(torch.int64)
+
+    def on_gpu(ctx, variant, policy, mask, q, qd, beta, drivers, batch, differentiate):
+        """The forward on q's CUDA device (the module's kernels on torch's current stream): what
+        on_cpu returns, views of the kernels' output."""
+        given = [v for v in (q, qd, *drivers, beta) if v is not None]
+        states = batch.numel()
+        columns = torch.empty((variant.flat_in_size, states), dtype=q.dtype, device=q.device)
+        first = 0
+        for value in given:  # the kernels' layout: value k of state s at [k * states + s]
+            width = value.shape[-1]
+            columns[first:first + width].copy_(value.expand(batch + (width,)).reshape(states, width).t())
+            first += width
+        out_size = variant.derivative_flat_out_size if differentiate else variant.flat_out_size
+        out = torch.empty((out_size, states), dtype=q.dtype, device=q.device)
+        launch = variant._derivatives_cuda if differentiate else variant._solve_cuda
+        with torch.cuda.device(q.device):
+            launch(states, columns.data_ptr(), out.data_ptr(), torch.cuda.current_stream().cuda_stream, policy=policy)
+        out = out.t()  # (states, out_size)
+        status = out[:, -1].to(torch.int64)
+        raise_flagged(variant, "derivatives_cuda" if differentiate else "solve_cuda", policy, mask, status)
+        if not differentiate:
+            return [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]], status
+        # derivatives' flat output: qdd (dof), nu (constraints), tau_cmd (dof), the Jacobians returned
+        # (rows x derivative_columns each, derivative_outputs' order), status
+        values = [out[:, 0:dof], out[:, dof:dof + nc], out[:, dof + nc:2 * dof + nc]]
+        columns_of = variant.derivative_columns
+        widths = (nv, nv, dof, nc)  # (D2)'s column blocks: q, qd, tau_ff, beta
+        first, ctx.jacobians = 2 * dof + nc, {}
+        for y in variant.derivative_outputs:
+            height = dof if y != "nu" else nc
+            jacobian = out[:, first:first + height * columns_of].reshape(states, height, columns_of)
+            first += height * columns_of
+            starts = np.cumsum((0,) + widths)
+            ctx.jacobians[y] = [jacobian[:, :, starts[k]:starts[k + 1]] for k in range(4)]
+        if floating:
+            ctx.base_rotation = q.detach().expand(batch + (nq,)).reshape(states, nq)[:, :9].reshape(-1, 3, 3)
+        return values, status
+
+    def raise_flagged(variant, function, policy, mask, status):
+        """The module's SolverStatusError for the first state whose status has a flag of mask, as
+        its CPU calls raise it (the status read back from the device only where mask asks)."""
+        if not mask:
+            return
+        flagged = torch.nonzero(status & mask).flatten().cpu()
+        if flagged.numel() == 0:
+            return
+        first, word = int(flagged[0]), int(status[flagged[0]])
+        error = module.SolverStatusError(
+            f"{name}.{variant.__name__.rsplit('.', 1)[-1]}.{function} (policy {policy}): status {word} "
+            f"({module.Status(word).name}) at row {first} ({flagged.numel()} of {status.numel()} rows flagged); "
+            f"raise_on_status = {mask}")
+        error.status, error.index, error.policy, error.result = word, first, policy, None
+        raise error
 
     class Solve(torch.autograd.Function):
         @staticmethod
@@ -129,32 +210,18 @@ def bind(module):
             shapes = [v.shape[:-1] for v in given if v is not None]
             batch = (shapes[0] if all(shape == shapes[0] for shape in shapes)
                      else torch.Size(torch.broadcast_shapes(*shapes)))
-            q_rows, qd_rows = rows(q, batch, nq), rows(qd, batch, nv)
-            b_rows = rows(beta, batch, nc) if beta is not None else None
-            d_rows = [rows(d, batch, d.shape[-1]) for d in drivers]
-            d_rows = None if not d_rows else d_rows[0] if len(d_rows) == 1 else np.concatenate(d_rows, 1)
             ctx.set_materialize_grads(False)
             ctx.batch, ctx.dtype, ctx.holds = batch, dtype, holds
             ctx.shapes = [None if v is None else v.shape for v in given]
             ctx.jacobians = None
             ctx.why_not = why_not_differentiable(variant, policy) if any(ctx.needs_input_grad[3:]) else None
-            if any(ctx.needs_input_grad[3:]) and ctx.why_not is None:
-                result = variant.derivatives(q_rows, qd_rows, d_rows, b_rows, policy=policy, raise_on_status=mask)
-                values = [result[y] for y in _OUTPUTS]
-                status = result["status"].astype(np.int64)
-                ctx.jacobians = {y: [torch.from_numpy(result[f"d_{y}_{b}"]) for b in _BLOCKS]
-                                 for y in variant.derivative_outputs}
-                if floating:
-                    ctx.base_rotation = torch.from_numpy(q_rows[:, :9]).reshape(-1, 3, 3)
-            else:
-                out = variant.solve_batch(q_rows, qd_rows, d_rows, b_rows, policy=policy, raise_on_status=mask)
-                # flat_out_layout: qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip (6), status
-                values = [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]]
-                status = out[:, -1].astype(np.int64)
-            status = torch.from_numpy(status.reshape(batch))
+            differentiate = any(ctx.needs_input_grad[3:]) and ctx.why_not is None
+            forward = on_gpu if q.device.type == "cuda" else on_cpu
+            values, status = forward(ctx, variant, policy, mask, q, qd, beta, drivers, batch, differentiate)
+            status = status.reshape(batch)
             ctx.mark_non_differentiable(status)
             ctx.save_for_backward(*given)
-            return (*(tensor(v, batch) for v in values), status)
+            return (*(v.reshape(batch + v.shape[1:]) for v in values), status)
 
         @staticmethod
         def backward(ctx, *grads):
@@ -198,7 +265,7 @@ def bind(module):
         grad_q, grad_qd, grad_tau_ff, grad_beta = blocks
         if floating:  # [dtheta; dp] lead the q columns (D2); nothing reads the base's position
             half = grad_q[:, 0:3] / 2
-            skew = torch.zeros(half.shape[0], 3, 3, dtype=half.dtype)
+            skew = torch.zeros(half.shape[0], 3, 3, dtype=half.dtype, device=half.device)
             skew[:, 0, 1], skew[:, 0, 2], skew[:, 1, 2] = -half[:, 2], half[:, 1], -half[:, 0]
             skew = skew - skew.transpose(1, 2)
             grad_q = torch.cat([torch.bmm(ctx.base_rotation, skew).reshape(-1, 9), grad_q[:, 6:]], 1)
@@ -239,10 +306,10 @@ def bind(module):
             raise TypeError(f"{name}.torch.solve: q is {q.dtype}; this scene's variants take "
                             f"{' or '.join(str(d) for d in variants)} (scene key scalars)")
         variant = variants[q.dtype]
-        q = check("q", q, nq, q.dtype)
-        qd = check("qd", qd, nv, q.dtype)
-        beta = check("beta", beta, nc, q.dtype)
-        parts = driver_parts(drivers, q.dtype)
+        q = check("q", q, nq, q.dtype, q.device)
+        qd = check("qd", qd, nv, q.dtype, q.device)
+        beta = check("beta", beta, nc, q.dtype, q.device)
+        parts = driver_parts(drivers, q.dtype, q.device)
         policy = variant.policies[0] if policy is None else policy
         if policy not in variant.policies:
             raise ValueError(f"{name}.torch.solve: '{policy}' is not a policy of this scene "

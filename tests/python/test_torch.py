@@ -82,6 +82,7 @@ class DerivativeSceneTest:
 
     STEM = None
     DRIVER_SCALE = 10  # random_state's torques and wrenches
+    DEVICE = "cpu"  # the tensors' (cuda/test_torch_cuda.py runs these tests on a GPU)
 
     @classmethod
     def setUpClass(cls):
@@ -103,8 +104,13 @@ class DerivativeSceneTest:
 
         return f, names
 
+    def state(self, batch):
+        """random_state's tensors on DEVICE."""
+        state = random_state(self.m, self.generator, batch, driver_scale=self.DRIVER_SCALE)
+        return [t.to(self.DEVICE) for t in state]
+
     def inputs(self, batch=(STATES,)):
-        q, qd, drivers, beta = random_state(self.m, self.generator, batch, driver_scale=self.DRIVER_SCALE)
+        q, qd, drivers, beta = self.state(batch)
         template = split_drivers(self.m, drivers)
         names = [n for n, _, torque in self.m.torch.drivers if torque]
         torques = [template[n].clone().requires_grad_() for n in names]
@@ -143,7 +149,7 @@ class DerivativeSceneTest:
 
     def test_what_has_no_gradient_says_why(self):
         m = self.m
-        q, qd, drivers, beta = random_state(m, self.generator, (2,), driver_scale=self.DRIVER_SCALE)
+        q, qd, drivers, beta = self.state((2,))
         beta_arg = beta if m.constraints else None
         not_listed = [y for y in ("qdd", "nu", "tau_cmd") if y not in m.f64.derivative_outputs
                       and (y != "nu" or m.constraints)]
