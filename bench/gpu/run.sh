@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The GPU figures of bench/README.md, "GPU", on a machine with an NVIDIA GPU and nvcc (CI has
 # neither). Needs only the committed generated/ files and nvcc, no other dependency:
-#   bash bench/gpu/run.sh [OUT]        (OUT: default build-gpu/; meant to finish within 5 min on 16 cores)
+#   bash bench/gpu/run.sh [OUT]        (OUT: default build-gpu/; 156 s on an H200 machine's 16 cores)
+#   SCENES="panda_nc6 ur5_nc6" bash bench/gpu/run.sh [OUT]   (those scenes only)
 # 1. prints the device, driver and nvcc versions;
 # 2. compiles bench/gpu/gpu_bench.cu once per bundled scene with nvcc -O3 -arch=native (ARCH), warnings as
 #    errors, ptxas -v (registers, spill stores and loads, stack frame of each kernel), in parallel;
@@ -29,6 +30,7 @@ nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader ||
 
 scenes=()
 for hpp in "$root"/generated/*.hpp; do scenes+=("$(basename "$hpp" .hpp)"); done
+if [ -n "${SCENES:-}" ]; then read -r -a scenes <<< "$SCENES"; fi
 
 build() {  # <scene>: the scene's benchmark, and its ptxas report
   local stem=$1 header=$root/generated/$1.hpp flags=()
