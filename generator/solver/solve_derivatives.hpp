@@ -63,50 +63,7 @@ class DerivativeSolver {
 
   // The solve of `in` under `policy` and its Jacobians. Throws std::invalid_argument for a
   // saturating policy.
-  SolveDerivatives<Scalar> solve(const SolveInputs<Scalar>& in, Policy policy) {
-    if (!differentiable(policy))
-      throw std::invalid_argument(std::string("policy ") + name(policy) +
-                                  " has no derivative (its clamp is a kink); differentiable: original, prioritize_external");
-    const std::size_t n = dof(), nc = constraints();
-    const DerivativeColumns columns = this->columns();
-    const SolverModel<D>& model = solver_.model();
-    const std::size_t base = model.base_coordinates();
-    const SeededKinematics<Scalar> seeds = seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
-    const JointVector<D>& q = seeds.q;
-    const JointVector<D>& qd = seeds.qd;
-    const Mat3<D>& rotation = seeds.base_rotation;
-    // (D5): the sweeps read q, q̇ without tangent; the q and q̇ columns come from the residuals.
-    const bool by_residuals = differentiates_by_residuals(model, policy);
-    if (by_residuals)
-      solver_.outward(values_of<Scalar>(q), values_of<Scalar>(qd), values_of<Scalar>(rotation));
-    else
-      solver_.outward(q, qd, rotation);
-    auto& drivers = solver_.drivers();
-    for (std::size_t t = 0; t < in.torques.size(); ++t) drivers.torques[t] = in.torques[t].template cast<D>();
-    for (std::size_t i = 0; i < n; ++i) drivers.torques[0][i] = seeded(in.torques[0][i], columns.tau_ff(i), columns);
-    const auto force = [](const spatial::Force<Scalar>& f) {
-      return spatial::Force<D>{f.moment.template cast<D>(), f.force.template cast<D>()};
-    };
-    for (std::size_t e = 0; e < in.wrenches.size(); ++e) drivers.external_forces[e] = force(in.wrenches[e]);
-    for (std::size_t k = 0; k < in.alpha.size(); ++k) drivers.constraint_directions[k] = force(in.alpha[k]);
-    solver_.decompose();
-    ConstraintVector<D> beta(nc);
-    for (std::size_t k = 0; k < nc; ++k) beta[k] = seeded(in.beta[k], columns.beta(k), columns);
-    Solution<D> s = solver_.solve(policy, beta);
-    mirror_symmetric_columns(s.qdd, s.nu, columns);  // (D7)
-    if (by_residuals) {
-      auto kin = KinematicsState<D>::sized(n);
-      outward_sweep_base_to_tip(model, q, qd, kin, rotation);
-      complete_by_residuals(model, solver_.kinematics(), values_of<Scalar>(qd), kin, drivers, s);
-    }
-
-    SolveDerivatives<Scalar> out;
-    out.status = solver_.status();
-    split(s.qdd, out.qdd, out.d_qdd);
-    split(s.tau_cmd, out.tau_cmd, out.d_tau_cmd);
-    split(ConstraintVector<D>(s.nu.head(static_cast<Eigen::Index>(nc))), out.nu, out.d_nu);
-    return out;
-  }
+  SolveDerivatives<Scalar> solve(const SolveInputs<Scalar>& in, Policy policy);
 
  private:
   DerivativeColumns columns() const { return DerivativeColumns::of(dof(), constraints(), solver_.model().couplings); }
@@ -136,6 +93,55 @@ class DerivativeSolver {
   ReferenceSolver<D> solver_;
 };
 
+// Outside the class, so that the explicit instantiation below compiles it once
+// (reference_solver_dual.cpp) for every file that differentiates in double.
+template <class Scalar>
+SolveDerivatives<Scalar> DerivativeSolver<Scalar>::solve(const SolveInputs<Scalar>& in, Policy policy) {
+  if (!differentiable(policy))
+    throw std::invalid_argument(std::string("policy ") + name(policy) +
+                                " has no derivative (its clamp is a kink); differentiable: original, prioritize_external");
+  const std::size_t n = dof(), nc = constraints();
+  const DerivativeColumns columns = this->columns();
+  const SolverModel<D>& model = solver_.model();
+  const std::size_t base = model.base_coordinates();
+  const SeededKinematics<Scalar> seeds = seeded_kinematics(in.q, in.qd, in.base_rotation, base, columns);
+  const JointVector<D>& q = seeds.q;
+  const JointVector<D>& qd = seeds.qd;
+  const Mat3<D>& rotation = seeds.base_rotation;
+  // (D5): the sweeps read q, q̇ without tangent; the q and q̇ columns come from the residuals.
+  const bool by_residuals = differentiates_by_residuals(model, policy);
+  if (by_residuals)
+    solver_.outward(values_of<Scalar>(q), values_of<Scalar>(qd), values_of<Scalar>(rotation));
+  else
+    solver_.outward(q, qd, rotation);
+  auto& drivers = solver_.drivers();
+  for (std::size_t t = 0; t < in.torques.size(); ++t) drivers.torques[t] = in.torques[t].template cast<D>();
+  for (std::size_t i = 0; i < n; ++i) drivers.torques[0][i] = seeded(in.torques[0][i], columns.tau_ff(i), columns);
+  const auto force = [](const spatial::Force<Scalar>& f) {
+    return spatial::Force<D>{f.moment.template cast<D>(), f.force.template cast<D>()};
+  };
+  for (std::size_t e = 0; e < in.wrenches.size(); ++e) drivers.external_forces[e] = force(in.wrenches[e]);
+  for (std::size_t k = 0; k < in.alpha.size(); ++k) drivers.constraint_directions[k] = force(in.alpha[k]);
+  solver_.decompose();
+  ConstraintVector<D> beta(nc);
+  for (std::size_t k = 0; k < nc; ++k) beta[k] = seeded(in.beta[k], columns.beta(k), columns);
+  Solution<D> s = solver_.solve(policy, beta);
+  mirror_symmetric_columns(s.qdd, s.nu, columns);  // (D7)
+  if (by_residuals) {
+    auto kin = KinematicsState<D>::sized(n);
+    outward_sweep_base_to_tip(model, q, qd, kin, rotation);
+    complete_by_residuals(model, solver_.kinematics(), values_of<Scalar>(qd), kin, drivers, s);
+  }
+
+  SolveDerivatives<Scalar> out;
+  out.status = solver_.status();
+  split(s.qdd, out.qdd, out.d_qdd);
+  split(s.tau_cmd, out.tau_cmd, out.d_tau_cmd);
+  split(ConstraintVector<D>(s.nu.head(static_cast<Eigen::Index>(nc))), out.nu, out.d_nu);
+  return out;
+}
+
 extern template class ReferenceSolver<Dual<double>>;
+extern template class DerivativeSolver<double>;
 
 }  // namespace sweepgen::solver
