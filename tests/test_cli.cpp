@@ -8,7 +8,6 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "support/run_command.hpp"
 #include "support/one_joint_robot.hpp"
 #include "support/temp_dir.hpp"
+#include "support/text_pattern.hpp"
 
 namespace sweepgen {
 namespace {
@@ -480,9 +480,9 @@ TEST(CliSolve, RotorInertiaEntriesAreChecked) {
 
 std::string project_version() {
   const std::string cmake = test::read_text(kSource + "/CMakeLists.txt");
-  std::smatch match;
-  EXPECT_TRUE(std::regex_search(cmake, match, std::regex(R"(project\(sweepgen VERSION ([0-9.]+))")));
-  return match.size() > 1 ? match[1].str() : "";
+  test::Match match;
+  EXPECT_TRUE(test::Pattern(R"(project\(sweepgen VERSION ([0-9.]+))").search(cmake, match));
+  return match.size() > 1 ? match[1] : "";
 }
 
 TEST(CliUsage, UsageErrorsExitWith2) {
@@ -652,8 +652,8 @@ TEST(CliGenerate, AFailedRunLeavesTheOutputUntouched) {
     SCOPED_TRACE(scene);
     const CommandResult r = sweepgen({"generate", "--scene", scene, "--out", out.string()});
     EXPECT_EQ(r.exit_code, 1) << describe(r);
-    EXPECT_TRUE(std::regex_search(r.err, std::regex(std::regex_replace(scene, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
-                                                    ":[0-9]+:[0-9]+: ")))
+    EXPECT_TRUE(test::Pattern(test::Pattern(R"([.^$|()\[\]{}*+?\\])").replace(scene, R"(\$&)") + ":[0-9]+:[0-9]+: ")
+                    .search(r.err))
         << "no file:line:column in: " << r.err;
     EXPECT_EQ(snapshot(out), before);
     EXPECT_FALSE(has_temporaries(out));
@@ -809,7 +809,7 @@ TEST(CliInfo, ListsTheJointsAndOperationCounts) {
   expect_contains(r.out, "operation counts");
   for (const char* function : {"outward:", "decompose:", "full solve_original:", "full solve_saturate_exact:"})
     expect_contains(r.out, function);
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(full solve_original: add [0-9]+, mul [0-9]+.*\(total [1-9][0-9]*\))")))
+  EXPECT_TRUE(test::Pattern(R"(full solve_original: add [0-9]+, mul [0-9]+.*\(total [1-9][0-9]*\))").search(r.out))
       << r.out;
 
   // A scene file works too; a bad URDF is bad input.
@@ -883,10 +883,10 @@ TEST(CliGenerate, QuarterTurnsAreSaidAndCanBeTurnedOff) {
   EXPECT_EQ(snapshot(dir.path() / "literal").at("tilted.hpp").find("<origin>"), std::string::npos);
   // cos(1.57079632679) = 4.9e-12 (to the quaternion's rounding, 1e-16) stays in the code as a
   // constant, alone or folded with g (9.81 x 4.8966e-12 = 4.8036e-11); snapped, it folds away.
-  const std::regex cosine("4\\.8966[0-9]*e-12|4\\.8036[0-9]*e-11");
-  EXPECT_TRUE(std::regex_search(snapshot(dir.path() / "literal").at("tilted.cpp"), cosine))
+  const test::Pattern cosine("4\\.8966[0-9]*e-12|4\\.8036[0-9]*e-11");
+  EXPECT_TRUE(cosine.search(snapshot(dir.path() / "literal").at("tilted.cpp")))
       << "the literal rotation's cosine is not in the code";
-  EXPECT_FALSE(std::regex_search(snapshot(dir.path() / "snapped").at("tilted.cpp"), cosine));
+  EXPECT_FALSE(cosine.search(snapshot(dir.path() / "snapped").at("tilted.cpp")));
 
   // solve takes the flag too: the two models' answers differ by about the rotation's change.
   const std::string line = R"({"q": [0.3], "qd": [0.2]})" "\n";

@@ -8,13 +8,13 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "support/bundled_robots.hpp"
+#include "support/text_pattern.hpp"
 
 namespace sweepgen {
 namespace {
@@ -59,10 +59,10 @@ std::map<std::string, std::string> repository_texts() {
 std::vector<std::string> defined_tags() {
   std::vector<std::string> tags;
   std::istringstream lines(read(kDerivation));
-  const std::regex definition(R"(^\s*\(([A-Z][0-9]+)\)\s)");
-  std::smatch match;
+  const test::Pattern definition(R"(^\s*\(([A-Z][0-9]+)\)\s)");
+  test::Match match;
   for (std::string line; std::getline(lines, line);)
-    if (std::regex_search(line, match, definition)) tags.push_back(match[1]);
+    if (definition.search(line, match)) tags.push_back(match[1]);
   return tags;
 }
 
@@ -70,14 +70,14 @@ std::vector<std::string> defined_tags() {
 // In C++ (`comments_only`) only comments cite: a call with one argument such as a tag is code.
 std::vector<std::string> cited_tags(const std::string& text, bool comments_only) {
   std::vector<std::string> tags;
-  const std::regex citation(R"(\(([A-Z][0-9]+(?:, [A-Z][0-9]+)*)\))");
-  const std::regex definition(R"(^\s*\([A-Z][0-9]+\)\s)");
+  const test::Pattern citation(R"(\(([A-Z][0-9]+(?:, [A-Z][0-9]+)*)\))");
+  const test::Pattern definition(R"(^\s*\([A-Z][0-9]+\)\s)");
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {
     if (comments_only) line = line.find("//") == std::string::npos ? "" : line.substr(line.find("//"));
-    std::string rest = std::regex_search(line, definition) ? line.substr(line.find(')') + 1) : line;
-    for (std::sregex_iterator it(rest.begin(), rest.end(), citation), end; it != end; ++it) {
-      std::istringstream list((*it)[1].str());
+    std::string rest = definition.search(line) ? line.substr(line.find(')') + 1) : line;
+    for (const test::Match& cited : citation.all(rest)) {
+      std::istringstream list(cited[1]);
       for (std::string tag; std::getline(list, tag, ',');) tags.push_back(tag.substr(tag.find_first_not_of(' ')));
     }
   }

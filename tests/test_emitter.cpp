@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstring>
 #include <random>
-#include <regex>
 #include <set>
 #include <type_traits>
 
@@ -24,6 +23,7 @@
 #include "support/bundled_robots.hpp"
 #include "support/compiled_scene.hpp"
 #include "support/oracle_problem.hpp"
+#include "support/text_pattern.hpp"
 #include "support/random_chain.hpp"
 #include "support/same_bits.hpp"
 #include "support/state_count.hpp"
@@ -127,15 +127,15 @@ TEST(Emitter, StateMembersAndBannersAreNamedFromTheMath) {
     const emit::Plan plan = emit::make_plan(trace, false);
     std::set<std::string> arrays;
     for (const auto& f : trace.fields) arrays.insert((emit::is_state_field(f) ? "" : f.group + "_") + f.array);
-    const std::regex named(R"(^(.+?)(_\d+)?_\d+(_term(_\d+)?)?$)");
-    const std::regex function_of_input(R"(^(sin|cos)_q_\d+$)");
+    const test::Pattern named(R"(^(.+?)(_\d+)?_\d+(_term(_\d+)?)?$)");
+    const test::Pattern function_of_input(R"(^(sin|cos)_q_\d+$)");
     ASSERT_FALSE(plan.carried_name.empty());
     std::set<std::string> names;
     for (const auto& [node, name] : plan.carried_name) {
       EXPECT_TRUE(names.insert(name).second) << "two State members named " << name;
-      std::smatch m;
-      if (std::regex_match(name, function_of_input)) continue;
-      ASSERT_TRUE(std::regex_match(name, m, named)) << name;
+      test::Match m;
+      if (function_of_input.matches(name)) continue;
+      ASSERT_TRUE(named.matches(name, m)) << name;
       EXPECT_TRUE(arrays.count(m[1])) << name << ": no array " << m[1];
     }
     const emit::EmitRequest emit_request{"scene", {"double"}, false, request({{"push", "panda_hand"}}, nc), "test"};
@@ -170,8 +170,8 @@ TEST(Emitter, StateMembersAndBannersAreNamedFromTheMath) {
 // decides.
 TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
   const model::Chain chain = panda();
-  const std::regex columns_count(R"(columns F\^A_cstr,i inward \(I2\) \((\d+) operations(, (\d+) counting two lanes as one)?\))");
-  const std::regex rows_count(R"(rows r_i outward \(I6\) \((\d+) operations\))");
+  const test::Pattern columns_count(R"(columns F\^A_cstr,i inward \(I2\) \((\d+) operations(, (\d+) counting two lanes as one)?\))");
+  const test::Pattern rows_count(R"(rows r_i outward \(I6\) \((\d+) operations\))");
   std::size_t decided_by_weight = 0, in_lanes = 0;
   for (const bool fixed : {false, true})
     for (std::size_t nc : {1u, 2u, 3u, 6u}) {
@@ -186,13 +186,13 @@ TEST(Emitter, AutoConstraintRowsWeighSpillingColumns) {
       const auto line = std::find_if(choices.begin(), choices.end(),
                                      [](const std::string& c) { return c.rfind("Constraint rows", 0) == 0; });
       ASSERT_NE(line, choices.end()) << "Nc=" << nc;
-      std::smatch c, rows_match;
-      ASSERT_TRUE(std::regex_search(*line, c, columns_count)) << *line;
-      ASSERT_TRUE(std::regex_search(*line, rows_match, rows_count)) << *line;
+      test::Match c, rows_match;
+      ASSERT_TRUE(columns_count.search(*line, c)) << *line;
+      ASSERT_TRUE(rows_count.search(*line, rows_match)) << *line;
       const double rows = std::stod(rows_match[1]);
       // Run-time directions (two or more) are computed in lanes: the columns cost what the line
       // states counting two lanes as one, unweighted; else their count, weighted past two.
-      const bool lanes = c[3].matched;
+      const bool lanes = c.matched(3);
       EXPECT_EQ(lanes, !fixed && nc >= 2) << *line;
       const double columns = lanes ? std::stod(c[3]) : std::stod(c[1]) * (nc > 2 ? 21.0 / 20.0 : 1.0);
       const bool chose_rows = line->find(": rows r_i outward") != std::string::npos;

@@ -6,7 +6,6 @@
 
 #include <cstdio>
 #include <fstream>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -16,6 +15,7 @@
 #include "solver/reference_solver.hpp"
 #include "support/run_command.hpp"
 #include "support/temp_dir.hpp"
+#include "support/text_pattern.hpp"
 
 namespace sweepgen {
 namespace {
@@ -56,8 +56,8 @@ test::CommandResult judge(const std::string& scene_file, const std::string& file
 
 // The count in the summary line's "<count> <label>".
 long summary_count(const std::string& out, const std::string& label) {
-  std::smatch m;
-  if (!std::regex_search(out, m, std::regex("(\\d+) " + label))) return -1;
+  test::Match m;
+  if (!test::Pattern("(\\d+) " + label).search(out, m)) return -1;
   return std::stol(m[1]);
 }
 
@@ -92,7 +92,7 @@ TEST(FlatJudgement, APerturbedResultFails) {
   EXPECT_NE(r.out.find("FAILED"), std::string::npos) << r.out;
   EXPECT_GT(summary_count(r.out, "over the bound"), 0) << r.out;
   EXPECT_GT(2 * summary_count(r.out, "over the bound"), summary_count(r.out, "judged")) << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex("state \\d+: error .* eps kappa"))) << r.out;
+  EXPECT_TRUE(test::Pattern("state \\d+: error .* eps kappa").search(r.out)) << r.out;
 }
 
 TEST(FlatJudgement, AnotherStatusFails) {

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <fstream>
-#include <regex>
 
 #include "emit/lane_groups.hpp"
 #include "emit/solver_emitter.hpp"

@@ -35,7 +35,6 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
-#include <regex>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -49,6 +48,7 @@
 #include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
 #include "support/state_count.hpp"
+#include "support/text_pattern.hpp"
 
 namespace sweepgen {
 namespace {
@@ -330,8 +330,8 @@ TEST(OffChain, EveryLinkIsLumpedLockedOrLeftOut) {
   for (const std::string& line : model::lumping_summary(chain)) listing += line + "\n";
   const urdf::ModelInterfaceSharedPtr urdf_model = urdf::parseURDFFile(kSideBranchesUrdf);
   for (const auto& [name, link] : urdf_model->links_)
-    EXPECT_TRUE(std::regex_search(listing, std::regex("(^| )" + name + " [-+.e0-9]+ kg"))) << name << " is not listed:\n"
-                                                                                          << listing;
+    EXPECT_TRUE(test::Pattern("(^| )" + name + " [-+.e0-9]+ kg").search(listing)) << name << " is not listed:\n"
+                                                                                << listing;
 }
 
 // fixed_rpy_chain as written: every fixed link lumped into the moving body before it, the tool

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <string>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "support/run_command.hpp"
 #include "support/state_count.hpp"
 #include "support/temp_dir.hpp"
+#include "support/text_pattern.hpp"
 
 namespace sweepgen {
 namespace {
@@ -158,7 +158,7 @@ TEST(OutputFiles, AnExistingOutputIsComparedOnlyWhenARegularFile) {
 // stay byte for byte, their time stamps too, and make, which has no restat, would run the rule again
 // on every build): the scene's gravity, the URDF's first mass.
 void change_scene(const std::string& path) {
-  const std::string text = std::regex_replace(test::read_text(path), std::regex("gravity: [^\n]*\n"), "");
+  const std::string text = test::Pattern("gravity: [^\n]*\n").replace(test::read_text(path), "");
   static int edits = 0;
   std::ofstream(path, std::ios::trunc) << text << "gravity: [0, 0, -" << 9 + ++edits << "]\n";
 }
@@ -207,7 +207,7 @@ TEST(OutputFiles, MakeAndNinjaReadTheDepfileAndRebuildOnAChange) {
     SCOPED_TRACE("make");
     dir.write("Makefile", "out/planar.hpp:\n\t" + command + "\n-include out.d\n");
     expect_rebuilds_on_a_change("make -s");
-    const std::string inputs_spelt = std::regex_replace(inputs.string(), std::regex(" "), "\\ ");
+    const std::string inputs_spelt = test::Pattern(" ").replace(inputs.string(), "\\ ");
     EXPECT_EQ(test::read_text(dir.path() / "out.d"),
               "out/planar.hpp: " + inputs_spelt + "/a\\:b.yaml " + inputs_spelt + "/a\\b.urdf\n");
   }
@@ -255,11 +255,11 @@ struct SetBuild {
 // stand-ins for CUDA's headers (as tests/device_code/check.sh checks it).
 std::vector<SetBuild> set_builds(const fs::path& dir) {
   const std::string cmake = test::read_text(dir / "set.cmake");
-  std::smatch definition;
-  EXPECT_TRUE(std::regex_search(cmake, definition, std::regex(R"(SWEEPGEN_OUTPUT_SET=([0-9a-fx]+ull))"))) << cmake;
+  test::Match definition;
+  EXPECT_TRUE(test::Pattern(R"(SWEEPGEN_OUTPUT_SET=([0-9a-fx]+ull))").search(cmake, definition)) << cmake;
   const std::string cpp = (dir / "set.cpp").string(), device_code = kSource + "/tests/device_code";
   return {{{0, 1}, {"c++", "-std=c++17", "-fsyntax-only", cpp}},
-          {{0, 1, 3}, {"c++", "-std=c++17", "-fsyntax-only", "-DSWEEPGEN_OUTPUT_SET=" + definition.str(1), cpp}},
+          {{0, 1, 3}, {"c++", "-std=c++17", "-fsyntax-only", "-DSWEEPGEN_OUTPUT_SET=" + definition[1], cpp}},
           {{0, 1, 2},
            {"clang++", "-x", "cuda", "--cuda-device-only", "--cuda-gpu-arch=sm_80", "-nocudainc", "-nocudalib",
             "-std=c++17", "-Wno-unknown-cuda-version", "-I", device_code + "/include", "-include",

@@ -22,7 +22,6 @@
 #include <functional>
 #include <map>
 #include <new>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -33,6 +32,7 @@
 #include "support/bundled_robots.hpp"
 #include "support/flat_problem.hpp"
 #include "support/generated_check.hpp"
+#include "support/text_pattern.hpp"
 
 // ---- Allocation counter ---------------------------------------------------------------------
 // Counts are global (gtest runs the tests on one thread); counting is on only inside
@@ -209,6 +209,8 @@ void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcep
 
 namespace {
 
+using sweepgen::test::Match;
+using sweepgen::test::Pattern;
 using sweepgen::test::source_path;
 
 // Keeps a pointer observable so that the compiler cannot elide the allocation behind it.
@@ -384,14 +386,14 @@ struct Function {
 };
 
 std::vector<Function> functions(const std::vector<std::string>& lines) {
-  static const std::regex definition(
+  static const Pattern definition(
       R"(^(?:\[\[maybe_unused\]\] )?(?:SWEEPGEN_FLAT_SOLVE )?(?:SWEEPGEN_HD )?(?:SWEEPGEN_INLINE )?(void|bool|int|Drivers|typename Arrays<S>::Drivers|FlatDrivers<S>|FlatDrivers<Scalar>) (\w+)\()");
   std::vector<Function> result;
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    std::smatch m;
+    Match m;
     const auto end = lines[i].find_last_not_of(' ');
     if (end != std::string::npos && lines[i][end] == ';') continue;  // a declaration (an ISA object's entry point)
-    if (std::regex_search(lines[i], m, definition)) {
+    if (definition.search(lines[i], m)) {
       // A wrapper defined on its line (`{ <call>; }`) ends there.
       const bool one_line = lines[i].find('{') != std::string::npos && lines[i].find_last_not_of(' ') == lines[i].rfind('}');
       result.push_back({m[2], i, one_line ? i : 0});
@@ -438,22 +440,22 @@ TEST(GeneratedSources, ExistAndIncludeOnlyTheirHeaderAndMath) {
 // The only loop form: for (int i = 0; i < BOUND; ++i) with BOUND one of `bounds`; the body never
 // writes the counter. Returns the number of loops.
 long expect_bounded_loops(const std::string& where, const std::vector<std::string>& lines, const std::string& bounds) {
-  static const std::regex any_for(R"(\bfor\b)");
-  const std::regex loop(R"(\bfor \((?:int|std::ptrdiff_t) (\w+) = (?:0|first); (\w+) < ()" + bounds +
+  static const Pattern any_for(R"(\bfor\b)");
+  const Pattern loop(R"(\bfor \((?:int|std::ptrdiff_t) (\w+) = (?:0|first); (\w+) < ()" + bounds +
                         R"(); \+\+(\w+)\)(?: (.*))?$)");
   long loops = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (!std::regex_search(lines[i], any_for)) continue;
-    std::smatch m;
-    EXPECT_TRUE(std::regex_search(lines[i], m, loop)) << where << ":" << i + 1 << ": " << lines[i];
+    if (!any_for.search(lines[i])) continue;
+    Match m;
+    EXPECT_TRUE(loop.search(lines[i], m)) << where << ":" << i + 1 << ": " << lines[i];
     if (m.empty()) continue;
     const std::string counter = m[1];
     EXPECT_EQ(m[2], counter) << where << ":" << i + 1;
     EXPECT_EQ(m[4], counter) << where << ":" << i + 1;
     // The body: the rest of the line, or the next line when the header ends the line.
-    const std::string body = m[5].str().empty() && i + 1 < lines.size() ? lines[i + 1] : m[5].str();
-    const std::regex writes_counter("(\\+\\+|--)\\s*" + counter + "\\b|\\b" + counter + "\\s*(\\+\\+|--|[-+*/%&|^]?=[^=])");
-    EXPECT_FALSE(std::regex_search(body, writes_counter)) << where << ":" << i + 1 << ": " << body;
+    const std::string body = m[5].empty() && i + 1 < lines.size() ? lines[i + 1] : m[5];
+    const Pattern writes_counter("(\\+\\+|--)\\s*" + counter + "\\b|\\b" + counter + "\\s*(\\+\\+|--|[-+*/%&|^]?=[^=])");
+    EXPECT_FALSE(writes_counter.search(body)) << where << ":" << i + 1 << ": " << body;
     ++loops;
   }
   return loops;
@@ -481,27 +483,27 @@ TEST(GeneratedSources, TheRuntimeIsTheTemplatesAndBoundsItsLoops) {
   // text verbatim). No loop body writes its counter but the `+=` of its header.
   // The only string literals: the CPU features batch_isa() asks __builtin_cpu_supports for (its
   // argument must be one), blanked before the checks below.
-  static const std::regex cpu_feature(R"re(__builtin_cpu_supports\("[a-z0-9]+"\))re");
-  const auto lines = code_lines_of(std::regex_replace(runtime_text(), cpu_feature, "__builtin_cpu_supports()"), true);
-  static const std::regex any_for(R"(\bfor\b)");
-  static const std::regex loop(
+  static const Pattern cpu_feature(R"re(__builtin_cpu_supports\("[a-z0-9]+"\))re");
+  const auto lines = code_lines_of(cpu_feature.replace(runtime_text(), "__builtin_cpu_supports()"), true);
+  static const Pattern any_for(R"(\bfor\b)");
+  static const Pattern loop(
       R"(^ *(?:else )?for \((?:int|std::ptrdiff_t) (\w+) = (?:0|1|first); (\w+) < (width|groups|n|in_size|out_size|count|Lanes<\w+>::width|rows|first \+ count)(?: && first \+ \w+ < n)?; (?:\+\+(\w+)|(\w+) \+= (?:width|tile))\))");
   long loops = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (!std::regex_search(lines[i], any_for)) continue;
-    std::smatch m;
-    EXPECT_TRUE(std::regex_search(lines[i], m, loop)) << "templates/lanes.mustache:" << i + 1 << ": " << lines[i];
+    if (!any_for.search(lines[i])) continue;
+    Match m;
+    EXPECT_TRUE(loop.search(lines[i], m)) << "templates/lanes.mustache:" << i + 1 << ": " << lines[i];
     if (m.empty()) continue;
     EXPECT_EQ(m[2], m[1]) << "templates/lanes.mustache:" << i + 1;
-    EXPECT_EQ(m[4].matched ? m[4] : m[5], m[1]) << "templates/lanes.mustache:" << i + 1;
+    EXPECT_EQ(m.matched(4) ? m[4] : m[5], m[1]) << "templates/lanes.mustache:" << i + 1;
     ++loops;
   }
   EXPECT_GE(loops, 10);
-  static const std::regex forbidden(
+  static const Pattern forbidden(
       R"(\b(while|do|goto|switch|case|break|throw|try|catch|new|delete|malloc|calloc|realloc|free|alloca|setjmp|longjmp|thread_local|virtual|asm|typeid|dynamic_cast)\b|"|/\*)");
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    std::smatch m;
-    EXPECT_FALSE(std::regex_search(lines[i], m, forbidden)) << "templates/lanes.mustache:" << i + 1 << ": '" << m.str()
+    Match m;
+    EXPECT_FALSE(forbidden.search(lines[i], m)) << "templates/lanes.mustache:" << i + 1 << ": '" << m[0]
                                                             << "' in " << lines[i];
   }
 }
@@ -509,20 +511,20 @@ TEST(GeneratedSources, TheRuntimeIsTheTemplatesAndBoundsItsLoops) {
 TEST(GeneratedSources, HaveNoUnboundedOrHiddenControlFlow) {
   // Keywords that would mean a data-dependent loop, a jump, an allocation, an exception or
   // hidden state.
-  static const std::regex forbidden(
+  static const Pattern forbidden(
       R"(\b(while|do|goto|switch|case|break|continue|throw|try|catch|new|delete|malloc|calloc|realloc|free|alloca|setjmp|longjmp|static|thread_local|virtual|asm|typeid|dynamic_cast)\b|"|/\*)");
   // `else` only as the second branch of a (C4) path block (BranchOnlyThroughSelects), at a
   // function's top level or a part's.
-  static const std::regex any_else(R"(\belse\b)");
-  static const std::regex path_else(R"(^(  |    )\} else \{$)");
+  static const Pattern any_else(R"(\belse\b)");
+  static const Pattern path_else(R"(^(  |    )\} else \{$)");
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
     for (std::size_t i = 0; i < lines.size(); ++i) {
-      if (lines[i].find("else") != std::string::npos && std::regex_search(lines[i], any_else)) {
-        EXPECT_TRUE(std::regex_match(lines[i], path_else)) << file << ":" << i + 1 << ": " << lines[i];
+      if (lines[i].find("else") != std::string::npos && any_else.search(lines[i])) {
+        EXPECT_TRUE(path_else.matches(lines[i])) << file << ":" << i + 1 << ": " << lines[i];
       }
-      std::smatch m;
-      EXPECT_FALSE(std::regex_search(lines[i], m, forbidden)) << file << ":" << i + 1 << ": '" << m.str() << "' in "
+      Match m;
+      EXPECT_FALSE(forbidden.search(lines[i], m)) << file << ":" << i + 1 << ": '" << m[0] << "' in "
                                                               << lines[i];
     }
   }
@@ -551,14 +553,14 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   // lane in a loop of literal bound). A batch entry point's (and batch_lanes') other `if`s choose
   // the ISA object it hands the whole call to: the same choice on every call, made before any
   // state is read; batch_lanes returns a width.
-  static const std::regex any_if(R"(\bif\b)");
-  static const std::regex path_condition(R"(^(  |    )const auto (path_\d+) = [\w.]+ > \w+; *$)");
-  static const std::regex stage_test(R"(^  if \(!\w+_of<S>\(.*\)\)(?: return false;)?$|^  if \(!part_\d+\.ok\) return false;  $)");
+  static const Pattern any_if(R"(\bif\b)");
+  static const Pattern path_condition(R"(^(  |    )const auto (path_\d+) = [\w.]+ > \w+; *$)");
+  static const Pattern stage_test(R"(^  if \(!\w+_of<S>\(.*\)\)(?: return false;)?$|^  if \(!part_\d+\.ok\) return false;  $)");
   // A cold lambda's or a part's values handed back (each a name of its own body).
-  static const std::regex handed_back(R"(^ +return (Pivoted|Part)_\d+\{(true|[\w]+)?(, \w+)*\};$)");
-  static const std::regex isa_choice(R"(^  if \(batch_isa\(\) == ([34])\) return x86_64_v\1::(\w+_batch\(n, in, out\)|batch_lanes\(\));$)");
-  static const std::regex any_return(R"(\breturn\b)");
-  static const std::regex allowed_return(
+  static const Pattern handed_back(R"(^ +return (Pivoted|Part)_\d+\{(true|[\w]+)?(, \w+)*\};$)");
+  static const Pattern isa_choice(R"(^  if \(batch_isa\(\) == ([34])\) return x86_64_v\1::(\w+_batch\(n, in, out\)|batch_lanes\(\));$)");
+  static const Pattern any_return(R"(\breturn\b)");
+  static const Pattern allowed_return(
       R"(^  return (true|drivers);$|^  return \{(SixRows<S>\{drivers_in[\w +*]*\}|drivers_in[\w +*]*|, )*\};$|^SWEEPGEN_HD Drivers drivers_from_flat\(const Scalar\* drivers_in\) noexcept \{ return drivers_from_flat_of<Scalar>\(drivers_in\); \}$|^    return false;$|^  if \(!\w+_of<S>\(.*\)\) return false;$|^    if \(Lanes<S>::any\(path_\d+\)\) return false;  $|^      n, in, out, \[\]\(const Batch\* lanes_in, Batch\* lanes_out\) \{ return \w+_flat_of<Batch>\(lanes_in, lanes_out\); \}, &(?:\w+::)?\w+_flat\);$|^  return (Lanes<Batch>::width|1);$|^  if \(!part_\d+\.ok\) return false;  $|^  return \{(SixRows<Scalar>\{drivers\.\w+\[0\]\}|drivers\.\w+|, )*\};$|^  SWEEPGEN_HD S operator\[\]\(int l\) const \{ return lane\[l\]; \}$|^  friend SWEEPGEN_HD LaneArray operator[-+*/]\((LaneArray|T) [as](, (LaneArray|T) [bs])?\) \{ for \(int l = 0; l < 2; \+\+l\) [ab]\.lane\[l\] = [^;{}]*; return [ab]; \}$)");
   long path_blocks = 0, stage_tests = 0, isa_choices = 0, selects = 0, returns = 0;
   for (const auto& file : generated_sources()) {
@@ -567,20 +569,20 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
       selects += std::count(lines[i].begin(), lines[i].end(), '?');
       // (Each regex only where the words it needs are on the line: the same answers, faster.)
       const bool has_return = lines[i].find("return") != std::string::npos;
-      if (lines[i].find("batch_isa") != std::string::npos && std::regex_search(lines[i], isa_choice)) {
+      if (lines[i].find("batch_isa") != std::string::npos && isa_choice.search(lines[i])) {
         ++isa_choices;
         continue;
       }
-      if (has_return && std::regex_search(lines[i], handed_back)) {
+      if (has_return && handed_back.search(lines[i])) {
         ++returns;
         continue;
       }
-      if (has_return && std::regex_search(lines[i], any_return)) {
-        EXPECT_TRUE(std::regex_search(lines[i], allowed_return)) << file << ":" << i + 1 << ": '" << lines[i] << "'";
+      if (has_return && any_return.search(lines[i])) {
+        EXPECT_TRUE(allowed_return.search(lines[i])) << file << ":" << i + 1 << ": '" << lines[i] << "'";
         ++returns;
       }
-      std::smatch m;
-      if (lines[i].find("path_") != std::string::npos && std::regex_search(lines[i], m, path_condition)) {
+      Match m;
+      if (lines[i].find("path_") != std::string::npos && path_condition.search(lines[i], m)) {
         ++path_blocks;
         const std::string indent = m[1], path = m[2];
         ASSERT_LT(i + 1, lines.size());
@@ -588,19 +590,19 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
         std::size_t j = i + 2;  // its else at the same depth, then its end
         while (j < lines.size() && lines[j] != indent + "} else {") {
           EXPECT_EQ(lines[j].rfind(indent + "}", 0), std::string::npos) << file << ":" << j + 1 << ": a path block ends without else";
-          EXPECT_FALSE(std::regex_search(lines[j], any_if)) << file << ":" << j + 1 << ": a branch in a path block";
+          EXPECT_FALSE(any_if.search(lines[j])) << file << ":" << j + 1 << ": a branch in a path block";
           ++j;
         }
         ASSERT_LT(j + 1, lines.size()) << file << ":" << i + 1;
-        const std::regex lanes_exit(indent + "  if \\(Lanes<S>::any\\(" + path + "\\)\\) return (false|Part_\\d+\\{\\});  ");
-        EXPECT_TRUE(std::regex_match(lines[j + 1], lanes_exit)) << file << ":" << j + 2 << ": " << lines[j + 1];
+        const Pattern lanes_exit(indent + "  if \\(Lanes<S>::any\\(" + path + "\\)\\) return (false|Part_\\d+\\{\\});  ");
+        EXPECT_TRUE(lanes_exit.matches(lines[j + 1])) << file << ":" << j + 2 << ": " << lines[j + 1];
         for (std::size_t k = j + 2; k < lines.size() && lines[k] != indent + "}"; ++k)
-          EXPECT_FALSE(std::regex_search(lines[k], any_if)) << file << ":" << k + 1 << ": a branch in a path block";
+          EXPECT_FALSE(any_if.search(lines[k])) << file << ":" << k + 1 << ": a branch in a path block";
         i = j + 1;
         continue;
       }
-      if (lines[i].find("if") == std::string::npos || !std::regex_search(lines[i], any_if)) continue;
-      EXPECT_TRUE(std::regex_search(lines[i], stage_test)) << file << ":" << i + 1 << ": " << lines[i];
+      if (lines[i].find("if") == std::string::npos || !any_if.search(lines[i])) continue;
+      EXPECT_TRUE(stage_test.search(lines[i])) << file << ":" << i + 1 << ": " << lines[i];
       ++stage_tests;
     }
   }
@@ -617,14 +619,14 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
   // batch entry point of the same name: that object is this source compiled with
   // SWEEPGEN_BATCH_ISA, where no entry point calls another object (SWEEPGEN_BATCH_CALLS_*), so
   // the call adds no edge.
-  static const std::regex call(R"(([A-Za-z_][A-Za-z0-9_:]*(?:<[^()]*>)?(?:::\w+)?)\s*\()");
-  static const std::regex template_arguments(R"(<[^()]*>)");
+  static const Pattern call(R"(([A-Za-z_][A-Za-z0-9_:]*(?:<[^()]*>)?(?:::\w+)?)\s*\()");
+  static const Pattern template_arguments(R"(<[^()]*>)");
   static const std::set<std::string> runtime = {
       "sincos_each",  "sincos_of", "sin_of",       "cos_of",        "abs_of",       "min_of",           "max_of", "sqrt_of", "atan2_of",
       "equilibration_scale", "Lanes::all", "Lanes::any",  "Lanes::count", "Lanes::flag",      "Lanes::of",
       "Lanes::value", "Lanes::status_if", "Lanes::raise_if", "static_cast", "solve_in_lanes", "solve_state_by_state",
       "batch_isa"};
-  static const std::regex isa_object_call(R"(^x86_64_v[34]::(\w+)$)");
+  static const Pattern isa_object_call(R"(^x86_64_v[34]::(\w+)$)");
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
     const auto fs = functions(lines);
@@ -635,13 +637,13 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
       auto& out = callees[f.name];
       for (std::size_t i = f.first + 1; i <= f.last; ++i) {
         if (lines[i].find('(') == std::string::npos) continue;  // no call (the regex needs one), faster
-        for (std::sregex_iterator it(lines[i].begin(), lines[i].end(), call), end; it != end; ++it) {
-          const std::string name = std::regex_replace((*it)[1].str(), template_arguments, "");
+        for (const Match& called : call.all(lines[i])) {
+          const std::string name = template_arguments.replace(called[1], "");
           if (name == "for" || name == "if" || name == "operator") continue;
-          std::smatch isa;
+          Match isa;
           if (defined.count(name)) {
             out.insert(name);
-          } else if (std::regex_match(name, isa, isa_object_call)) {
+          } else if (isa_object_call.matches(name, isa)) {
             EXPECT_TRUE(defined.count(isa[1]) && isa[1] == f.name) << file << ":" << i + 1 << ": call to " << name;
           } else {
             EXPECT_TRUE(runtime.count(name)) << file << ":" << i + 1 << ": call to " << name;
@@ -699,11 +701,11 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
   // (a return type may name a template's member type: typename ns::{anonymous}::Arrays<S>::Drivers; a
   // batch entry's lambda, which its lanes' solve is inlined into, counts as the entry);
   // a name may hold "{anonymous}" (the template's helper in its unnamed namespace).
-  static const std::regex su_line(R"(^[^\t]*:\d+:\d+:(?:[^\t(]* )?([\w:{}]+)(?:\([^\t]*?\)(?:::<lambda\([^\t]*\)>)?)?(?: \[with (?:S = ([^;\]\t]*))?[^\t]*\])?\t(\d+)\t(\S+)$)");
+  static const Pattern su_line(R"(^[^\t]*:\d+:\d+:(?:[^\t(]* )?([\w:{}]+)(?:\([^\t]*?\)(?:::<lambda\([^\t]*\)>)?)?(?: \[with (?:S = ([^;\]\t]*))?[^\t]*\])?\t(\d+)\t(\S+)$)");
   // A part's lambda (SWEEPGEN_PART), called from its function, or a pivoted path's where the
   // compiler did not inline it (one in a part: called from the part):
   // "file:line:column:function<template arguments>(parameters)::<lambda()>[::<lambda()>]<TAB>bytes<TAB>qualifier".
-  static const std::regex lambda_line(R"(^[^\t]*:\d+:\d+:([\w:{}]+)(?:<((?:__vector\(\d+\) )?\w+)[^\t]*)?\([^\t]*\)((?:::<lambda\(\)>)+)\t(\d+)\t(\S+)$)");
+  static const Pattern lambda_line(R"(^[^\t]*:\d+:\d+:([\w:{}]+)(?:<((?:__vector\(\d+\) )?\w+)[^\t]*)?\([^\t]*\)((?:::<lambda\(\)>)+)\t(\d+)\t(\S+)$)");
   long worst_frame = 0, worst_chain = 0, worst_batch = 0;
   std::string worst_frame_name, worst_chain_name, worst_batch_name;
   for (const auto& file : files) {
@@ -716,11 +718,11 @@ TEST(GeneratedCode, StackFramesAreStaticAndBounded) {
     std::map<std::pair<std::string, bool>, long> instances;
     std::map<std::pair<std::string, bool>, std::map<std::size_t, long>> lambdas;
     for (std::string line; std::getline(in, line);) {
-      std::smatch m;
-      const bool lambda = std::regex_search(line, m, lambda_line);
-      ASSERT_TRUE(lambda || std::regex_search(line, m, su_line)) << file << ": " << line;
+      Match m;
+      const bool lambda = lambda_line.search(line, m);
+      ASSERT_TRUE(lambda || su_line.search(line, m)) << file << ": " << line;
       const std::size_t depth = lambda ? m[3].length() / std::string("::<lambda()>").size() : 0;
-      Frame f{m[1], std::stol(m[lambda ? 4 : 3]), m[lambda ? 5 : 4], m[2].str().rfind("__vector", 0) == 0};
+      Frame f{m[1], std::stol(m[lambda ? 4 : 3]), m[lambda ? 5 : 4], m[2].rfind("__vector", 0) == 0};
       // An ISA object (sweepgen_batch/) may realign its frame to its vectors' 32 or 64 bytes, beyond
       // the ABI's 16: GCC then says "dynamic,bounded", the size an upper bound known at compile
       // time. Plain "dynamic" (a VLA, alloca) is refused everywhere.

@@ -10,7 +10,6 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -24,6 +23,7 @@
 #include "support/temp_dir.hpp"
 #include "support/rounding_bound.hpp"
 #include "support/skip_count.hpp"
+#include "support/text_pattern.hpp"
 
 namespace sweepgen {
 namespace {
@@ -353,19 +353,20 @@ TEST(Report, FiguresShareOneStylePerRowAndDrawTheRecommendedLast) {
   const std::size_t at = printed.find("recommendation: ");
   ASSERT_NE(at, std::string::npos) << printed;
   const std::string recommended_row = printed.substr(at + 16, printed.find(':', at + 16) - at - 16);
-  const std::regex series(R"(pointtype (\d+) pointsize [0-9.]+ linecolor rgb '(#[0-9a-f]+)' title '([^']+)')");
+  const test::Pattern series(R"(pointtype (\d+) pointsize [0-9.]+ linecolor rgb '(#[0-9a-f]+)' title '([^']+)')");
   std::map<std::string, std::string> style_of_row;  // title -> "pointtype colour", from both figures
   for (const char* figure : {"planar_nc2_time.gp", "planar_nc2_kappa.gp"}) {
     const std::string script = test::read_text(report.out / "build" / "plots" / figure);
     std::string last;
     std::size_t rows = 0;
-    for (std::sregex_iterator it(script.begin(), script.end(), series), end; it != end; ++it, ++rows) {
-      std::string title = (*it)[3];
+    for (const test::Match& plotted : series.all(script)) {
+      ++rows;
+      std::string title = plotted[3];
       last = title;
       const std::string recommended = " (recommended)";
       if (title.size() > recommended.size() && title.compare(title.size() - recommended.size(), recommended.size(), recommended) == 0)
         title.resize(title.size() - recommended.size());
-      const std::string style = (*it)[1].str() + " " + (*it)[2].str();
+      const std::string style = plotted[1] + " " + plotted[2];
       const auto [at, inserted] = style_of_row.emplace(title, style);
       EXPECT_EQ(at->second, style) << figure << ": " << title;
     }

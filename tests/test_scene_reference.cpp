@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -15,6 +14,7 @@
 #include "model/error.hpp"
 #include "scene/scene.hpp"
 #include "support/temp_dir.hpp"
+#include "support/text_pattern.hpp"
 
 namespace sweepgen {
 namespace {
@@ -39,8 +39,8 @@ struct Page {
 Page read_page() {
   Page page;
   std::istringstream lines(test::read_text(kPage));
-  const std::regex heading(R"(^### `([^`]+)`\s*$)");
-  std::smatch match;
+  const test::Pattern heading(R"(^### `([^`]+)`\s*$)");
+  test::Match match;
   std::string* block = nullptr;  // the block being read, if any
   bool want_block = true;        // the next block is the minimal scene's or a key's example
   for (std::string line; std::getline(lines, line);) {
@@ -50,7 +50,7 @@ Page read_page() {
       } else {
         *block += line + "\n";
       }
-    } else if (std::regex_match(line, match, heading)) {
+    } else if (heading.matches(line, match)) {
       page.keys.push_back({match[1], ""});
       want_block = true;
     } else if (line == "```yaml" && want_block) {
