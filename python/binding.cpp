@@ -681,7 +681,20 @@ bool bind_scalar(py::module_& m, const Scene& scene, const Variant<Scalar>& v, c
     bind_derivatives(sub, scene, v, prefix, v.flat_in_size - scene.nq - scene.nv - scene.constraints);
   bind_cuda<Scalar>(sub, "_solve_cuda", v.cuda_solves, prefix, v.flat_out_size);
   bind_cuda<Scalar>(sub, "_derivatives_cuda", v.derivative_cuda_solves, prefix, v.derivative_flat_out_size);
-  return !v.cuda_solves.empty();
+  if (v.cuda_solves.empty()) return false;
+  // The kernels' statuses (read back to the host) against raise_on_status, as the CPU calls raise it.
+  sub.def(
+      "_raise_on_status",
+      [prefix](const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& status,
+               const std::string& function, const std::string& policy, unsigned mask) {
+        const std::int64_t* words = status.data();
+        raise_on_status(mask, Batch{true, status.size()}, [words](py::ssize_t k) { return static_cast<unsigned>(words[k]); },
+                        prefix + function, policy, py::none());
+      },
+      py::arg("status"), py::arg("function"), py::arg("policy"), py::arg("mask"),
+      "SolverStatusError for the first of K status words (the CUDA kernels') with a flag of mask, as solve_batch "
+      "raises it (result None).");
+  return true;
 }
 
 // The module's attributes and submodules (PYBIND11_MODULE's body, for the scene described).

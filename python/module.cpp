@@ -7,9 +7,9 @@
 //   SWEEPGEN_MODULE_HAS_F64/32 whether the header has namespace f64 / f32 (the scene's `scalars:`)
 //   SWEEPGEN_MODULE_FLAT_IN/OUT the flat layout as the header's comment states it
 //   SWEEPGEN_MODULE_HAS_DERIVATIVES whether the header has the derivative functions (scene key derivatives)
+//   sweepgen_module_torch_layer python/torch_layer.py's text (`<module>.torch`)
 // and, from the CMake function, SWEEPGEN_MODULE_HAS_CUDA where the module is built with its
 // solver's CUDA kernels (python/module_cuda.cu, a shared library beside the module).
-//   sweepgen_module_torch_layer python/torch_layer.py's text (`<module>.torch`)
 #include <cstddef>
 #include <iterator>
 #include <type_traits>

@@ -129,6 +129,11 @@ def bind(module):
             return value.detach().numpy().reshape(-1, width)
         return value.detach().expand(batch + (width,)).reshape(-1, width).contiguous().numpy()
 
+    def solve_values(out):
+        """qdd, nu, tau_cmd and status (int64) of solves' flat outputs (K, flat_out_size), views of out;
+        flat_out_layout: qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip (6), status."""
+        return [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]], out[:, -1].to(torch.int64)
+
     def on_cpu(ctx, variant, policy, mask, q, qd, beta, drivers, batch, differentiate):
         """The forward on the CPU (the module's batch entry points): qdd, nu, tau_cmd (K, rows) and
         status (K,) tensors; with differentiate, ctx.jacobians too."""
@@ -143,10 +148,8 @@ def bind(module):
             if floating:
                 ctx.base_rotation = torch.from_numpy(q_rows[:, :9]).reshape(-1, 3, 3)
             return [torch.from_numpy(result[y]) for y in _OUTPUTS], torch.from_numpy(result["status"].astype(np.int64))
-        out = torch.from_numpy(variant.solve_batch(q_rows, qd_rows, d_rows, b_rows, policy=policy,
-                                                   raise_on_status=mask))
-        # flat_out_layout: qdd (dof), tau_cmd (dof), tau_ctrl (dof), nu (constraints), tip (6), status
-        return [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]], out[:, -1].to(torch.int64)
+        return solve_values(torch.from_numpy(variant.solve_batch(q_rows, qd_rows, d_rows, b_rows, policy=policy,
+                                                                 raise_on_status=mask)))
 
     def on_gpu(ctx, variant, policy, mask, q, qd, beta, drivers, batch, differentiate):
         """The forward on q's CUDA device (the module's kernels on torch's current stream): what
@@ -166,40 +169,26 @@ def bind(module):
             launch(states, columns.data_ptr(), out.data_ptr(), torch.cuda.current_stream().cuda_stream, policy=policy)
         out = out.t()  # (states, out_size)
         status = out[:, -1].to(torch.int64)
-        raise_flagged(variant, "derivatives_cuda" if differentiate else "solve_cuda", policy, mask, status)
+        if mask:  # the statuses read back only where raise_on_status asks
+            variant._raise_on_status(status.cpu().numpy(), "derivatives_cuda" if differentiate else "solve_cuda",
+                                     policy, mask)
         if not differentiate:
-            return [out[:, 0:dof], out[:, 3 * dof:3 * dof + nc], out[:, dof:2 * dof]], status
+            return solve_values(out)
         # derivatives' flat output: qdd (dof), nu (constraints), tau_cmd (dof), the Jacobians returned
         # (rows x derivative_columns each, derivative_outputs' order), status
         values = [out[:, 0:dof], out[:, dof:dof + nc], out[:, dof + nc:2 * dof + nc]]
         columns_of = variant.derivative_columns
         widths = (nv, nv, dof, nc)  # (D2)'s column blocks: q, qd, tau_ff, beta
+        starts = np.cumsum((0,) + widths)
         first, ctx.jacobians = 2 * dof + nc, {}
         for y in variant.derivative_outputs:
             height = dof if y != "nu" else nc
             jacobian = out[:, first:first + height * columns_of].reshape(states, height, columns_of)
             first += height * columns_of
-            starts = np.cumsum((0,) + widths)
             ctx.jacobians[y] = [jacobian[:, :, starts[k]:starts[k + 1]] for k in range(4)]
         if floating:
             ctx.base_rotation = q.detach().expand(batch + (nq,)).reshape(states, nq)[:, :9].reshape(-1, 3, 3)
         return values, status
-
-    def raise_flagged(variant, function, policy, mask, status):
-        """The module's SolverStatusError for the first state whose status has a flag of mask, as
-        its CPU calls raise it (the status read back from the device only where mask asks)."""
-        if not mask:
-            return
-        flagged = torch.nonzero(status & mask).flatten().cpu()
-        if flagged.numel() == 0:
-            return
-        first, word = int(flagged[0]), int(status[flagged[0]])
-        error = module.SolverStatusError(
-            f"{name}.{variant.__name__.rsplit('.', 1)[-1]}.{function} (policy {policy}): status {word} "
-            f"({module.Status(word).name}) at row {first} ({flagged.numel()} of {status.numel()} rows flagged); "
-            f"raise_on_status = {mask}")
-        error.status, error.index, error.policy, error.result = word, first, policy, None
-        raise error
 
     class Solve(torch.autograd.Function):
         @staticmethod
