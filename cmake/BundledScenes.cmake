@@ -1,7 +1,9 @@
 # The bundled scenes (robots/*/*.yaml), each generated at build time into one library
 # <stem>_solver that tests/ and bench/ share, compiled warning-free under -Wall -Wextra
 # -Wpedantic -Werror, and without exceptions or RTTI (-fno-exceptions -fno-rtti: what a
-# real-time controller may build them with; tests/realtime/noexcept_solve.cpp runs two of them). Sets SWEEPGEN_BUNDLED_SCENES (the files) and, per scene stem,
+# real-time controller may build them with; tests/realtime/noexcept_solve.cpp runs two of them). Sets
+# SWEEPGEN_SCENE_FILES (every bundled scene's file), SWEEPGEN_BUNDLED_SCENES (the files of those the
+# build makes) and, per scene stem,
 # SWEEPGEN_SCENE_<stem>_NAMESPACE, SWEEPGEN_SCENE_<stem>_HAS_FLOAT and
 # SWEEPGEN_SCENE_<stem>_HAS_DERIVATIVES, read from the one-line `solver:`, `scalars:` and
 # `derivatives:` entries our scenes use.
@@ -22,7 +24,64 @@ function(sweepgen_scene_has_line out scene regex)
     set(${out} 0 PARENT_SCOPE)
   endif()
 endfunction()
-file(GLOB SWEEPGEN_BUNDLED_SCENES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.yaml)
+file(GLOB SWEEPGEN_SCENE_FILES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.yaml)
+# The scenes this build makes a solver and a test of: SWEEPGEN_BUNDLED_SCENE_STEMS, empty (the
+# default) for every one. The sanitize-ci preset lists a few that cover each kind of generated code
+# (CMakePresets.json): its instrumented solvers at -O0 took ~100 job-seconds for all 28, and the
+# release stage and `cmake --workflow --preset sanitize` build and test every one.
+set(SWEEPGEN_BUNDLED_SCENE_STEMS "" CACHE STRING
+  "Bundled scenes (robots/*/<stem>.yaml) whose solver and tests the build makes; empty: every one")
+set(SWEEPGEN_BUNDLED_SCENES)
+set(sweepgen_scene_stems)
+foreach(scene ${SWEEPGEN_SCENE_FILES})
+  get_filename_component(stem ${scene} NAME_WE)
+  list(APPEND sweepgen_scene_stems ${stem})
+  if(NOT SWEEPGEN_BUNDLED_SCENE_STEMS OR stem IN_LIST SWEEPGEN_BUNDLED_SCENE_STEMS)
+    list(APPEND SWEEPGEN_BUNDLED_SCENES ${scene})
+  endif()
+endforeach()
+# The bundled scenes whose solver carries the batch entry points' ISA objects (SWEEPGEN_BATCH_ISAS,
+# top-level CMakeLists.txt): a few that cover each kind of generated code, or `all`. Each object is
+# the scene's batch code compiled once more; for all 28 scenes that was 165 of the release build's
+# job-seconds (bench/README.md, "Build and CI time"). The other scenes' batch entry points run in
+# the baseline's lanes, the same batch code: the tests hold every scene's batch to its flat call
+# either way, and tests/test_batch.cpp builds a scene's x86-64-v3 and v4 objects itself.
+set(SWEEPGEN_BATCH_ISA_SCENES
+  "planar_nc2;four_bar_loop;quadruped_lean_nc0;parallel_gripper_pinch;panda_nc6;panda_lean_nc6_fixed_derivatives"
+  CACHE STRING "Bundled scenes (stems) whose solver carries the SWEEPGEN_BATCH_ISAS objects, or all")
+foreach(list_name SWEEPGEN_BUNDLED_SCENE_STEMS SWEEPGEN_BATCH_ISA_SCENES SWEEPGEN_CUDA_SCENES)
+  foreach(stem ${${list_name}})
+    if(NOT stem STREQUAL "all" AND NOT stem IN_LIST sweepgen_scene_stems)
+      message(FATAL_ERROR "${list_name}: ${stem} is not a bundled scene (robots/*/${stem}.yaml)")
+    endif()
+  endforeach()
+endforeach()
+# Stops the configure where `what` needs a bundled scene's solver that SWEEPGEN_BUNDLED_SCENE_STEMS
+# leaves out (the stems after `what`).
+function(sweepgen_require_bundled_scenes what)
+  foreach(stem ${ARGN})
+    if(NOT TARGET ${stem}_solver)
+      message(FATAL_ERROR "${what} needs the bundled scene ${stem}, which SWEEPGEN_BUNDLED_SCENE_STEMS "
+                          "(${SWEEPGEN_BUNDLED_SCENE_STEMS}) leaves out")
+    endif()
+  endforeach()
+endfunction()
+# The solver library <stem>_solver of the bundled scene `scene`, with the ISA objects where
+# SWEEPGEN_BATCH_ISA_SCENES lists it (a function: its SWEEPGEN_BATCH_ISAS is its own).
+function(sweepgen_bundled_solver stem scene cuda)
+  if(NOT (SWEEPGEN_BATCH_ISA_SCENES STREQUAL "all" OR stem IN_LIST SWEEPGEN_BATCH_ISA_SCENES))
+    set(SWEEPGEN_BATCH_ISAS "")
+  endif()
+  if(SWEEPGEN_BUNDLED_FROM_GENERATED)
+    # The committed files are named after the scene's solver namespace.
+    string(REPLACE "::" "_" committed_stem "${SWEEPGEN_SCENE_${stem}_NAMESPACE}")
+    sweepgen_committed_solver(${stem}_solver GENERATED ${PROJECT_SOURCE_DIR}/generated/${committed_stem}
+                              ARCH "${SWEEPGEN_SOLVER_ARCH}" ${cuda})
+  else()
+    sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}" ${cuda})
+  endif()
+  target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror -fno-exceptions -fno-rtti)
+endfunction()
 # The CUDA library <stem>_solver_cuda of the scenes in SWEEPGEN_CUDA_SCENES too, where the CUDA
 # language is enabled (the top-level CMakeLists.txt enables it when CMake finds a CUDA compiler).
 # One scene by default: it builds sweepgen_add_solver's CUDA path with nvcc, and every bundled
@@ -40,13 +99,5 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_FLOAT ${scene} "^scalars:.*float")
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_DERIVATIVES ${scene} "^derivatives:[ ]*(true|\\[)")
-  if(SWEEPGEN_BUNDLED_FROM_GENERATED)
-    # The committed files are named after the scene's solver namespace.
-    string(REPLACE "::" "_" committed_stem "${SWEEPGEN_SCENE_${stem}_NAMESPACE}")
-    sweepgen_committed_solver(${stem}_solver GENERATED ${PROJECT_SOURCE_DIR}/generated/${committed_stem}
-                              ARCH "${SWEEPGEN_SOLVER_ARCH}" ${sweepgen_cuda})
-  else()
-    sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}" ${sweepgen_cuda})
-  endif()
-  target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror -fno-exceptions -fno-rtti)
+  sweepgen_bundled_solver(${stem} ${scene} "${sweepgen_cuda}")
 endforeach()

@@ -3,7 +3,9 @@
 #   - a project that add_subdirectory()s the repository gets only the generator (subdirectory/);
 #   - sweepgen_add_solver() with a scene file that does not exist stops the configure, naming it;
 #   - sweepgen_find_python() says which interpreter the modules are built for and which it passed
-#     over, and sweepgen_add_python_module() names what is missing (python_finding/).
+#     over, and sweepgen_add_python_module() names what is missing (python_finding/);
+#   - this repository's own configure names a bundled scene its lists (SWEEPGEN_BATCH_ISA_SCENES,
+#     SWEEPGEN_BUNDLED_SCENE_STEMS) do not have, and a scene that a test needs and the list leaves out.
 #
 #   cmake -DSWEEPGEN_SOURCE_DIR=<source tree> -DSCRATCH_DIR=<dir, emptied first>
 #         [-DCONSUMER_GENERATOR=<gen>] [-DCONSUMER_MAKE_PROGRAM=<make>] [-DCONSUMER_CXX_COMPILER=<c++>]
@@ -21,11 +23,16 @@ include("${CMAKE_CURRENT_LIST_DIR}/configure_options.cmake")
 consumer_configure_options(common)
 
 # configure(<name> <project> SUCCEEDS|FAILS CONTAINS <text...> [LACKS <text...>] [ENV <VAR=value...>] ARGS <args...>):
-# configures tests/consumer/<project> in a directory of its own and checks the outcome and output.
+# configures tests/consumer/<project> (an absolute <project>: that directory) in a directory of its
+# own and checks the outcome and output.
 function(configure name project outcome)
   cmake_parse_arguments(PARSE_ARGV 3 arg "" "" "CONTAINS;LACKS;ENV;ARGS")
+  set(source "${SWEEPGEN_SOURCE_DIR}/tests/consumer/${project}")
+  if(IS_ABSOLUTE "${project}")
+    set(source "${project}")
+  endif()
   execute_process(COMMAND ${CMAKE_COMMAND} -E env ${arg_ENV} ${CMAKE_COMMAND} ${common}
-                          -S "${SWEEPGEN_SOURCE_DIR}/tests/consumer/${project}" -B "${SCRATCH_DIR}/${name}"
+                          -S "${source}" -B "${SCRATCH_DIR}/${name}"
                           "-DSWEEPGEN_SOURCE=${SWEEPGEN_SOURCE_DIR}" ${arg_ARGS}
     RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
   string(REGEX REPLACE "[ \n]+" " " flat "${output}")  # CMake wraps long messages
@@ -82,4 +89,17 @@ configure(python_without_pybind11 python_finding FAILS
   ARGS -DCMAKE_DISABLE_FIND_PACKAGE_pybind11=ON -DADD_MODULE=ON)
 configure(python_not_searched python_finding FAILS CONTAINS "call sweepgen_find_python() first"
   ARGS -DFIND=OFF -DADD_MODULE=ON)
+# The repository itself (no CUDA: the checks stop before anything CUDA would add).
+configure(isa_scene_unknown "${SWEEPGEN_SOURCE_DIR}" FAILS
+  CONTAINS "SWEEPGEN_BATCH_ISA_SCENES: panda_nc7 is not a bundled scene (robots/*/panda_nc7.yaml)"
+  ARGS -DSWEEPGEN_CUDA=OFF -DSWEEPGEN_BATCH_ISA_SCENES=panda_nc7)
+configure(scene_stem_unknown "${SWEEPGEN_SOURCE_DIR}" FAILS
+  CONTAINS "SWEEPGEN_BUNDLED_SCENE_STEMS: no_such_scene is not a bundled scene"
+  ARGS -DSWEEPGEN_CUDA=OFF -DSWEEPGEN_BUNDLED_SCENE_STEMS=no_such_scene)
+configure(scene_stems_without_python_scenes "${SWEEPGEN_SOURCE_DIR}" FAILS
+  CONTAINS "The build of the Python modules (SWEEPGEN_BUILD_PYTHON) needs the bundled scene panda_nc6, which SWEEPGEN_BUNDLED_SCENE_STEMS (planar_nc2) leaves out"
+  ARGS -DSWEEPGEN_CUDA=OFF -DSWEEPGEN_BUNDLED_SCENE_STEMS=planar_nc2)
+configure(scene_stems_without_realtime_scenes "${SWEEPGEN_SOURCE_DIR}" FAILS
+  CONTAINS "test_realtime needs the bundled scene panda_nc6, which SWEEPGEN_BUNDLED_SCENE_STEMS (planar_nc2) leaves out"
+  ARGS -DSWEEPGEN_CUDA=OFF -DSWEEPGEN_BUILD_PYTHON=OFF -DSWEEPGEN_BUNDLED_SCENE_STEMS=planar_nc2)
 message(STATUS "configure_checks: passed")
