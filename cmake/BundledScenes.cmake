@@ -3,7 +3,7 @@
 # -Wpedantic -Werror, and without exceptions or RTTI (-fno-exceptions -fno-rtti: what a
 # real-time controller may build them with; tests/realtime/noexcept_solve.cpp runs two of them). Sets
 # SWEEPGEN_SCENE_FILES (every bundled scene's file), SWEEPGEN_BUNDLED_SCENES (the files of those the
-# build makes) and, per scene stem,
+# build makes), SWEEPGEN_BATCH_LANE_SOURCES (below) and, per scene stem,
 # SWEEPGEN_SCENE_<stem>_NAMESPACE, SWEEPGEN_SCENE_<stem>_HAS_FLOAT and
 # SWEEPGEN_SCENE_<stem>_HAS_DERIVATIVES, read from the one-line `solver:`, `scalars:` and
 # `derivatives:` entries our scenes use.
@@ -36,19 +36,25 @@ set(sweepgen_scene_stems)
 foreach(scene ${SWEEPGEN_SCENE_FILES})
   get_filename_component(stem ${scene} NAME_WE)
   list(APPEND sweepgen_scene_stems ${stem})
+  file(STRINGS ${scene} solver_line REGEX "^solver:")
+  string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
   if(NOT SWEEPGEN_BUNDLED_SCENE_STEMS OR stem IN_LIST SWEEPGEN_BUNDLED_SCENE_STEMS)
     list(APPEND SWEEPGEN_BUNDLED_SCENES ${scene})
   endif()
 endforeach()
-# The bundled scenes whose solver carries the batch entry points' ISA objects (SWEEPGEN_BATCH_ISAS,
-# top-level CMakeLists.txt): a few that cover each kind of generated code, or `all`. Each object is
-# the scene's batch code compiled once more; for all 28 scenes that was 165 of the release build's
-# job-seconds (bench/README.md, "Build and CI time"). The other scenes' batch entry points run in
-# the baseline's lanes, the same batch code: the tests hold every scene's batch to its flat call
-# either way, and tests/test_batch.cpp builds a scene's x86-64-v3 and v4 objects itself.
+# The bundled scenes whose solvers carry batch lanes: the ISA objects of SWEEPGEN_BATCH_ISAS
+# (top-level CMakeLists.txt), or the source's own lanes where that is empty. Six scenes by default,
+# `all` for every one; the others' batch entry points solve state by state through their flat calls
+# (SWEEPGEN_BATCH_STATE_BY_STATE, templates/lanes.mustache). The lanes are each scene's generated
+# functions compiled once more, over a vector type: 165 of a clean clone's 1 076 release-build
+# job-seconds for all 28 scenes' x86-64-v3 objects, and as much again in the baseline's two-double
+# lanes where a scene has none (bench/README.md, "Build and CI time"). The six call every math
+# and lane helper of the runtime that any bundled scene calls (GeneratedSources.
+# TheLaneScenesCallEveryHelperAnySceneCalls), so every operation in lanes is still compiled and
+# held to the flat calls on every build; tests/test_batch.cpp builds a scene's v3 and v4 objects.
 set(SWEEPGEN_BATCH_ISA_SCENES
   "planar_nc2;four_bar_loop;quadruped_lean_nc0;parallel_gripper_pinch;panda_nc6;panda_lean_nc6_fixed_derivatives"
-  CACHE STRING "Bundled scenes (stems) whose solver carries the SWEEPGEN_BATCH_ISAS objects, or all")
+  CACHE STRING "Bundled scenes (stems) whose solvers carry batch lanes (the SWEEPGEN_BATCH_ISAS objects), or all")
 foreach(list_name SWEEPGEN_BUNDLED_SCENE_STEMS SWEEPGEN_BATCH_ISA_SCENES SWEEPGEN_CUDA_SCENES)
   foreach(stem ${${list_name}})
     if(NOT stem STREQUAL "all" AND NOT stem IN_LIST sweepgen_scene_stems)
@@ -66,11 +72,23 @@ function(sweepgen_require_bundled_scenes what)
     endif()
   endforeach()
 endfunction()
-# The solver library <stem>_solver of the bundled scene `scene`, with the ISA objects where
+# The committed sources (generated/, named after the solver namespace) of the scenes with lanes, or
+# `all`, for the test that checks what they cover.
+set(SWEEPGEN_BATCH_LANE_SOURCES all)
+if(NOT SWEEPGEN_BATCH_ISA_SCENES STREQUAL "all")
+  set(SWEEPGEN_BATCH_LANE_SOURCES)
+  foreach(stem ${SWEEPGEN_BATCH_ISA_SCENES})
+    string(REPLACE "::" "_" committed_stem "${SWEEPGEN_SCENE_${stem}_NAMESPACE}")
+    list(APPEND SWEEPGEN_BATCH_LANE_SOURCES ${committed_stem}.cpp)
+  endforeach()
+endif()
+# The solver library <stem>_solver of the bundled scene `scene`, with batch lanes where
 # SWEEPGEN_BATCH_ISA_SCENES lists it (a function: its SWEEPGEN_BATCH_ISAS is its own).
 function(sweepgen_bundled_solver stem scene cuda)
+  set(lanes ON)
   if(NOT (SWEEPGEN_BATCH_ISA_SCENES STREQUAL "all" OR stem IN_LIST SWEEPGEN_BATCH_ISA_SCENES))
     set(SWEEPGEN_BATCH_ISAS "")
+    set(lanes OFF)
   endif()
   if(SWEEPGEN_BUNDLED_FROM_GENERATED)
     # The committed files are named after the scene's solver namespace.
@@ -81,6 +99,9 @@ function(sweepgen_bundled_solver stem scene cuda)
     sweepgen_add_solver(${stem}_solver SCENE ${scene} ARCH "${SWEEPGEN_SOLVER_ARCH}" ${cuda})
   endif()
   target_compile_options(${stem}_solver PRIVATE -Wall -Wextra -Wpedantic -Werror -fno-exceptions -fno-rtti)
+  if(NOT lanes)
+    target_compile_definitions(${stem}_solver PRIVATE SWEEPGEN_BATCH_STATE_BY_STATE)
+  endif()
 endfunction()
 # The CUDA library <stem>_solver_cuda of the scenes in SWEEPGEN_CUDA_SCENES too, where the CUDA
 # language is enabled (the top-level CMakeLists.txt enables it when CMake finds a CUDA compiler).
@@ -95,8 +116,6 @@ foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   if("CUDA" IN_LIST sweepgen_languages AND (SWEEPGEN_CUDA_SCENES STREQUAL "all" OR stem IN_LIST SWEEPGEN_CUDA_SCENES))
     set(sweepgen_cuda CUDA)
   endif()
-  file(STRINGS ${scene} solver_line REGEX "^solver:")
-  string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_FLOAT ${scene} "^scalars:.*float")
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_DERIVATIVES ${scene} "^derivatives:[ ]*(true|\\[)")
   sweepgen_bundled_solver(${stem} ${scene} "${sweepgen_cuda}")

@@ -612,20 +612,35 @@ TEST(GeneratedSources, BranchOnlyThroughSelects) {
   EXPECT_GT(selects, 0);
 }
 
-TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
-  // Every call in a function body is to another generated function (the call graph has no
-  // cycle: no recursion), or to the runtime's constant-time math and lane helpers
-  // (TheRuntimeIsTheTemplatesAndBoundsItsLoops), static_cast, the batch loops, or an ISA object's
-  // batch entry point of the same name: that object is this source compiled with
-  // SWEEPGEN_BATCH_ISA, where no entry point calls another object (SWEEPGEN_BATCH_CALLS_*), so
-  // the call adds no edge.
+// The calls in a generated function's body (template arguments dropped), but `for`, `if` and
+// `operator`, with their line indices.
+std::vector<std::pair<std::string, std::size_t>> calls_in(const std::vector<std::string>& lines, const Function& f) {
   static const Pattern call(R"(([A-Za-z_][A-Za-z0-9_:]*(?:<[^()]*>)?(?:::\w+)?)\s*\()");
   static const Pattern template_arguments(R"(<[^()]*>)");
-  static const std::set<std::string> runtime = {
-      "sincos_each",  "sincos_of", "sin_of",       "cos_of",        "abs_of",       "min_of",           "max_of", "sqrt_of", "atan2_of",
-      "equilibration_scale", "Lanes::all", "Lanes::any",  "Lanes::count", "Lanes::flag",      "Lanes::of",
-      "Lanes::value", "Lanes::status_if", "Lanes::raise_if", "static_cast", "solve_in_lanes", "solve_state_by_state",
-      "batch_isa"};
+  std::vector<std::pair<std::string, std::size_t>> result;
+  for (std::size_t i = f.first + 1; i <= f.last; ++i) {
+    if (lines[i].find('(') == std::string::npos) continue;  // no call (the regex needs one), faster
+    for (const Match& called : call.all(lines[i])) {
+      std::string name = template_arguments.replace(called[1], "");
+      if (name != "for" && name != "if" && name != "operator") result.emplace_back(std::move(name), i);
+    }
+  }
+  return result;
+}
+
+// The runtime's constant-time math and lane helpers (TheRuntimeIsTheTemplatesAndBoundsItsLoops),
+// static_cast and the batch loops: what a generated function may call besides another.
+const std::set<std::string> kRuntimeCalls = {
+    "sincos_each",  "sincos_of", "sin_of",       "cos_of",        "abs_of",       "min_of",           "max_of", "sqrt_of", "atan2_of",
+    "equilibration_scale", "Lanes::all", "Lanes::any",  "Lanes::count", "Lanes::flag",      "Lanes::of",
+    "Lanes::value", "Lanes::status_if", "Lanes::raise_if", "static_cast", "solve_in_lanes", "solve_state_by_state",
+    "batch_isa"};
+
+TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
+  // Every call in a function body is to another generated function (the call graph has no
+  // cycle: no recursion), or to the runtime (kRuntimeCalls), or an ISA object's batch entry point
+  // of the same name: that object is this source compiled with SWEEPGEN_BATCH_ISA, where no entry
+  // point calls another object (SWEEPGEN_BATCH_CALLS_*), so the call adds no edge.
   static const Pattern isa_object_call(R"(^x86_64_v[34]::(\w+)$)");
   for (const auto& file : generated_sources()) {
     const auto lines = own_lines(file);
@@ -635,19 +650,14 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
     std::map<std::string, std::set<std::string>> callees;
     for (const auto& f : fs) {
       auto& out = callees[f.name];
-      for (std::size_t i = f.first + 1; i <= f.last; ++i) {
-        if (lines[i].find('(') == std::string::npos) continue;  // no call (the regex needs one), faster
-        for (const Match& called : call.all(lines[i])) {
-          const std::string name = template_arguments.replace(called[1], "");
-          if (name == "for" || name == "if" || name == "operator") continue;
-          Match isa;
-          if (defined.count(name)) {
-            out.insert(name);
-          } else if (isa_object_call.matches(name, isa)) {
-            EXPECT_TRUE(defined.count(isa[1]) && isa[1] == f.name) << file << ":" << i + 1 << ": call to " << name;
-          } else {
-            EXPECT_TRUE(runtime.count(name)) << file << ":" << i + 1 << ": call to " << name;
-          }
+      for (const auto& [name, i] : calls_in(lines, f)) {
+        Match isa;
+        if (defined.count(name)) {
+          out.insert(name);
+        } else if (isa_object_call.matches(name, isa)) {
+          EXPECT_TRUE(defined.count(isa[1]) && isa[1] == f.name) << file << ":" << i + 1 << ": call to " << name;
+        } else {
+          EXPECT_TRUE(kRuntimeCalls.count(name)) << file << ":" << i + 1 << ": call to " << name;
         }
       }
     }
@@ -664,6 +674,40 @@ TEST(GeneratedSources, CallOnlyEachOtherAcyclicallyAndConstantTimeMath) {
     };
     for (const auto& f : fs) EXPECT_FALSE(cyclic(f.name)) << file << ": " << f.name << " is on a call cycle";
   }
+}
+
+TEST(GeneratedSources, TheLaneScenesCallEveryHelperAnySceneCalls) {
+  // Only the bundled scenes of SWEEPGEN_BATCH_ISA_SCENES carry batch lanes in this repository's
+  // build (cmake/BundledScenes.cmake); the others' batch entry points solve state by state. So that
+  // every operation the lanes run is compiled and held to the flat calls all the same, those scenes
+  // (their committed sources: SWEEPGEN_BATCH_LANE_SOURCES, comma-separated, or "all") must call every runtime
+  // helper that any bundled scene's functions call.
+  const std::string listed = SWEEPGEN_BATCH_LANE_SOURCES;
+  std::set<std::string> in_lanes;
+  std::map<std::string, std::string> a_caller;  // helper -> the first source that calls it
+  std::size_t lane_sources = 0;
+  for (const auto& file : generated_sources()) {
+    const std::string name = file.filename().string();
+    const bool lanes = listed == "all" || ("," + listed + ",").find("," + name + ",") != std::string::npos;
+    lane_sources += lanes;
+    const auto lines = own_lines(file);
+    for (const auto& f : functions(lines))
+      for (const auto& [called, i] : calls_in(lines, f)) {
+        if (!kRuntimeCalls.count(called)) continue;
+        a_caller.emplace(called, name);
+        if (lanes) in_lanes.insert(called);
+      }
+  }
+  if (listed != "all") {
+    EXPECT_EQ(lane_sources, static_cast<std::size_t>(std::count(listed.begin(), listed.end(), ',') + 1))
+        << "a source of SWEEPGEN_BATCH_LANE_SOURCES (" << listed << ") is not in generated/";
+  }
+  std::string found;
+  for (const auto& [helper, caller] : a_caller) found += " " + helper;
+  EXPECT_TRUE(a_caller.count("sqrt_of") && a_caller.count("sincos_each")) << "the helpers found:" << found;
+  for (const auto& [helper, caller] : a_caller)
+    EXPECT_TRUE(in_lanes.count(helper)) << caller << " calls " << helper << ", which no scene with batch lanes ("
+                                        << listed << ") calls: add one that does to SWEEPGEN_BATCH_ISA_SCENES";
 }
 
 // ---- Stack use ---------------------------------------------------------------------------------
