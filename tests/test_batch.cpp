@@ -25,8 +25,9 @@
 //    kArchRelation eps κ of the flat call's (‖a − b‖∞ / max(1, ‖b‖∞), κ as the generated-scene
 //    tests take it).
 // A CPU without AVX2 (AVX-512) skips what needs it, counted and printed.
-// The generated scenes' own tests (tests/generated/scene_test.cpp.in) compare every bundled
-// scene's batch entry points, in the lanes this CPU picks, with its flat calls the same way.
+// The generated scenes' own tests (tests/generated/scene_test.cpp.in) compare each bundled
+// scene's batch entry points with its flat calls the same way: in the lanes this CPU picks for the
+// scenes of SWEEPGEN_BATCH_ISA_SCENES, state by state for the others (cmake/BundledScenes.cmake).
 #include <gtest/gtest.h>
 
 #include <algorithm>
