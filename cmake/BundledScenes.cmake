@@ -46,7 +46,7 @@ endforeach()
 # (top-level CMakeLists.txt), or the source's own lanes where that is empty. Six scenes by default,
 # `all` for every one; the others' batch entry points solve state by state through their flat calls
 # (SWEEPGEN_BATCH_STATE_BY_STATE, templates/lanes.mustache). The lanes are each scene's generated
-# functions compiled once more, over a vector type: 165 of a clean clone's 1 076 release-build
+# functions compiled once more, over a vector type: 165 of a clean clone's 1 187 release-build
 # job-seconds for all 28 scenes' x86-64-v3 objects, and as much again in the baseline's two-double
 # lanes where a scene has none (bench/README.md, "Build and CI time"). The six call every math
 # and lane helper of the runtime that any bundled scene calls (GeneratedSources.
