@@ -108,8 +108,8 @@ TEST(Atan2Lanes, AScalarCallAndABatchsLanesAgreeBitForBit) {
     if (first % (8 * width) == 0) y[first / (8 * width) % width] = (first / width) % 3 ? inf : 0.0;  // a lane beyond
     const BatchF64 angle = atan2_lanes(y, x);
     for (int l = 0; l < width; ++l) {
-      const double scalar = atan2_of(y[l], x[l]);
-      ASSERT_EQ(std::memcmp(&angle[l], &scalar, sizeof scalar), 0) << "y = " << y[l] << ", x = " << x[l];
+      const double scalar = atan2_of(y[l], x[l]), lane = angle[l];  // a vector element has no address in clang
+      ASSERT_EQ(std::memcmp(&lane, &scalar, sizeof scalar), 0) << "y = " << y[l] << ", x = " << x[l];
     }
   }
 }
