@@ -2,8 +2,8 @@
 # <stem>_solver that tests/ and bench/ share, compiled warning-free under -Wall -Wextra
 # -Wpedantic -Werror, and without exceptions or RTTI (-fno-exceptions -fno-rtti: what a
 # real-time controller may build them with; tests/realtime/noexcept_solve.cpp runs two of them). Sets
-# SWEEPGEN_SCENE_FILES (every bundled scene's file), SWEEPGEN_BUNDLED_SCENES (the files of those the
-# build makes), SWEEPGEN_BATCH_LANE_SOURCES (below) and, per scene stem,
+# SWEEPGEN_SCENE_FILES (every bundled scene's file), SWEEPGEN_BUNDLED_SCENES and
+# SWEEPGEN_BATCH_LANE_SOURCES (below) and, per scene stem,
 # SWEEPGEN_SCENE_<stem>_NAMESPACE, SWEEPGEN_SCENE_<stem>_HAS_FLOAT and
 # SWEEPGEN_SCENE_<stem>_HAS_DERIVATIVES, read from the one-line `solver:`, `scalars:` and
 # `derivatives:` entries our scenes use.
@@ -25,23 +25,22 @@ function(sweepgen_scene_has_line out scene regex)
   endif()
 endfunction()
 file(GLOB SWEEPGEN_SCENE_FILES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/robots/*/*.yaml)
-# The scenes this build makes a solver and a test of: SWEEPGEN_BUNDLED_SCENE_STEMS, empty (the
-# default) for every one. The sanitize-ci preset lists a few that cover each kind of generated code
-# (CMakePresets.json): its instrumented solvers at -O0 took ~100 job-seconds for all 28, and the
-# release stage and `cmake --workflow --preset sanitize` build and test every one.
-set(SWEEPGEN_BUNDLED_SCENE_STEMS "" CACHE STRING
-  "Bundled scenes (robots/*/<stem>.yaml) whose solver and tests the build makes; empty: every one")
-set(SWEEPGEN_BUNDLED_SCENES)
-set(sweepgen_scene_stems)
-foreach(scene ${SWEEPGEN_SCENE_FILES})
-  get_filename_component(stem ${scene} NAME_WE)
-  list(APPEND sweepgen_scene_stems ${stem})
-  file(STRINGS ${scene} solver_line REGEX "^solver:")
-  string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
-  if(NOT SWEEPGEN_BUNDLED_SCENE_STEMS OR stem IN_LIST SWEEPGEN_BUNDLED_SCENE_STEMS)
-    list(APPEND SWEEPGEN_BUNDLED_SCENES ${scene})
+# Three lists name bundled scenes by stem, or `all` for every one: SWEEPGEN_BUNDLED_SCENE_STEMS,
+# SWEEPGEN_BATCH_ISA_SCENES (below) and SWEEPGEN_CUDA_SCENES (top-level CMakeLists.txt).
+# Sets `out` to whether the list in the variable `list_name` holds `stem`.
+function(sweepgen_scene_listed out list_name stem)
+  if("${${list_name}}" STREQUAL "all" OR stem IN_LIST ${list_name})
+    set(${out} ON PARENT_SCOPE)
+  else()
+    set(${out} OFF PARENT_SCOPE)
   endif()
-endforeach()
+endfunction()
+# The scenes this build makes a solver and a test of: every one by default. The sanitize-ci preset
+# lists a few that cover each kind of generated code (CMakePresets.json): its instrumented solvers
+# at -O0 took ~100 job-seconds for all 28, and the release stage and `cmake --workflow --preset
+# sanitize` build and test every one.
+set(SWEEPGEN_BUNDLED_SCENE_STEMS all CACHE STRING
+  "Bundled scenes (robots/*/<stem>.yaml) whose solver and tests the build makes, or all")
 # The bundled scenes whose solvers carry batch lanes: the ISA objects of SWEEPGEN_BATCH_ISAS
 # (top-level CMakeLists.txt), or the source's own lanes where that is empty. Six scenes by default,
 # `all` for every one; the others' batch entry points solve state by state through their flat calls
@@ -55,6 +54,27 @@ endforeach()
 set(SWEEPGEN_BATCH_ISA_SCENES
   "planar_nc2;four_bar_loop;quadruped_lean_nc0;parallel_gripper_pinch;panda_nc6;panda_lean_nc6_fixed_derivatives"
   CACHE STRING "Bundled scenes (stems) whose solvers carry batch lanes (the SWEEPGEN_BATCH_ISAS objects), or all")
+# SWEEPGEN_BUNDLED_SCENES: the files of the scenes the build makes. SWEEPGEN_BATCH_LANE_SOURCES: the
+# committed sources (generated/, named after the solver namespace) of the scenes with lanes, for
+# the test that checks what they cover.
+set(SWEEPGEN_BUNDLED_SCENES)
+set(SWEEPGEN_BATCH_LANE_SOURCES)
+set(sweepgen_scene_stems)
+foreach(scene ${SWEEPGEN_SCENE_FILES})
+  get_filename_component(stem ${scene} NAME_WE)
+  list(APPEND sweepgen_scene_stems ${stem})
+  file(STRINGS ${scene} solver_line REGEX "^solver:")
+  string(REGEX REPLACE "^solver:[ ]*([A-Za-z0-9_:]+).*" "\\1" SWEEPGEN_SCENE_${stem}_NAMESPACE "${solver_line}")
+  sweepgen_scene_listed(built SWEEPGEN_BUNDLED_SCENE_STEMS ${stem})
+  if(built)
+    list(APPEND SWEEPGEN_BUNDLED_SCENES ${scene})
+  endif()
+  sweepgen_scene_listed(lanes SWEEPGEN_BATCH_ISA_SCENES ${stem})
+  if(lanes)
+    string(REPLACE "::" "_" committed_stem "${SWEEPGEN_SCENE_${stem}_NAMESPACE}")
+    list(APPEND SWEEPGEN_BATCH_LANE_SOURCES ${committed_stem}.cpp)
+  endif()
+endforeach()
 foreach(list_name SWEEPGEN_BUNDLED_SCENE_STEMS SWEEPGEN_BATCH_ISA_SCENES SWEEPGEN_CUDA_SCENES)
   foreach(stem ${${list_name}})
     if(NOT stem STREQUAL "all" AND NOT stem IN_LIST sweepgen_scene_stems)
@@ -72,23 +92,12 @@ function(sweepgen_require_bundled_scenes what)
     endif()
   endforeach()
 endfunction()
-# The committed sources (generated/, named after the solver namespace) of the scenes with lanes, or
-# `all`, for the test that checks what they cover.
-set(SWEEPGEN_BATCH_LANE_SOURCES all)
-if(NOT SWEEPGEN_BATCH_ISA_SCENES STREQUAL "all")
-  set(SWEEPGEN_BATCH_LANE_SOURCES)
-  foreach(stem ${SWEEPGEN_BATCH_ISA_SCENES})
-    string(REPLACE "::" "_" committed_stem "${SWEEPGEN_SCENE_${stem}_NAMESPACE}")
-    list(APPEND SWEEPGEN_BATCH_LANE_SOURCES ${committed_stem}.cpp)
-  endforeach()
-endif()
 # The solver library <stem>_solver of the bundled scene `scene`, with batch lanes where
 # SWEEPGEN_BATCH_ISA_SCENES lists it (a function: its SWEEPGEN_BATCH_ISAS is its own).
 function(sweepgen_bundled_solver stem scene cuda)
-  set(lanes ON)
-  if(NOT (SWEEPGEN_BATCH_ISA_SCENES STREQUAL "all" OR stem IN_LIST SWEEPGEN_BATCH_ISA_SCENES))
+  sweepgen_scene_listed(lanes SWEEPGEN_BATCH_ISA_SCENES ${stem})
+  if(NOT lanes)
     set(SWEEPGEN_BATCH_ISAS "")
-    set(lanes OFF)
   endif()
   if(SWEEPGEN_BUNDLED_FROM_GENERATED)
     # The committed files are named after the scene's solver namespace.
@@ -113,7 +122,8 @@ get_property(sweepgen_languages GLOBAL PROPERTY ENABLED_LANGUAGES)
 foreach(scene ${SWEEPGEN_BUNDLED_SCENES})
   get_filename_component(stem ${scene} NAME_WE)
   set(sweepgen_cuda)
-  if("CUDA" IN_LIST sweepgen_languages AND (SWEEPGEN_CUDA_SCENES STREQUAL "all" OR stem IN_LIST SWEEPGEN_CUDA_SCENES))
+  sweepgen_scene_listed(cuda_listed SWEEPGEN_CUDA_SCENES ${stem})
+  if("CUDA" IN_LIST sweepgen_languages AND cuda_listed)
     set(sweepgen_cuda CUDA)
   endif()
   sweepgen_scene_has_line(SWEEPGEN_SCENE_${stem}_HAS_FLOAT ${scene} "^scalars:.*float")

@@ -680,7 +680,7 @@ TEST(GeneratedSources, TheLaneScenesCallEveryHelperAnySceneCalls) {
   // Only the bundled scenes of SWEEPGEN_BATCH_ISA_SCENES carry batch lanes in this repository's
   // build (cmake/BundledScenes.cmake); the others' batch entry points solve state by state. So that
   // every operation the lanes run is compiled and held to the flat calls all the same, those scenes
-  // (their committed sources: SWEEPGEN_BATCH_LANE_SOURCES, comma-separated, or "all") must call every runtime
+  // (their committed sources: SWEEPGEN_BATCH_LANE_SOURCES, comma-separated) must call every runtime
   // helper that any bundled scene's functions call.
   const std::string listed = SWEEPGEN_BATCH_LANE_SOURCES;
   std::set<std::string> in_lanes;
@@ -688,7 +688,7 @@ TEST(GeneratedSources, TheLaneScenesCallEveryHelperAnySceneCalls) {
   std::size_t lane_sources = 0;
   for (const auto& file : generated_sources()) {
     const std::string name = file.filename().string();
-    const bool lanes = listed == "all" || ("," + listed + ",").find("," + name + ",") != std::string::npos;
+    const bool lanes = ("," + listed + ",").find("," + name + ",") != std::string::npos;
     lane_sources += lanes;
     const auto lines = own_lines(file);
     for (const auto& f : functions(lines))
@@ -698,10 +698,8 @@ TEST(GeneratedSources, TheLaneScenesCallEveryHelperAnySceneCalls) {
         if (lanes) in_lanes.insert(called);
       }
   }
-  if (listed != "all") {
-    EXPECT_EQ(lane_sources, static_cast<std::size_t>(std::count(listed.begin(), listed.end(), ',') + 1))
-        << "a source of SWEEPGEN_BATCH_LANE_SOURCES (" << listed << ") is not in generated/";
-  }
+  EXPECT_EQ(lane_sources, static_cast<std::size_t>(std::count(listed.begin(), listed.end(), ',') + 1))
+      << "a source of SWEEPGEN_BATCH_LANE_SOURCES (" << listed << ") is not in generated/";
   std::string found;
   for (const auto& [helper, caller] : a_caller) found += " " + helper;
   EXPECT_TRUE(a_caller.count("sqrt_of") && a_caller.count("sincos_each")) << "the helpers found:" << found;

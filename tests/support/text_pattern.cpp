@@ -16,6 +16,12 @@ Match groups_of(const std::smatch& m) {
   return match;
 }
 
+// `found`, with `match` set to m's groups where it is, else empty.
+bool record(bool found, const std::smatch& m, Match& match) {
+  match = found ? groups_of(m) : Match{};
+  return found;
+}
+
 }  // namespace
 
 const std::string& Match::operator[](std::size_t i) const {
@@ -36,18 +42,14 @@ bool Pattern::search(const std::string& text) const { return std::regex_search(t
 
 bool Pattern::search(const std::string& text, Match& match) const {
   std::smatch m;
-  const bool found = std::regex_search(text, m, compiled_->regex);
-  match = found ? groups_of(m) : Match{};
-  return found;
+  return record(std::regex_search(text, m, compiled_->regex), m, match);
 }
 
 bool Pattern::matches(const std::string& text) const { return std::regex_match(text, compiled_->regex); }
 
 bool Pattern::matches(const std::string& text, Match& match) const {
   std::smatch m;
-  const bool found = std::regex_match(text, m, compiled_->regex);
-  match = found ? groups_of(m) : Match{};
-  return found;
+  return record(std::regex_match(text, m, compiled_->regex), m, match);
 }
 
 std::string Pattern::replace(const std::string& text, const std::string& format) const {
