@@ -2,7 +2,8 @@
 # Sets up, builds and runs every test: the README's second command, and what .ci/run runs.
 #   1. cmake/install-dependencies.sh consumers (Debian packages, with the derivatives' consumers
 #      Ipopt and PyTorch; nothing when all are present)
-#   2. release workflow: build/, the whole suite
+#   2. release-ci workflow: build/, the whole suite, the statistical tests on a tenth of their random
+#      states (`cmake --workflow --preset release` runs the full counts)
 #   3. sanitize-ci workflow: build-sanitize/, clang with AddressSanitizer + UndefinedBehaviorSanitizer:
 #      the instrumented generator on every bundled scene, the solver and test (300 states) of seven
 #      bundled scenes that cover each kind of generated code, the real-time and fuzz-regression tests, the suite's files that drive the
@@ -13,7 +14,7 @@ set -uo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 stages=("setup:bash cmake/install-dependencies.sh consumers"
-        "release:cmake --workflow --preset release"
+        "release:cmake --workflow --preset release-ci"
         "sanitize:cmake --workflow --preset sanitize-ci")
 times=()
 status=0

@@ -26,7 +26,7 @@ namespace SWEEPGEN_TEST_FILE {
 using solver::Policy;
 using Solver = solver::ReferenceSolver<double>;
 
-constexpr int kStates = test::state_count(1000);  // a tenth in the sanitizer build
+const int kStates = test::state_count(1000);  // a tenth in the sanitizer build and in CI
 // Sums of the same terms (E_conf, the composed articulated forces) in another order, relative to
 // max(1, |sum|): the terms (a track's energy with q̇ up to 2 rad/s, 1e2-1e3 on these arms) cancel
 // to a sum of order 1, so a few ulps of the terms is 1e-13..1e-12 of it. Measured worst 2.9e-12

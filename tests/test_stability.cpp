@@ -395,16 +395,17 @@ Drift rk4_drift(EnergyProbe& probe, Eigen::VectorXd q, Eigen::VectorXd qd, doubl
 //    at 2 s (where the order test holds): RK4's energy error accumulates at most linearly in time
 //    (5x at 10 s), x3 for the rounding of the free-fall phase. Measured: chain_30 1.5e-7 against
 //    the bound 9.7e-7; chain_100 1.5e-6 against 4.5e-6 (printed).
-//  - The sanitizer build (SWEEPGEN_TEST_STATE_DIVISOR > 1) simulates 2 s instead of 10: the same
-//    code paths under ASan/UBSan, the order test unchanged (it stops at 2 s), the size bound scaled
-//    by the same formula (10 s / 2 s becomes 2 s / 2 s). 10 s took 136 s there, 2 s a fifth.
+//  - With a state divisor above 1 (the sanitizer build and CI's release pass, support/state_count.hpp)
+//    it simulates 2 s instead of 10: the same code paths, the order test unchanged (it stops at
+//    2 s), the size bound scaled by the same formula (10 s / 2 s becomes 2 s / 2 s). 10 s took
+//    136 s under the sanitizers, 2 s a fifth.
 constexpr double kDriftMargin = 3;
 
 TEST(EnergyDrift, Rk4LongChainsConverge) {
   test::TempDir dir;
   std::vector<std::string> chains = {"chain_30"};
   if (test::stability_full()) chains.insert(chains.end(), {"chain_100", "chain_300"});
-  const double h = 1e-3, seconds = test::kStateDivisor > 1 ? 2 : 10, converged_until = 2;
+  const double h = 1e-3, seconds = test::state_divisor() > 1 ? 2 : 10, converged_until = 2;
   const long steps = std::lround(seconds / h);
   for (const std::string& name : chains) {
     const report::StabilityCase c = report::family_stability_case(name, dir.path());
