@@ -62,7 +62,7 @@ function(sweepgen_reference name kind)
     else()
       add_executable(${name} ${ARGN})
     endif()
-    target_compile_options(${name} PRIVATE -Wall -Wextra -Wpedantic)
+    target_compile_options(${name} PRIVATE -Wall -Wextra -Wpedantic ${SWEEPGEN_LARGE_UNIT_OPTIONS})
     # sanitize-ci's reduction (cmake/Sanitizers.cmake, SWEEPGEN_SANITIZE_ORACLES) where they are
     # compiled here (clang takes the last -f[no-]sanitize).
     if(SWEEPGEN_SANITIZE AND NOT SWEEPGEN_SANITIZE_ORACLES)

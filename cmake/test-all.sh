@@ -7,7 +7,7 @@
 #   3. sanitize-ci workflow: build-sanitize/, clang with AddressSanitizer + UndefinedBehaviorSanitizer:
 #      the instrumented generator on every bundled scene, the solver and test (300 states) of seven
 #      bundled scenes that cover each kind of generated code, the real-time and fuzz-regression tests, the suite's files that drive the
-#      generator and the readers end to end, and each fuzzer for 10 s from the committed corpora.
+#      generator and the readers end to end, and each fuzzer for 5 s from the committed corpora.
 #      The whole suite under the sanitizers: `cmake --workflow --preset sanitize` (README).
 # Stops at the first failing stage; prints each stage's wall time at the end either way.
 set -uo pipefail
