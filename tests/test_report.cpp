@@ -462,6 +462,22 @@ TEST(Report, SameSeedSameErrors) {
   EXPECT_EQ(errors[0], errors[1]);
 }
 
+// --quick's 6 states and 3 passes are defaults: given beside it, --states and --repetitions count
+// (every variant has exactly that many states of each family, and report.md says so).
+TEST(Report, QuickKeepsTheStatesAndPassesGiven) {
+  TempDir dir;
+  const auto out = dir.path() / "report";
+  const auto result = run_command(shell_command({SWEEPGEN_EXECUTABLE, "report", "--scene", planar_scene(), "--quick",
+                                                 "--states", "2", "--repetitions", "1", "--out", out.string()}));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::map<std::string, int> states_of;  // variant and family
+  for (const CsvRow& row : read_csv(out / "states.csv")) ++states_of[row.at("variant") + " / " + row.at("family")];
+  ASSERT_FALSE(states_of.empty());
+  for (const auto& [which, count] : states_of) EXPECT_EQ(count, 2) << which;
+  EXPECT_NE(test::read_text(out / "report.md").find("2 states per random family (seed 1), 1 timed passes"),
+            std::string::npos);
+}
+
 // A robot whose every state locks a joint (a massless free base above a joint about its z axis:
 // the base cannot turn about z, J1): no state can be judged, and the report says why instead of
 // printing NaN statistics.

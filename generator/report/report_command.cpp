@@ -113,9 +113,9 @@ class Staging {
   fs::path out_, dir_;
 };
 
-std::string setup_text(const ReportOptions& options, std::size_t states, int repetitions) {
-  return std::to_string(states) + " states per random family (seed " + std::to_string(options.seed) + "), " +
-         std::to_string(repetitions) + " timed passes, compiler `" + options.cxx + "`; x86-64-v3 " +
+std::string setup_text(const ReportOptions& options) {
+  return std::to_string(options.states) + " states per random family (seed " + std::to_string(options.seed) + "), " +
+         std::to_string(options.repetitions) + " timed passes, compiler `" + options.cxx + "`; x86-64-v3 " +
          (cpu_supports(Isa::x86_64_v3) ? "available on this CPU (AVX2, FMA, BMI2)" : "not available on this CPU") + ".";
 }
 
@@ -137,9 +137,9 @@ void add_report_command(CLI::App& app, ReportOptions& options) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
   command->add_flag("--quick", options.quick,
-                    "a report in seconds: " + std::to_string(kQuickStates) + " states per family, " +
+                    "a report in seconds: " + std::to_string(kQuickStates) + " states per family and " +
                         std::to_string(kQuickRepetitions) +
-                        " timed passes, one compile per scene (no x86-64-v3 or other-factorisation row); without "
+                        " timed passes unless --states and --repetitions say otherwise, one compile per scene (no x86-64-v3 or other-factorisation row); without "
                         "--scene only " + kQuickScene);
   command->add_option("--out", options.out,
                       "output directory: report.md, report.csv, states.csv, <scene>_{time,kappa}.{png,svg}, build/ "
@@ -184,6 +184,9 @@ void add_report_command(CLI::App& app, ReportOptions& options) {
     if (!options.scenes.empty() && !options.urdf.empty()) throw CLI::ValidationError("give --scene or --urdf, not both");
     if (options.urdf.empty() && (!options.root.empty() || !options.tip.empty()))
       throw CLI::ValidationError("--root and --tip go with --urdf (a scene file names its own)");
+    // --quick's fewer states and passes are defaults: a --states or --repetitions beside it counts.
+    if (options.quick && command->count("--states") == 0) options.states = kQuickStates;
+    if (options.quick && command->count("--repetitions") == 0) options.repetitions = kQuickRepetitions;
   });
 }
 
@@ -213,13 +216,11 @@ int run_report(const ReportOptions& options) {
     scenes.push_back(std::move(c.scene));
     chains.push_back(std::move(c.chain));
   }
-  const std::size_t states = options.quick ? kQuickStates : options.states;
-  const int repetitions = options.quick ? kQuickRepetitions : options.repetitions;
   std::vector<SceneStudy> studies;
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     const std::string where = "[" + std::to_string(k + 1) + "/" + std::to_string(scenes.size()) + " " +
                               scenes[k].solver + "] ";
-    StudyOptions study_options{states, repetitions, options.seed, options.cxx, out / "build" / scenes[k].solver,
+    StudyOptions study_options{options.states, options.repetitions, options.seed, options.cxx, out / "build" / scenes[k].solver,
                                options.quick, [&](const std::string& what) {
                                  std::cerr << where << what << " (" << seconds(seconds_since(started)) << ")"
                                            << std::endl;
@@ -239,7 +240,7 @@ int run_report(const ReportOptions& options) {
   for (const std::string& name : family_cases) command << " --family " << name;
   if (options.quick) command << " --quick";
   io::write_files_atomically({{(staging.dir() / "report.md").string(),
-                               report_markdown(studies, command.str(), setup_text(options, states, repetitions))},
+                               report_markdown(studies, command.str(), setup_text(options))},
                               {(staging.dir() / "report.csv").string(), report_csv(studies)},
                               {(staging.dir() / "states.csv").string(), states_csv(studies)}});
   files.insert(files.end(), {"report.csv", "states.csv", "report.md"});  // report.md last: the report is whole

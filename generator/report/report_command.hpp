@@ -17,7 +17,8 @@ struct ReportOptions {
   std::string tip;
   std::vector<std::string> family_cases;  // synthetic robots of `sweepgen family` studied like scenes
   std::size_t states = 40;  // per state family
-  // A report in seconds: fewer states and passes, one compile per scene; without --scene only the Panda.
+  // A report in seconds: one compile per scene, without --scene only the Panda, and (the command
+  // line's defaults, report_command.cpp) fewer states and passes unless --states or --repetitions is given.
   bool quick = false;
   std::string out;  // empty: "report", or "stability" with --stability
   // --stability (report/stability_command.hpp) and its options
