@@ -2,6 +2,7 @@
 // environment names one, and a value that names none refused rather than read as some count.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <string>
 

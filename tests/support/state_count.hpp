@@ -9,6 +9,7 @@
 // tenth of the states; `ctest --preset release` runs the full counts on the same build.
 #pragma once
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
@@ -49,6 +50,6 @@ inline int state_divisor() {
   return divisor;
 }
 
-inline int state_count(int full) { return full / state_divisor() > 0 ? full / state_divisor() : 1; }
+inline int state_count(int full) { return std::max(1, full / state_divisor()); }
 
 }  // namespace sweepgen::test
